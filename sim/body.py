@@ -1,0 +1,109 @@
+"""``sim.Body``: one convex polygon with its material and initial motion (validated on creation)."""
+from dataclasses import dataclass, field
+import math
+
+import numpy as np
+
+from .geometry import PolygonError, mass_properties, validate_polygon
+
+
+def _finite_pair(value, what, name):
+    try:
+        x, y = (float(c) for c in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: {what} must be a pair of numbers, got {value!r}") from None
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ValueError(f"{name}: {what} is not finite: ({x}, {y})")
+    return (x, y)
+
+
+def _finite(value, what, name):
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}: {what} must be a number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{name}: {what} is not finite: {x}")
+    return x
+
+
+@dataclass
+class Body:
+    """A rigid convex polygon.
+
+    vertices  (K,2) m, counter-clockwise, in the body frame. The body frame's origin is placed at
+              ``position`` and rotated by ``angle``. The solver tracks the centre of mass: a World
+              reports ``positions`` of centres of mass (equal to ``position`` when the vertices are
+              centred on their centroid, as every builder in ``sim.scenes`` does).
+    position  (2,) m; angle rad (CCW); velocity (2,) m/s of the centre of mass; angular_velocity rad/s.
+    density   kg/m^2 (> 0). friction >= 0 (Coulomb mu, pairs mix by geometric mean);
+              restitution in [0, 1] (pairs mix by max).
+    name      used in error messages; defaults to "body <index>" once placed in a Scene.
+    """
+    vertices: object
+    position: tuple = (0.0, 0.0)
+    angle: float = 0.0
+    velocity: tuple = (0.0, 0.0)
+    angular_velocity: float = 0.0
+    density: float = 1.0
+    friction: float = 0.5
+    restitution: float = 0.0
+    name: str = ""
+    _centroid: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        self.validate(self.name or "body")
+
+    def validate(self, name):
+        """Check every field; raise ValueError naming ``name`` and the problem."""
+        self.vertices = validate_polygon(self.vertices, name)
+        self.position = _finite_pair(self.position, "position", name)
+        self.velocity = _finite_pair(self.velocity, "velocity", name)
+        self.angle = _finite(self.angle, "angle", name)
+        self.angular_velocity = _finite(self.angular_velocity, "angular_velocity", name)
+        self.density = _finite(self.density, "density", name)
+        if self.density <= 0.0:
+            raise ValueError(f"{name}: density must be > 0, got {self.density}")
+        self.friction = _finite(self.friction, "friction", name)
+        if self.friction < 0.0:
+            raise ValueError(f"{name}: friction must be >= 0, got {self.friction}")
+        self.restitution = _finite(self.restitution, "restitution", name)
+        if not 0.0 <= self.restitution <= 1.0:
+            raise ValueError(f"{name}: restitution must be in [0, 1], got {self.restitution}")
+        _, self._centroid, _ = mass_properties(self.vertices, self.density)
+
+    @classmethod
+    def box(cls, width, height, **kwargs):
+        """A width x height rectangle centred on its centre of mass."""
+        w, h = 0.5 * float(width), 0.5 * float(height)
+        if not (w > 0 and h > 0):
+            raise PolygonError(f"{kwargs.get('name') or 'box'}: width and height must be > 0, got {width} x {height}")
+        return cls(vertices=[(-w, -h), (w, -h), (w, h), (-w, h)], **kwargs)
+
+    @classmethod
+    def regular(cls, n, radius, **kwargs):
+        """A regular n-gon of circumradius ``radius``, centred, with a flat bottom edge."""
+        phase = -math.pi / 2 - math.pi / n
+        verts = [(radius * math.cos(phase + 2 * math.pi * i / n), radius * math.sin(phase + 2 * math.pi * i / n))
+                 for i in range(n)]
+        return cls(vertices=verts, **kwargs)
+
+    @property
+    def mass(self):
+        return mass_properties(self.vertices, self.density)[0]
+
+    @property
+    def inertia(self):
+        """Moment of inertia about the centre of mass, kg m^2."""
+        return mass_properties(self.vertices, self.density)[2]
+
+    @property
+    def centroid(self):
+        """Centre of mass in the body frame, m."""
+        return self._centroid.copy()
+
+    def to_dict(self):
+        return {"vertices": self.vertices.tolist(), "position": list(self.position), "angle": self.angle,
+                "velocity": list(self.velocity), "angular_velocity": self.angular_velocity,
+                "density": self.density, "friction": self.friction, "restitution": self.restitution,
+                **({"name": self.name} if self.name else {})}

@@ -1,0 +1,3 @@
+"""``off``: no freezing. Every body is solved every step; the reference for every comparison."""
+NAME = "off"
+PARAMETERS = {}

@@ -1,0 +1,326 @@
+"""Convex-polygon geometry: validation and mass properties (Python, run once per body) and the
+collision kernels (Numba, run every step).
+
+Conventions
+- Polygons are convex, counter-clockwise, in metres. Edge ``i`` runs from vertex ``i`` to vertex
+  ``i+1`` (wrapping); its outward unit normal is ``normals[i]``.
+- Collision kernels work in world coordinates on pre-transformed vertex arrays, so they are pure
+  functions that tests can compare with the slow references in ``tests/naive.py``.
+- A contact normal points from body A to body B; a separation is positive when the shapes are apart.
+"""
+import math
+
+import numpy as np
+from .jit import inline_kernel, kernel
+
+#: Largest vertex count a polygon may have: feature ids pack vertex indices into 10 bits.
+MAX_VERTICES = 1024
+
+
+class PolygonError(ValueError):
+    """A polygon that the solver cannot use (non-convex, clockwise, degenerate, non-finite)."""
+
+
+def validate_polygon(vertices, name="polygon"):
+    """Return ``vertices`` as a (K, 2) float64 array, or raise ``PolygonError`` naming ``name``.
+
+    Rejects: fewer than 3 vertices, more than ``MAX_VERTICES``, NaN/inf, repeated vertices, zero
+    area, clockwise order, and any reflex vertex (non-convex). Collinear consecutive vertices are
+    allowed only within a relative tolerance of 1e-9 (they add a zero-angle corner, harmless to SAT).
+    """
+    try:
+        v = np.asarray(vertices, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise PolygonError(f"{name}: vertices are not an array of (x, y) numbers ({exc})") from None
+    if v.ndim != 2 or v.shape[1] != 2:
+        raise PolygonError(f"{name}: vertices must have shape (K, 2), got {v.shape}")
+    k = v.shape[0]
+    if k < 3:
+        raise PolygonError(f"{name}: a polygon needs at least 3 vertices, got {k}")
+    if k > MAX_VERTICES:
+        raise PolygonError(f"{name}: at most {MAX_VERTICES} vertices are supported, got {k}")
+    if not np.all(np.isfinite(v)):
+        raise PolygonError(f"{name}: vertices contain NaN or inf")
+    scale = float(np.max(np.abs(v - v.mean(axis=0))))
+    if scale <= 0.0:
+        raise PolygonError(f"{name}: degenerate polygon (all vertices coincide)")
+    edges = np.roll(v, -1, axis=0) - v
+    lengths = np.hypot(edges[:, 0], edges[:, 1])
+    short = np.flatnonzero(lengths <= 1e-9 * scale)
+    if short.size:
+        i = int(short[0])
+        raise PolygonError(f"{name}: degenerate polygon (vertices {i} and {(i + 1) % k} coincide)")
+    area = signed_area(v)
+    if abs(area) <= 1e-12 * scale * scale:
+        raise PolygonError(f"{name}: degenerate polygon (zero area)")
+    if area < 0.0:
+        raise PolygonError(f"{name}: vertices are clockwise; give them counter-clockwise")
+    nxt = np.roll(edges, -1, axis=0)
+    # cross of consecutive unit edges = sine of the turn angle at the vertex between them
+    turn = (edges[:, 0] * nxt[:, 1] - edges[:, 1] * nxt[:, 0]) / (lengths * np.roll(lengths, -1))
+    reflex = np.flatnonzero(turn < -1e-9)
+    if reflex.size:
+        raise PolygonError(f"{name}: non-convex polygon (reflex vertex {(int(reflex[0]) + 1) % k})")
+    # A convex CCW polygon turns through exactly 2*pi; more means it winds around twice.
+    angles = np.arctan2(turn, np.einsum("ij,ij->i", edges, nxt) / (lengths * np.roll(lengths, -1)))
+    if abs(angles.sum() - 2.0 * math.pi) > 1e-6:
+        raise PolygonError(f"{name}: non-convex polygon (self-intersecting outline)")
+    return v
+
+
+def signed_area(vertices):
+    """Shoelace area (m^2), positive for counter-clockwise vertices."""
+    v = np.asarray(vertices, dtype=np.float64)
+    x, y = v[:, 0], v[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def mass_properties(vertices, density):
+    """Mass (kg), centroid (m, shape (2,)) and moment of inertia about the centroid (kg m^2).
+
+    Triangle fan from the first vertex, so that polygons far from the origin keep their precision.
+    """
+    v = np.asarray(vertices, dtype=np.float64)
+    origin = v[0]
+    p = v - origin
+    a = p[1:-1]
+    b = p[2:]
+    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]           # twice each triangle's area
+    area = 0.5 * cross.sum()
+    centroid = ((a + b) * cross[:, None]).sum(axis=0) / (6.0 * area)
+    # second moment of each triangle (origin, a, b) about the fan origin
+    i_origin = (cross * (a[:, 0] ** 2 + a[:, 0] * b[:, 0] + b[:, 0] ** 2
+                         + a[:, 1] ** 2 + a[:, 1] * b[:, 1] + b[:, 1] ** 2)).sum() / 12.0
+    mass = density * area
+    inertia = density * i_origin - mass * float(centroid @ centroid)   # parallel axis theorem
+    return mass, centroid + origin, inertia
+
+
+def edge_normals(vertices):
+    """Outward unit normals (K, 2) of a CCW polygon's edges."""
+    v = np.asarray(vertices, dtype=np.float64)
+    e = np.roll(v, -1, axis=0) - v
+    n = np.stack([e[:, 1], -e[:, 0]], axis=1)
+    return n / np.hypot(n[:, 0], n[:, 1])[:, None]
+
+
+# --------------------------------------------------------------------------------------------
+# Kernels. Feature ids identify a contact point by the features that made it, so that the solver
+# can carry its impulse to the next step (warm starting):
+#   id = ((flip * 1024 + reference_edge) * 1024 + incident_edge) * 2 + end
+# end 0/1: the point comes from the incident edge's first/second end. Whether that end was cut by a
+# side plane does not enter the id: two equal boxes stacked flush have their corners exactly on
+# the side planes, and an id that flipped between "vertex" and "cut" with round-off would lose the
+# warm start every few steps and let the stack sway. Floor contacts use the body's vertex index.
+
+
+@inline_kernel
+def _max_separation(verts, normals, a0, a1, b0, b1):
+    """Edge of polygon A (rows a0..a1-1 of verts/normals) whose outward normal separates polygon B
+    (rows b0..b1-1) the most, and that separation. World coordinates, m. Returns (edge - a0, sep).
+    Polygons are addressed by row ranges of the packed arrays, not by slices: a slice is a new
+    array object, and creating two per pair cost more than the arithmetic."""
+    best_edge = 0
+    best_sep = -np.inf
+    for i in range(a0, a1):
+        nx = normals[i, 0]
+        ny = normals[i, 1]
+        px = verts[i, 0]
+        py = verts[i, 1]
+        s = np.inf
+        for j in range(b0, b1):
+            d = nx * (verts[j, 0] - px) + ny * (verts[j, 1] - py)
+            if d < s:
+                s = d
+                if s <= best_sep:
+                    break          # this axis can no longer beat the best one
+        if s > best_sep:
+            best_sep = s
+            best_edge = i - a0
+    return best_edge, best_sep
+
+
+@inline_kernel
+def _clip(p, nx, ny, offset):
+    """Keep the part of segment p[0]-p[1] with dot(n, x) <= offset (in place, p (2,2) m).
+
+    Returns the number of points kept: 0 when the whole segment is outside, else 2 (an end outside
+    the plane is moved onto it).
+    """
+    d0 = nx * p[0, 0] + ny * p[0, 1] - offset
+    d1 = nx * p[1, 0] + ny * p[1, 1] - offset
+    if d0 > 0.0 and d1 > 0.0:
+        return 0
+    if d0 > 0.0 or d1 > 0.0:          # exactly one end is outside: move it onto the plane
+        t = d0 / (d0 - d1)
+        x = p[0, 0] + t * (p[1, 0] - p[0, 0])
+        y = p[0, 1] + t * (p[1, 1] - p[0, 1])
+        if d0 > 0.0:
+            p[0, 0] = x
+            p[0, 1] = y
+        else:
+            p[1, 0] = x
+            p[1, 1] = y
+    return 2
+
+
+@inline_kernel
+def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, out_points, out_separations,
+                         out_ids, out_normal):
+    """SAT + reference/incident face clipping between convex polygons A and B, given as row ranges
+    a0..a1-1 and b0..b1-1 of packed world-coordinate arrays verts/normals (V,2).
+
+    Finds up to two contact points whose separation is at most ``margin`` (m). The reference face is
+    A's unless B's best axis separates clearly more (a small bias keeps the choice from flickering).
+
+    Outputs (written in place):
+      out_points (2,2)  m   contact points on the incident polygon's surface
+      out_separations (2,) m  signed distance along the normal (negative = penetration)
+      out_ids (2,) int64   feature ids (see module comment)
+      out_normal (2,)      unit normal from A to B
+    Returns (count, flip, reference_edge): flip = 1 when B holds the reference face.
+    """
+    edge_a, sep_a = _max_separation(verts, normals, a0, a1, b0, b1)
+    if sep_a > margin:
+        return 0, 0, 0
+    edge_b, sep_b = _max_separation(verts, normals, b0, b1, a0, a1)
+    if sep_b > margin:
+        return 0, 0, 0
+    # Prefer A's face unless B's is better by more than a small tolerance: coherent choice frame to
+    # frame keeps feature ids, and so warm starting, stable.
+    if sep_b > sep_a + 1e-4 + 1e-3 * abs(sep_a):
+        r0, r1, i0, i1, edge, flip = b0, b1, a0, a1, edge_b, 1
+    else:
+        r0, r1, i0, i1, edge, flip = a0, a1, b0, b1, edge_a, 0
+    nx = normals[r0 + edge, 0]
+    ny = normals[r0 + edge, 1]
+    # incident edge: the one whose normal is most anti-parallel to the reference normal
+    inc_edge = 0
+    lowest = np.inf
+    for i in range(i0, i1):
+        d = nx * normals[i, 0] + ny * normals[i, 1]
+        if d < lowest:
+            lowest = d
+            inc_edge = i - i0
+    k_inc = i1 - i0
+    i2 = inc_edge + 1 if inc_edge + 1 < k_inc else 0
+    k_ref = r1 - r0
+    r2 = edge + 1 if edge + 1 < k_ref else 0
+    base = ((flip * 1024 + edge) * 1024 + inc_edge) * 2
+    out_points[0, 0] = verts[i0 + inc_edge, 0]
+    out_points[0, 1] = verts[i0 + inc_edge, 1]
+    out_points[1, 0] = verts[i0 + i2, 0]
+    out_points[1, 1] = verts[i0 + i2, 1]
+    out_ids[0] = base
+    out_ids[1] = base + 1
+    # reference face tangent (CCW direction along the edge)
+    tx = -ny
+    ty = nx
+    v1x = verts[r0 + edge, 0]
+    v1y = verts[r0 + edge, 1]
+    v2x = verts[r0 + r2, 0]
+    v2y = verts[r0 + r2, 1]
+    if _clip(out_points, -tx, -ty, -(tx * v1x + ty * v1y)) == 0:
+        return 0, 0, 0
+    if _clip(out_points, tx, ty, tx * v2x + ty * v2y) == 0:
+        return 0, 0, 0
+    face_offset = nx * v1x + ny * v1y
+    kept = 0
+    for j in range(2):
+        s = nx * out_points[j, 0] + ny * out_points[j, 1] - face_offset
+        if s <= margin:
+            out_points[kept, 0] = out_points[j, 0]
+            out_points[kept, 1] = out_points[j, 1]
+            out_ids[kept] = out_ids[j]
+            out_separations[kept] = s
+            kept += 1
+    if flip == 1:
+        out_normal[0] = -nx
+        out_normal[1] = -ny
+    else:
+        out_normal[0] = nx
+        out_normal[1] = ny
+    return kept, flip, edge
+
+
+@inline_kernel
+def collide_floor_rows(verts, normals, b0, b1, floor_y, margin, out_points, out_separations,
+                       out_ids):
+    """Contacts of a convex polygon (rows b0..b1-1 of packed world-coordinate arrays) with the
+    half-plane y <= floor_y.
+
+    The floor is the reference face (normal +y, from floor to body); the incident edge is the
+    polygon's edge whose normal points most downward, and it always holds the lowest vertex.
+    Returns the number of points (0-2) with separation <= margin; ids are vertex indices.
+    """
+    k = b1 - b0
+    inc_edge = 0
+    lowest = np.inf
+    for i in range(k):
+        if normals[b0 + i, 1] < lowest:
+            lowest = normals[b0 + i, 1]
+            inc_edge = i
+    kept = 0
+    for m in range(2):
+        j = inc_edge + m
+        if j >= k:
+            j -= k
+        s = verts[b0 + j, 1] - floor_y
+        if s <= margin:
+            out_points[kept, 0] = verts[b0 + j, 0]
+            out_points[kept, 1] = verts[b0 + j, 1]
+            out_separations[kept] = s
+            out_ids[kept] = j
+            kept += 1
+    return kept
+
+
+# ---- the same kernels on separate per-polygon arrays, for tests and one-off use --------------
+@kernel
+def max_separation(verts1, normals1, verts2):
+    """Edge of polygon 1 whose outward normal separates polygon 2 the most, and that separation.
+
+    verts1 (K1,2), normals1 (K1,2), verts2 (K2,2): world coordinates, m. Returns (edge, sep).
+    """
+    k1 = verts1.shape[0]
+    verts = np.concatenate((verts1, verts2))
+    normals = np.concatenate((normals1, np.zeros_like(verts2)))
+    return _max_separation(verts, normals, 0, k1, k1, verts.shape[0])
+
+
+@kernel
+def collide_polygons(verts_a, normals_a, verts_b, normals_b, margin, out_points, out_separations,
+                     out_ids, out_normal):
+    """``collide_polygon_rows`` on two separate polygons (K,2) arrays; same outputs and return."""
+    ka = verts_a.shape[0]
+    verts = np.concatenate((verts_a, verts_b))
+    normals = np.concatenate((normals_a, normals_b))
+    return collide_polygon_rows(verts, normals, 0, ka, ka, verts.shape[0], margin, out_points,
+                                out_separations, out_ids, out_normal)
+
+
+@kernel
+def collide_floor(verts, normals, floor_y, margin, out_points, out_separations, out_ids):
+    """``collide_floor_rows`` on one polygon's (K,2) arrays; same outputs and return."""
+    return collide_floor_rows(verts, normals, 0, verts.shape[0], floor_y, margin, out_points,
+                              out_separations, out_ids)
+
+
+@kernel
+def transform(local, px, py, c, s, out):
+    """World coordinates of body-frame points: out = R(c, s) @ local + (px, py). Shapes (K,2)."""
+    for i in range(local.shape[0]):
+        x = local[i, 0]
+        y = local[i, 1]
+        out[i, 0] = c * x - s * y + px
+        out[i, 1] = s * x + c * y + py
+
+
+@kernel
+def rotate(local, c, s, out):
+    """Rotate body-frame directions (K,2) into the world frame."""
+    for i in range(local.shape[0]):
+        x = local[i, 0]
+        y = local[i, 1]
+        out[i, 0] = c * x - s * y
+        out[i, 1] = s * x + c * y

@@ -172,3 +172,4 @@ def collide_pairs(n_pairs, pair_keys, n_bodies, position, rotation, vert_start, 
                             break
         count += 1
     return count
+

@@ -148,7 +148,10 @@ def solve_velocities(count, manifold_int, manifold_float, point_float, velocity,
 
     The two bodies' velocities are loaded into locals once per manifold and stored back at the end:
     velocity[a] and velocity[b] could alias as far as the compiler knows, so updating the arrays in
-    place forces a reload after every impulse (this halves the sweep's time)."""
+    place would force a reload after every impulse. The sweep is bound by the latency of its
+    dependent arithmetic (~70 ns per two-point manifold here); solving in graph-colour order, so that
+    consecutive manifolds share no body, gained only ~12% and weakened tall stacks, so key order
+    (bottom rows first) is kept."""
     for c in range(count):
         a = manifold_int[c, BODY_A]
         b = manifold_int[c, BODY_B]

@@ -1,0 +1,26 @@
+"""Shared helpers for the tests."""
+import math
+
+import pytest
+
+import sim
+
+G = 9.81
+
+
+def tilted_box(width, height, angle, friction=0.6):
+    """A width x height box rotated CCW by ``angle`` and standing on its lowest corner on the floor
+    (y = 0), so that it starts exactly touching."""
+    lowest = -0.5 * width * math.sin(angle) - 0.5 * height * math.cos(angle)
+    return sim.Body.box(width, height, position=(0.0, -lowest), angle=angle, friction=friction)
+
+
+def run_until(world, seconds):
+    world.step(int(round(seconds / world.dt)))
+    return world
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _compile_once():
+    """Compile (or load from the cache) every kernel once, before timing-sensitive tests."""
+    sim.World(sim.scenes.stack(2)).step(2)

@@ -1,0 +1,174 @@
+"""Bad input raises ValueError naming the body and the problem; a run that goes non-finite stops
+with an error naming the step and the body."""
+import math
+
+import numpy as np
+import pytest
+
+import sim
+
+BOX = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+
+
+def scene_with(body, **kwargs):
+    """A resting box (body 0) plus ``body`` (body 1) far from it."""
+    return sim.Scene(bodies=[sim.Body.box(1, 1, position=(-10.0, 0.5)), body], **kwargs)
+
+
+@pytest.mark.parametrize("vertices,problem", [
+    (BOX[::-1], "clockwise"),
+    ([(0, 0), (2, 0), (1, 0.2), (2, 2), (0, 2)], "non-convex"),
+    ([(0, 0), (1, 0), (1, 0), (0, 1)], "degenerate"),
+    ([(0, 0), (1, 0), (2, 0)], "degenerate"),
+    ([(0, 0), (1, 0)], "at least 3"),
+    ([(0, 0), (1, math.nan), (0, 1)], "NaN"),
+    ([(0, 0), (1, math.inf), (0, 1)], "NaN or inf"),
+    ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], "shape"),
+    ("not a polygon", "vertices"),
+])
+def test_bad_polygon(vertices, problem):
+    with pytest.raises(ValueError, match=problem) as err:
+        sim.Body(vertices=vertices, name="crate 7")
+    assert "crate 7" in str(err.value)
+
+
+@pytest.mark.parametrize("field,value,problem", [
+    ("density", 0.0, "density must be > 0"),
+    ("density", -1.0, "density must be > 0"),
+    ("density", math.nan, "density is not finite"),
+    ("friction", -0.1, "friction must be >= 0"),
+    ("restitution", 1.5, "restitution must be in"),
+    ("position", (0.0, math.nan), "position is not finite"),
+    ("velocity", (math.inf, 0.0), "velocity is not finite"),
+    ("angle", math.nan, "angle is not finite"),
+    ("angular_velocity", math.inf, "angular_velocity is not finite"),
+    ("position", (1.0,), "position must be a pair"),
+])
+def test_bad_body_field(field, value, problem):
+    with pytest.raises(ValueError, match=problem) as err:
+        sim.Body(vertices=BOX, name="crate 7", **{field: value})
+    assert "crate 7" in str(err.value)
+
+
+def test_body_changed_after_creation_is_caught_by_the_world():
+    body = sim.Body.box(1, 1, position=(0.0, 0.5))
+    scene = scene_with(body)
+    body.density = -2.0                   # dataclasses are mutable; the World re-validates
+    with pytest.raises(ValueError, match="body 1: density"):
+        sim.World(scene)
+
+
+def test_unnamed_bodies_are_named_by_index():
+    bad = sim.Body.box(1, 1, position=(0.0, 0.5))
+    bad.vertices = BOX[::-1]
+    with pytest.raises(ValueError, match="body 1: vertices are clockwise"):
+        sim.World(scene_with(bad))
+
+
+@pytest.mark.parametrize("kwargs,problem", [
+    ({"dt": 0.0}, "dt must be > 0"),
+    ({"dt": -1 / 60}, "dt must be > 0"),
+    ({"dt": math.nan}, "dt must be > 0"),
+    ({"dt": math.inf}, "dt must be > 0"),
+    ({"iterations": 0}, "iterations must be an integer >= 1"),
+    ({"iterations": 2.5}, "iterations must be an integer"),
+    ({"position_iterations": 0}, "position_iterations"),
+    ({"slop": -0.001}, "slop"),
+    ({"baumgarte": 1.5}, "baumgarte"),
+    ({"freeze": "nap"}, "unknown freeze policy 'nap'"),
+    ({"freeze": "off", "impulse_threshold": 1.0}, "does not take impulse_threshold"),
+])
+def test_bad_world_settings(kwargs, problem):
+    with pytest.raises(ValueError, match=problem):
+        sim.World(sim.scenes.single_box(), **kwargs)
+
+
+def test_overlapping_bodies_are_refused_with_both_names():
+    a = sim.Body.box(1, 1, position=(0.0, 0.5), name="left")
+    b = sim.Body.box(1, 1, position=(0.8, 0.5), name="right")     # 0.2 m into `left`
+    with pytest.raises(ValueError, match=r"left and right start overlapping by 0\.2"):
+        sim.World(sim.Scene(bodies=[a, b]))
+
+
+def test_small_overlap_within_tolerance_is_accepted():
+    a = sim.Body.box(1, 1, position=(0.0, 0.5))
+    b = sim.Body.box(1, 1, position=(0.995, 0.5))
+    sim.World(sim.Scene(bodies=[a, b])).step(10)
+
+
+def test_body_below_the_floor_is_refused():
+    with pytest.raises(ValueError, match=r"sunk starts 0\.3 m below the floor"):
+        sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(0.0, 0.2), name="sunk")]))
+
+
+def test_body_inside_a_static_wall_is_refused():
+    wall = sim.Body.box(1, 4, position=(0.0, 2.0), name="wall")
+    with pytest.raises(ValueError, match="crate and wall start overlapping"):
+        sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(0.5, 1.5), name="crate")],
+                            static_bodies=[wall]))
+
+
+@pytest.mark.parametrize("kwargs,problem", [
+    ({"bodies": []}, "at least one body"),
+    ({"bodies": ["box"]}, "expected sim.Body"),
+    ({"gravity": (0.0, math.nan)}, "gravity is not finite"),
+    ({"floor_friction": -1.0}, "floor_friction"),
+    ({"floor_restitution": 2.0}, "floor_restitution"),
+    ({"floor_y": math.inf}, "floor_y is not finite"),
+])
+def test_bad_scene(kwargs, problem):
+    args = {"bodies": [sim.Body.box(1, 1, position=(0, 0.5))], **kwargs}
+    with pytest.raises(ValueError, match=problem):
+        sim.Scene(**args)
+
+
+def test_moving_static_body_is_refused():
+    wall = sim.Body.box(1, 1, position=(5, 0.5), velocity=(1.0, 0.0))
+    with pytest.raises(ValueError, match="static body 0: static bodies cannot move"):
+        sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5))], static_bodies=[wall])
+
+
+def test_bad_scene_file(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text("floor_y = [\n")
+    with pytest.raises(ValueError, match="not valid TOML"):
+        sim.Scene.from_file(path)
+    path.write_text('[[bodies]]\nposition = [0, 1]\n')
+    with pytest.raises(ValueError, match="body 0: needs `vertices`"):
+        sim.Scene.from_file(path)
+    path.write_text('wind = 3\n[[bodies]]\nbox = [1, 1]\nposition = [0, 0.5]\n')
+    with pytest.raises(ValueError, match="wind"):
+        sim.Scene.from_file(path)
+
+
+def test_non_finite_run_names_step_and_body():
+    fast = sim.Body.box(1, 1, position=(0.0, 5.0), velocity=(1.7e308, 0.0), name="bullet")
+    world = sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(-10, 0.5)), fast],
+                                gravity=(0, 0)), dt=10.0)
+    with pytest.raises(sim.SimulationError, match=r"step 1: bullet became non-finite"):
+        world.step(5)
+    assert world.step_count == 1          # stopped at the bad step, not run on
+
+
+def test_step_count_must_be_a_non_negative_integer():
+    world = sim.World(sim.scenes.single_box())
+    with pytest.raises(ValueError, match="n must be an integer >= 0"):
+        world.step(-1)
+    with pytest.raises(ValueError):
+        world.step(1.5)
+    world.step(0)
+    assert world.step_count == 0
+
+
+def test_policies_not_yet_built_say_so():
+    for name in ("sleep", "paper", "extended"):
+        with pytest.raises(NotImplementedError, match=name):
+            sim.World(sim.scenes.single_box(), freeze=name)
+
+
+def test_observables_are_copies():
+    world = sim.World(sim.scenes.single_box())
+    world.positions[0, 0] = 99.0
+    world.velocities[0, 0] = 99.0
+    assert world.positions[0, 0] == 0.0 and world.velocities[0, 0] == 0.0
+    assert world.states.dtype == np.int8 and world.states[0] == sim.State.FREE

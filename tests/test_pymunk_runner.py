@@ -1,0 +1,168 @@
+"""experiments.peers.PymunkRunner against known answers and against sim's conventions.
+
+If the peer were built wrong (friction or restitution mixed differently, a box's centre of mass
+offset, a vertex order Chipmunk handles badly), every comparison with sim would measure the
+mistake instead of the engines; these tests pin each of those down.
+"""
+import math
+
+import numpy as np
+import pymunk
+import pytest
+
+import sim
+from experiments.peers import PymunkRunner
+from experiments.peers.pymunk_runner import canonical_vertices
+
+DT = 1 / 60
+G = 9.81
+
+
+def test_free_fall_matches_g_t_and_chipmunks_integration_order():
+    """Chipmunk's step moves positions with the old velocity, then updates velocities: after n
+    steps v = -g n dt exactly (as in sim), but y = y0 - g dt^2 n(n-1)/2, one velocity update
+    behind sim's semi-implicit y0 - g dt^2 n(n+1)/2."""
+    scene = sim.Scene([sim.Body.box(1.0, 1.0, position=(0.0, 10.0))], floor_y=None)
+    runner = PymunkRunner(scene, dt=DT)
+    n = 60
+    runner.step(n)
+    assert runner.time == pytest.approx(1.0)
+    assert runner.velocities[0, 1] == pytest.approx(-G * 1.0, rel=1e-6)
+    assert runner.velocities[0, 0] == 0.0
+    assert runner.positions[0, 1] == pytest.approx(10.0 - G * DT**2 * n * (n - 1) / 2, rel=1e-12)
+    world = sim.World(scene, dt=DT)
+    world.step(n)
+    assert world.positions[0, 1] - runner.positions[0, 1] == pytest.approx(-G * DT * 1.0, rel=1e-9)
+
+
+def test_box_at_rest_stays():
+    runner = PymunkRunner(sim.scenes.single_box(), dt=DT)
+    start = runner.positions
+    for _ in range(5):
+        runner.step(60)
+        assert np.hypot(*(runner.positions - start).T).max() < 1e-3
+    assert abs(runner.angles[0]) < 1e-3
+
+
+def test_friction_slide_distance():
+    speed, mu = 3.0, 0.4
+    runner = PymunkRunner(sim.scenes.sliding_box(speed=speed, friction=mu), dt=DT)
+    x0 = runner.positions[0, 0]
+    runner.step(120)                           # stops after v/(mu g) = 0.76 s
+    assert abs(runner.velocities[0, 0]) < 1e-6
+    expected = speed**2 / (2 * mu * G)
+    assert runner.positions[0, 0] - x0 == pytest.approx(expected, rel=0.05)
+
+
+@pytest.mark.parametrize("box_e, floor_e", [(0.7, 0.0), (0.0, 0.7)])
+def test_bounce_height_uses_max_restitution(box_e, floor_e):
+    """One of the pair has restitution 0: Chipmunk's default product would not bounce at all."""
+    h = 2.0                                     # m, bottom face above the floor
+    scene = sim.Scene([sim.Body.box(1.0, 1.0, position=(0.0, h + 0.5), restitution=box_e)],
+                      floor_restitution=floor_e)
+    runner = PymunkRunner(scene, dt=DT)
+    bottom = []
+    for _ in range(180):
+        runner.step()
+        bottom.append(runner.positions[0, 1] - 0.5)
+    bottom = np.array(bottom)
+    impact = int(np.argmin(bottom[:60]))        # falls 2 m in 0.64 s
+    apex = bottom[impact:impact + 90].max()
+    assert apex == pytest.approx(0.7**2 * h, rel=0.15)
+
+
+def test_friction_is_stored_as_sqrt_so_pairs_mix_by_geometric_mean():
+    scene = sim.Scene([sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=0.25)],
+                      floor_friction=0.64)
+    runner = PymunkRunner(scene)
+    frictions = sorted(s.friction for s in runner.space.shapes)
+    assert frictions[0] * frictions[1] == pytest.approx(math.sqrt(0.25 * 0.64), rel=1e-12)
+
+
+def test_box_vertices_are_create_box_order_whatever_the_start():
+    box = pymunk.Poly.create_box(pymunk.Body(1.0, 1.0), (1.0, 1.0))
+    reference = np.array([tuple(v) for v in box.get_vertices()])
+    v = np.array([(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)])
+    for k in range(4):
+        np.testing.assert_array_equal(canonical_vertices(np.roll(v, k, axis=0)), reference)
+    # round-off from subtracting a centroid must not move the start
+    noisy = v + np.array([[0.0, -1e-17], [0.0, 0.0], [1e-17, 0.0], [0.0, 0.0]])
+    np.testing.assert_allclose(canonical_vertices(noisy), reference, atol=1e-15)
+    runner = PymunkRunner(sim.scenes.single_box())
+    shape = next(iter(runner.space.shapes - {s for s in runner.space.shapes
+                                             if isinstance(s, pymunk.Segment)}))
+    np.testing.assert_array_equal(np.array([tuple(p) for p in shape.get_vertices()]), reference)
+
+
+def test_five_box_column_holds_10_s():
+    """With pymunk.Poly's own hull order (bottom face = edge 0) this column topples."""
+    runner = PymunkRunner(sim.scenes.stack(5), dt=DT, iterations=10)
+    start = runner.positions
+    runner.step(600)
+    assert np.hypot(*(runner.positions[-1] - start[-1])) < 0.01
+    assert np.abs(runner.angles).max() < 0.01
+
+
+def test_pymunk_hull_order_topples_the_column():
+    """Why the runner reorders vertices: Chipmunk with the bottom face as edge 0 (the order
+    pymunk.Poly's hull produces for a box) lets the same column creep and fall. If this starts
+    failing, a pymunk release changed that behaviour; the runner's workaround is then moot."""
+    runner = PymunkRunner(sim.scenes.stack(5), dt=DT, iterations=10)
+    hull_order = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+    for shape in runner.space.shapes:
+        if isinstance(shape, pymunk.Poly):
+            shape.unsafe_set_vertices(hull_order)
+    start = runner.positions
+    runner.step(600)
+    assert np.hypot(*(runner.positions[-1] - start[-1])) > 0.1
+
+
+@pytest.mark.parametrize("scene", [sim.scenes.seed_fig1(), sim.scenes.drop(5, seed=1)],
+                         ids=["seed_fig1", "drop5"])
+def test_initial_pose_and_motion_match_sim(scene):
+    world = sim.World(scene)
+    runner = PymunkRunner(scene)
+    np.testing.assert_allclose(runner.positions, world.positions, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(runner.angles, world.angles, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(runner.velocities, world.velocities, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(runner.angular_velocities, world.angular_velocities, rtol=0,
+                               atol=1e-12)
+
+
+def test_off_centre_body_frame_reports_centre_of_mass():
+    """A body whose vertices are not centred: sim's position is the body-frame origin."""
+    tri = [(0.0, 0.0), (2.0, 0.0), (0.0, 1.0)]
+    scene = sim.Scene([sim.Body(vertices=tri, position=(1.0, 3.0), angle=0.4,
+                                velocity=(0.5, 0.0), angular_velocity=0.3)], floor_y=None)
+    np.testing.assert_allclose(PymunkRunner(scene).positions, sim.World(scene).positions,
+                               rtol=0, atol=1e-12)
+    body = next(iter(PymunkRunner(scene).space.bodies))
+    assert body.mass == pytest.approx(scene.bodies[0].mass, rel=1e-12)
+    assert body.moment == pytest.approx(scene.bodies[0].inertia, rel=1e-12)
+
+
+def test_sleeping_on_sleeps_and_off_never():
+    on = PymunkRunner(sim.scenes.rest_row(3), dt=DT, sleeping=True, sleep_time=0.5)
+    off = PymunkRunner(sim.scenes.rest_row(3), dt=DT, sleeping=False)
+    assert not on.asleep.any()
+    for _ in range(12):                        # 2 s
+        on.step(10)
+        off.step(10)
+        assert not off.asleep.any()
+    assert on.asleep.all()
+    assert on.name == "pymunk-sleep" and off.name == "pymunk"
+    assert on.settings["sleep_time_threshold"] == 0.5
+    assert off.settings["sleep_time_threshold"] == math.inf
+
+
+def test_floor_is_wide_and_its_top_is_floor_y():
+    scene = sim.scenes.rest_row(4)
+    runner = PymunkRunner(scene)
+    (floor,) = [s for s in runner.space.shapes if isinstance(s, pymunk.Segment)]
+    assert floor.radius == 0.0 and floor.a.y == floor.b.y == scene.floor_y
+    assert floor.a.x < -1000.0 and floor.b.x > 1000.0 + 4 * 1.5
+
+
+def test_rejects_non_scene():
+    with pytest.raises(ValueError):
+        PymunkRunner("not a scene")

@@ -1,0 +1,75 @@
+"""Scene builders and scene files."""
+import numpy as np
+import pytest
+
+import sim
+from sim import scenes
+
+
+@pytest.mark.parametrize("name,args", [
+    ("single_box", ()), ("rest_row", (7,)), ("stack", (5,)), ("pyramid", (6,)), ("drop", (12, 3)),
+    ("arch", ()), ("seed_fig1", ()), ("seed_fig2", ()), ("seed_fig3", ()), ("sliding_box", ()),
+])
+def test_every_builder_makes_a_valid_non_overlapping_scene(name, args):
+    scene = scenes.BUILDERS[name](*args)
+    assert scene.name == name
+    world = sim.World(scene, overlap_tolerance=1e-9)      # starts touching, never overlapping
+    world.step(5)
+    assert np.all(np.isfinite(world.positions))
+
+
+def test_body_counts():
+    assert len(scenes.pyramid(20).bodies) == 210
+    assert len(scenes.pyramid(40).bodies) == 820
+    assert len(scenes.rest_row(1000).bodies) == 1000
+    assert len(scenes.stack(5).bodies) == 5
+    assert len(scenes.drop(25, seed=0).bodies) == 25
+
+
+def test_drop_is_seeded():
+    a, b, c = scenes.drop(10, seed=1), scenes.drop(10, seed=1), scenes.drop(10, seed=2)
+    va = [x.vertices for x in a.bodies]
+    assert all(np.array_equal(x, y.vertices) for x, y in zip(va, b.bodies))
+    assert not all(np.array_equal(x, y.vertices) for x, y in zip(va, c.bodies)
+                   if x.shape == y.vertices.shape)
+
+
+def test_random_polygons_have_several_vertex_counts():
+    counts = {len(b.vertices) for b in scenes.drop(40, seed=0).bodies}
+    assert len(counts) >= 4 and min(counts) >= 3
+
+
+def test_scene_file_round_trip(tmp_path):
+    scene = scenes.drop(6, seed=9)
+    path = tmp_path / "drop.toml"
+    scene.to_file(path)
+    loaded = sim.Scene.from_file(path)
+    assert loaded.name == scene.name and loaded.params == scene.params
+    for a, b in zip(loaded.bodies + loaded.static_bodies, scene.bodies + scene.static_bodies):
+        np.testing.assert_array_equal(a.vertices, b.vertices)
+        assert (a.position, a.angle, a.density, a.friction) == (b.position, b.angle, b.density,
+                                                                  b.friction)
+    w1, w2 = sim.World(scene), sim.World(loaded)
+    w1.step(60)
+    w2.step(60)
+    np.testing.assert_array_equal(w1.positions, w2.positions)
+
+
+def test_scene_file_with_box_shorthand_and_no_floor(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text('floor_y = "none"\ngravity = [0.0, 0.0]\n'
+                    '[[bodies]]\nbox = [2.0, 1.0]\nposition = [0.0, 3.0]\nvelocity = [1.0, 0.0]\n')
+    scene = sim.Scene.from_file(path)
+    assert scene.floor_y is None
+    world = sim.World(scene)
+    world.step(60)
+    np.testing.assert_allclose(world.positions[0], [1.0, 3.0], atol=1e-12)
+    assert world.masses[0] == pytest.approx(2.0)
+
+
+def test_positions_are_centres_of_mass():
+    # a right triangle given with its right angle at the body origin: the COM is at (1/3, 1/3)
+    tri = sim.Body(vertices=[(0, 0), (1, 0), (0, 1)], position=(2.0, 0.0))
+    world = sim.World(sim.Scene(bodies=[tri]))
+    np.testing.assert_allclose(world.positions[0], [2 + 1 / 3, 1 / 3], atol=1e-12)
+    np.testing.assert_allclose(world.vertices(0), [(2, 0), (3, 0), (2, 1)], atol=1e-12)

@@ -57,17 +57,18 @@ def _cell(x, inv_cell):
 
 
 @inline_kernel
-def _bucket(cx, cy, mask):
+def _bucket(cx, cy, mask, dense, lo_cx, lo_cy, width):
+    if dense:
+        return (cy - lo_cy) * width + (cx - lo_cx)
     # multiplicative hash of the cell coordinates into a power-of-two table
-    h = (cx * 73856093) ^ (cy * 19349663)
-    return h & mask
+    return ((cx * 73856093) ^ (cy * 19349663)) & mask
 
 
 @kernel
 def find_pairs(aabb, n_dynamic, has_floor, floor_y, cell_size, pair_keys):
     """Candidate pairs from a uniform grid, written sorted into ``pair_keys`` (P,).
 
-    Each box is entered in every cell it covers (a hash table of cells, filled by counting sort),
+    Each box is entered in every cell it covers (a table of cells, filled by counting sort),
     boxes sharing a cell are tested, and a pair is reported only from the cell holding the
     lower-left corner of the two boxes' intersection, so each pair once. The cost is linear in the
     bodies for scenes of similar sizes (stacks and pyramids, where sweeping along one axis tests
@@ -86,16 +87,32 @@ def find_pairs(aabb, n_dynamic, has_floor, floor_y, cell_size, pair_keys):
                 if count < cap:
                     pair_keys[count] = i          # (a + 1) * stride + b with a = -1
                 count += 1
-    # count grid entries
+    # count grid entries and the extent of the occupied cells
     n_entries = 0
+    lo_cx = lo_cy = np.int64(2 ** 62)
+    hi_cx = hi_cy = -np.int64(2 ** 62)
     for i in range(m):
-        nx = _cell(aabb[i, MAX_X], inv_cell) - _cell(aabb[i, MIN_X], inv_cell) + 1
-        ny = _cell(aabb[i, MAX_Y], inv_cell) - _cell(aabb[i, MIN_Y], inv_cell) + 1
-        n_entries += nx * ny
-    size = 1
-    while size < 2 * n_entries:
-        size *= 2
-    mask = size - 1
+        c0 = _cell(aabb[i, MIN_X], inv_cell)
+        c1 = _cell(aabb[i, MAX_X], inv_cell)
+        r0 = _cell(aabb[i, MIN_Y], inv_cell)
+        r1 = _cell(aabb[i, MAX_Y], inv_cell)
+        n_entries += (c1 - c0 + 1) * (r1 - r0 + 1)
+        lo_cx = min(lo_cx, c0)
+        hi_cx = max(hi_cx, c1)
+        lo_cy = min(lo_cy, r0)
+        hi_cy = max(hi_cy, r1)
+    width = hi_cx - lo_cx + 1
+    # A compact scene gets a dense table, one bucket per cell (no hash collisions); a sparse one
+    # (bodies flung far apart) gets a hash table twice the entry count.
+    dense = width * (hi_cy - lo_cy + 1) <= max(4 * n_entries, 4096)
+    if dense:
+        size = width * (hi_cy - lo_cy + 1)
+        mask = 0
+    else:
+        size = 1
+        while size < 2 * n_entries:
+            size *= 2
+        mask = size - 1
     start = np.zeros(size + 1, np.int64)
     entry_body = np.empty(n_entries, np.int64)
     entry_cx = np.empty(n_entries, np.int64)
@@ -103,14 +120,14 @@ def find_pairs(aabb, n_dynamic, has_floor, floor_y, cell_size, pair_keys):
     for i in range(m):
         for cx in range(_cell(aabb[i, MIN_X], inv_cell), _cell(aabb[i, MAX_X], inv_cell) + 1):
             for cy in range(_cell(aabb[i, MIN_Y], inv_cell), _cell(aabb[i, MAX_Y], inv_cell) + 1):
-                start[_bucket(cx, cy, mask) + 1] += 1
+                start[_bucket(cx, cy, mask, dense, lo_cx, lo_cy, width) + 1] += 1
     for k in range(size):
         start[k + 1] += start[k]
     fill = start[:-1].copy()
     for i in range(m):           # bodies in increasing index within each bucket: deterministic
         for cx in range(_cell(aabb[i, MIN_X], inv_cell), _cell(aabb[i, MAX_X], inv_cell) + 1):
             for cy in range(_cell(aabb[i, MIN_Y], inv_cell), _cell(aabb[i, MAX_Y], inv_cell) + 1):
-                h = _bucket(cx, cy, mask)
+                h = _bucket(cx, cy, mask, dense, lo_cx, lo_cy, width)
                 e = fill[h]
                 entry_body[e] = i
                 entry_cx[e] = cx

@@ -9,7 +9,7 @@ import numpy as np
 from .jit import kernel
 
 from .broadphase import find_pairs, update_geometry
-from .contacts import collide_pairs, save_for_warm_start
+from .contacts import NORMAL_IMPULSE, POINT_COUNT, collide_pairs, save_for_warm_start
 from .solver import (correct_positions, integrate_positions, integrate_velocities, prepare,
                      solve_velocities, update_rotation, warm_start)
 
@@ -23,8 +23,8 @@ N_FLOAT_SETTINGS = 12
 (ITERATIONS, POSITION_ITERATIONS, HAS_FLOOR, WARM_START, N_DYNAMIC) = range(5)
 N_INT_SETTINGS = 5
 # counters (int64 array), persistent across calls
-(STEP_COUNT, N_MANIFOLDS, BAD_BODY) = range(3)
-N_COUNTERS = 3
+(STEP_COUNT, N_MANIFOLDS, BAD_BODY, PRESOLVE_SWEEPS) = range(4)
+N_COUNTERS = 4
 
 
 @kernel
@@ -66,14 +66,14 @@ def _detect(fsettings, isettings, counters, position, angle, vert_start, local_v
 
 
 @kernel
-def presolve(n_iterations, fsettings, isettings, counters,
+def presolve(n_iterations, tolerance, fsettings, isettings, counters,
              position, angle, velocity, angular_velocity,
              inv_mass, inv_inertia, friction, restitution, vert_start, local_verts, local_normals,
              rotation, world_verts, world_normals, aabb, pair_keys,
              manifold_int, manifold_float, point_float, point_id,
              prev_key, prev_count, prev_id, prev_impulse):
-    """Solve the contact impulses of the initial configuration to convergence without moving
-    anything: velocities are restored afterwards, only the accumulated impulses are kept, to warm
+    """Solve the contact impulses of the initial configuration to convergence (or ``n_iterations``
+    sweeps) without moving anything: velocities are restored afterwards, only the accumulated impulses are kept, to warm
     start step 1. A scene placed at rest then starts in equilibrium instead of sagging while a
     10-iteration solver builds up the pressure in a tall stack over many steps.
     Returns OK or GROW."""
@@ -90,10 +90,31 @@ def presolve(n_iterations, fsettings, isettings, counters,
                          fsettings[DT])
     prepare(count, manifold_int, manifold_float, point_float, velocity, angular_velocity,
             inv_mass, inv_inertia, fsettings[DT], fsettings[RESTITUTION_THRESHOLD])
-    for _ in range(n_iterations):
-        solve_velocities(count, manifold_int, manifold_float, point_float, velocity,
-                         angular_velocity, inv_mass, inv_inertia)
+    # Sweep until no manifold's total normal impulse changes by more than `tolerance` times the
+    # largest in 10 sweeps, at most n_iterations.
+    before = np.empty(count)
+    done = 0
+    while done < n_iterations:
+        for c in range(count):
+            before[c] = 0.0
+            for j in range(manifold_int[c, POINT_COUNT]):
+                before[c] += point_float[c, j, NORMAL_IMPULSE]
+        for _ in range(min(10, n_iterations - done)):
+            solve_velocities(count, manifold_int, manifold_float, point_float, velocity,
+                             angular_velocity, inv_mass, inv_inertia)
+        done += 10
+        change = 0.0
+        largest = 0.0
+        for c in range(count):
+            total = 0.0
+            for j in range(manifold_int[c, POINT_COUNT]):
+                total += point_float[c, j, NORMAL_IMPULSE]
+            change = max(change, abs(total - before[c]))
+            largest = max(largest, abs(total))
+        if change <= tolerance * largest:
+            break
     velocity[:] = velocity0
+    counters[PRESOLVE_SWEEPS] = done
     angular_velocity[:] = angular_velocity0
     return OK
 

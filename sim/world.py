@@ -14,6 +14,11 @@ from .scene import Scene
 from .state import State
 
 
+#: Initial-impulse solve stops when no manifold's impulse changes by more than this fraction of the
+#: largest over 10 sweeps (a base-40 pyramid then moves 0.02 mm in 6 s; ~3000 sweeps, 0.6 s).
+INITIAL_TOLERANCE = 1e-6
+
+
 class SimulationError(RuntimeError):
     """A run that cannot go on: a body's state became NaN or infinite."""
 
@@ -49,8 +54,9 @@ class World:
       restitution_threshold impacts slower than this do not bounce, m/s (default 1.0)
       warm_starting         start each step from last step's impulses (default True)
       overlap_tolerance     initial overlap allowed between bodies / with the floor, m (default 0.01)
-      initial_iterations    iterations spent once, before step 1, solving the initial contact
-                            impulses to convergence (nothing moves; default 200, 0 disables): a
+      initial_iterations    most sweeps spent once, before step 1, solving the initial contact
+                            impulses to convergence (nothing moves; stops early when converged;
+                            default 5000, 0 disables): a
                             scene placed at rest starts in equilibrium instead of sagging while the
                             solver builds up pressure over the first steps. Needs warm_starting.
       **policy_parameters   the freeze policy's own parameters (e.g. impulse_threshold)
@@ -62,7 +68,7 @@ class World:
     def __init__(self, scene, dt=1 / 60, iterations=10, freeze="off", *, position_iterations=3,
                  slop=0.005, speculative_distance=0.02, baumgarte=0.2, max_correction=0.2,
                  restitution_threshold=1.0, warm_starting=True, overlap_tolerance=0.01,
-                 initial_iterations=200, **policy_parameters):
+                 initial_iterations=5000, **policy_parameters):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
         scene.validate()
@@ -91,7 +97,8 @@ class World:
         self.penetration = 0.0      # m, after the last step
         self._check_initial_overlap()
         if self.initial_iterations and self.warm_starting:
-            while K.presolve(self.initial_iterations, *self._kernel_arguments()) == K.GROW:
+            while K.presolve(self.initial_iterations, INITIAL_TOLERANCE,
+                             *self._kernel_arguments()) == K.GROW:
                 self._allocate_contacts(2 * len(self._pair_keys))
 
     def _kernel_arguments(self):

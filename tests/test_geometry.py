@@ -534,6 +534,41 @@ def test_feature_ids_stable_for_flush_stack(dx):
     assert got["ids"] == reference["ids"]
 
 
+@SETTINGS
+@given(pairs(min_frac=-0.5, max_frac=0.3), polygons, st.floats(0.0, 0.2), st.booleans())
+def test_packed_row_kernels_match_per_polygon_wrappers(pair, other, margin_frac, b_first):
+    """The solver calls the row-range kernels on packed arrays; the per-polygon wrappers (used by
+    the tests above) start A at row 0. Put other polygons around A and B so every row offset is
+    non-zero, in either order, and demand identical answers."""
+    a, b, inner = pair
+    margin = margin_frac * inner
+    blocks = [other, b, other, a] if b_first else [other, a, other, b]
+    verts = np.ascontiguousarray(np.concatenate(blocks))
+    normals = np.ascontiguousarray(np.concatenate([geometry.edge_normals(p) for p in blocks]))
+    starts = np.cumsum([0] + [len(p) for p in blocks])
+    ia, ib = (3, 1) if b_first else (1, 3)
+    pts = np.full((2, 2), np.nan)
+    seps = np.full(2, np.nan)
+    ids = np.full(2, -1, dtype=np.int64)
+    normal = np.full(2, np.nan)
+    count, flip, edge = geometry.collide_polygon_rows(
+        verts, normals, starts[ia], starts[ia + 1], starts[ib], starts[ib + 1], float(margin),
+        pts, seps, ids, normal)
+    want = kernel_collide(a, b, margin)
+    assert (count, flip, edge) == (want["count"], want["flip"], want["edge"])
+    assert ids[:count].tolist() == want["ids"]
+    assert np.array_equal(pts[:count], want["points"])
+    assert np.array_equal(seps[:count], want["separations"])
+    if count:
+        assert np.array_equal(normal, want["normal"])
+    floor_y = float(b[:, 1].min()) + 0.1 * margin_frac * inner
+    count = geometry.collide_floor_rows(verts, normals, starts[ib], starts[ib + 1], floor_y,
+                                        float(margin), pts, seps, ids)
+    want_count, want_pts, want_seps, want_ids = kernel_floor(b, floor_y, margin)
+    assert count == want_count and ids[:count].tolist() == want_ids
+    assert np.array_equal(pts[:count], want_pts) and np.array_equal(seps[:count], want_seps)
+
+
 # ------------------------------------------------------------------------------------------------
 # Floor
 

@@ -168,3 +168,55 @@ def test_seed_fig2_lands_on_top_edge():
     a, b = world.positions
     assert a[1] == pytest.approx(1.0 + 0.4, abs=0.01)    # on B's top face (B is 1 tall, A 0.8)
     assert abs(world.angles[0]) % (math.pi / 2) < 0.01 or abs(abs(world.angles[0]) % (math.pi / 2) - math.pi / 2) < 0.01
+
+
+def test_friction_mixes_by_geometric_mean():
+    # box mu 0.2 on a floor of mu 0.8: sqrt(0.16) = 0.4 (an arithmetic mean would give 0.5)
+    box = sim.Body.box(1, 1, position=(0.0, 0.5), velocity=(3.0, 0.0), friction=0.2)
+    world = sim.World(sim.Scene(bodies=[box], floor_friction=0.8), dt=1 / 240)
+    run_until(world, 2.0)
+    assert world.positions[0, 0] == pytest.approx(9.0 / (2 * 0.4 * G), rel=0.01)
+
+
+def test_box_rests_on_a_static_ledge():
+    ledge = sim.Body.box(2.0, 0.5, position=(0.0, 3.0), name="ledge")
+    box = sim.Body.box(1.0, 1.0, position=(0.3, 3.25 + 0.5 + 0.2))     # dropped 0.2 m onto it
+    world = run_until(sim.World(sim.Scene(bodies=[box], static_bodies=[ledge])), 3.0)
+    # after an impact, position correction leaves exactly up to `slop` of penetration, no more
+    assert 3.75 - world.slop - 1e-9 <= world.positions[0, 1] <= 3.75
+    assert world.positions[0, 0] == pytest.approx(0.3, abs=1e-3)
+
+
+def test_contact_report_balances_weight():
+    world = run_until(sim.World(sim.scenes.stack(3)), 1.0)
+    c = world.contacts()
+    floor = c["body_a"] == -1
+    # the floor carries all three boxes: sum of normal impulses = total weight * dt
+    assert c["normal_impulse"][floor].sum() == pytest.approx(world.masses.sum() * G * world.dt,
+                                                            rel=1e-3)
+    np.testing.assert_allclose(c["normal"][floor], [[0.0, 1.0]] * int(floor.sum()))
+    assert np.all(c["separation"] > -5e-3)
+
+
+@pytest.mark.parametrize("n", [3, 5, 8, 64])
+def test_regular_polygon_rests_on_its_flat_side(n):
+    radius = 0.5
+    poly = sim.Body.regular(n, radius)
+    bottom = -float(poly.vertices[:, 1].min())                 # flat bottom edge at y = -bottom
+    poly.position = (0.0, bottom - float(poly.centroid[1]))   # vertices are centred on the COM
+    world = sim.World(sim.Scene(bodies=[poly]))
+    start = world.positions
+    run_until(world, 5.0)
+    assert np.linalg.norm(world.positions - start) < 1e-3
+    assert abs(world.angles[0]) < 1e-3
+
+
+def test_polygon_dropped_on_a_vertex_settles_on_a_face():
+    # point down, tilted 0.1 rad off balance (dropped exactly point-down it would balance on the
+    # vertex, an unstable equilibrium that round-off leaves only after many seconds)
+    tri = sim.Body.regular(3, 0.6, position=(0.0, 2.0), angle=math.pi / 3 + 0.1)
+    world = run_until(sim.World(sim.Scene(bodies=[tri])), 6.0)
+    # an equilateral triangle ends on one of its three faces: angle a multiple of 2 pi / 3
+    k = world.angles[0] / (2 * math.pi / 3)
+    assert abs(k - round(k)) < 0.01
+    assert np.abs(world.velocities).max() < 1e-3

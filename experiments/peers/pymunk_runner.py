@@ -1,0 +1,220 @@
+"""A ``sim.Scene`` built and stepped in pymunk (Chipmunk2D), observed like a ``sim.World``.
+
+Matching sim's conventions
+- A pymunk body's ``position`` is its centre of mass: every polygon is given to pymunk with its
+  vertices relative to its centroid (sim.geometry.mass_properties), and mass and moment are sim's
+  own values, so both engines integrate identical bodies.
+- Friction: Chipmunk multiplies the two shapes' coefficients; sim mixes by geometric mean. Each
+  shape stores sqrt(mu), so the product is sqrt(mu_a) * sqrt(mu_b) = sqrt(mu_a * mu_b).
+- Restitution: Chipmunk multiplies elasticities; sim takes the max. A pre-solve handler sets
+  ``arbiter.restitution = max(e_a, e_b)`` every step (Chipmunk recomputes the product each step).
+  It is installed only when some restitution > 0, since a Python callback per contact per step
+  would otherwise slow every benchmark for nothing. (In pymunk 7 the arbiter attribute is
+  ``restitution``; assigning ``arbiter.elasticity`` just adds a Python attribute and does nothing.)
+  Unlike sim, Chipmunk has no restitution velocity threshold: slow impacts bounce too.
+- The floor half-plane y <= floor_y becomes a static Segment of radius 0 along y = floor_y, wide
+  enough that nothing in the scene can slide off its ends.
+- Integration order differs: Chipmunk moves positions with the old velocity, then updates the
+  velocity, so in free flight its positions trail sim's by one velocity update (g dt t: 0.16 m
+  after 1 s at dt 1/60); velocities agree exactly.
+
+Vertex indices and shape ids matter in Chipmunk (found while checking a 5-box column)
+Chipmunk keys each contact point, for warm starting, by a hash of the features that made it, and a
+polygon vertex's feature hash is CP_HASH_PAIR(shape id, vertex index) = id*C ^ index*C
+(cpCollision.c). That is symmetric, and zero when id == index, so with small shape ids (a space
+numbers shapes 0, 1, 2, ... as they are added) distinct contact points can share a hash and pick
+up each other's cached impulses. Seen with pymunk.Poly's own vertex order (its hull starts at the
+leftmost-lowest vertex, so a box's bottom face is edge 0) and the floor added first (id 0, boxes
+1..5): a free-standing column of 5 unit boxes (dt 1/60, 10 iterations) walks ~0.15 m sideways in
+2 s and falls within 10 s, while Poly.create_box's order, or the floor added last, holds it to
+< 1 cm. The outcome depended jointly on vertex order and on the order shapes were added. Two
+measures make it depend on neither:
+- shape ids start at SHAPE_ID_START (above any vertex count), so no feature hash is zero and no
+  two (id, index) pairs are swaps of each other;
+- each polygon is given raw (no hull) and rotated to start at a canonical vertex, the lowest in
+  the body frame, ties (within round-off) broken by the rightmost: for an axis-aligned box exactly
+  create_box's order, and for any polygon independent of where the caller's list started.
+"""
+import math
+
+import numpy as np
+import pymunk
+from pymunk._chipmunk import lib as _chipmunk   # the C API; pymunk's own pickling uses this call
+
+from sim.geometry import MAX_VERTICES, mass_properties
+from sim.scene import Scene
+
+#: First shape id given out by the space: above every vertex index a sim polygon can have.
+SHAPE_ID_START = MAX_VERTICES
+
+
+def canonical_vertices(local):
+    """Rotate a CCW vertex list (K,2) to start at the lowest vertex, the rightmost of ties.
+
+    Ties are judged within 1e-9 of the polygon's size, so that round-off left by subtracting
+    the centroid (a box's bottom corners at y = -0.5 and -0.5 - 1e-17) cannot flip the choice."""
+    v = np.asarray(local, dtype=np.float64)
+    tol = 1e-9 * float(np.max(np.abs(v)))
+    lowest = np.flatnonzero(v[:, 1] <= v[:, 1].min() + tol)
+    start = int(lowest[np.argmax(v[lowest, 0])])
+    return np.roll(v, -start, axis=0)
+
+
+def _com_pose(body):
+    """Centre of mass (world, m), local vertices about it (K,2) m, mass kg, moment kg m^2."""
+    mass, centroid, inertia = mass_properties(body.vertices, body.density)
+    c, s = math.cos(body.angle), math.sin(body.angle)
+    com = (body.position[0] + c * centroid[0] - s * centroid[1],
+           body.position[1] + s * centroid[0] + c * centroid[1])
+    return com, canonical_vertices(body.vertices - centroid), mass, inertia
+
+
+def _poly(pm_body, local):
+    """A Poly with exactly these vertices in this order (Poly() would reorder them by its hull)."""
+    verts = [tuple(p) for p in local.tolist()]
+    shape = pymunk.Poly(pm_body, verts)
+    shape.unsafe_set_vertices(verts)      # raw: safe here, the shape is not in a space yet
+    return shape
+
+
+def _max_restitution(arbiter, space, data):
+    """Pre-solve: sim's restitution mixing, max(e_a, e_b), from the shapes' stored elasticity."""
+    a, b = arbiter.shapes
+    arbiter.restitution = max(a.elasticity, b.elasticity)
+
+
+class PymunkRunner:
+    """Run ``scene`` in pymunk.
+
+    dt              step, s                 iterations   Chipmunk solver iterations per step
+    sleeping        use Chipmunk's sleeping (space.sleep_time_threshold = sleep_time) or not (inf)
+    sleep_time      s a body must stay idle before its group may sleep
+    idle_speed      m/s; None leaves Chipmunk's default (|gravity| * dt)
+    collision_slop  m of penetration Chipmunk leaves uncorrected (sim's ``slop``)
+    """
+
+    def __init__(self, scene, dt=1 / 60, iterations=10, sleeping=False, sleep_time=0.5,
+                 idle_speed=None, collision_slop=0.005):
+        if not isinstance(scene, Scene):
+            raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
+        if not (dt > 0 and math.isfinite(dt)):
+            raise ValueError(f"dt must be > 0 and finite, got {dt!r}")
+        if int(iterations) != iterations or iterations < 1:
+            raise ValueError(f"iterations must be an integer >= 1, got {iterations!r}")
+        scene.validate()
+        self.scene = scene
+        self.dt = float(dt)
+        self.step_count = 0
+
+        space = pymunk.Space()
+        _chipmunk.cpSpaceSetShapeIDCounter(space._space, SHAPE_ID_START)
+        space.gravity = scene.gravity
+        space.iterations = int(iterations)
+        space.collision_slop = float(collision_slop)
+        space.sleep_time_threshold = float(sleep_time) if sleeping else float("inf")
+        if idle_speed is not None:
+            space.idle_speed_threshold = float(idle_speed)
+        self.space = space
+
+        self._bodies = []
+        x_lo, x_hi = math.inf, -math.inf
+        for b in scene.bodies:
+            com, local, mass, inertia = _com_pose(b)
+            pm = pymunk.Body(mass, inertia)
+            pm.position, pm.angle = com, b.angle
+            pm.velocity, pm.angular_velocity = b.velocity, b.angular_velocity
+            space.add(pm, self._material(_poly(pm, local), b.friction, b.restitution))
+            self._bodies.append(pm)
+            reach = float(np.max(np.hypot(local[:, 0], local[:, 1])))
+            x_lo, x_hi = min(x_lo, com[0] - reach), max(x_hi, com[0] + reach)
+
+        for b in scene.static_bodies:
+            com, local, _, _ = _com_pose(b)
+            pm = pymunk.Body(body_type=pymunk.Body.STATIC)
+            pm.position, pm.angle = com, b.angle
+            space.add(pm, self._material(_poly(pm, local), b.friction, b.restitution))
+
+        self.floor_span = None                     # (x_min, x_max) m of the floor segment
+        if scene.floor_y is not None:
+            # Wider than anything travels in a run: the scene's extent again plus 1 km each side.
+            margin = (x_hi - x_lo) + 1000.0
+            self.floor_span = (x_lo - margin, x_hi + margin)
+            floor = pymunk.Segment(space.static_body, (self.floor_span[0], scene.floor_y),
+                                   (self.floor_span[1], scene.floor_y), 0.0)
+            space.add(self._material(floor, scene.floor_friction, scene.floor_restitution))
+
+        if min(s._hashid for s in space.shapes) < SHAPE_ID_START:   # pymunk changed underneath
+            raise RuntimeError("pymunk ignored the shape id counter; see the module docstring")
+
+        bouncy = (scene.floor_restitution > 0 and scene.floor_y is not None) or any(
+            b.restitution > 0 for b in list(scene.bodies) + list(scene.static_bodies))
+        if bouncy:
+            space.on_collision(None, None, pre_solve=_max_restitution)
+        self.sleeping = bool(sleeping)
+        self.settings = {
+            "engine": "pymunk", "pymunk_version": pymunk.version,
+            "chipmunk_version": pymunk.chipmunk_version, "dt": self.dt,
+            "iterations": space.iterations, "sleeping": self.sleeping,
+            "sleep_time_threshold": space.sleep_time_threshold,
+            "idle_speed_threshold": space.idle_speed_threshold,
+            "collision_slop": space.collision_slop, "collision_bias": space.collision_bias,
+            "collision_persistence": space.collision_persistence, "damping": space.damping,
+            "restitution_max_handler": bouncy, "shape_id_start": SHAPE_ID_START,
+            "polygon_vertices": "raw, lowest-then-rightmost first",
+            "floor": None if self.floor_span is None else
+                     {"shape": "segment", "radius": 0.0, "x_span": list(self.floor_span)},
+        }
+
+    @staticmethod
+    def _material(shape, friction, restitution):
+        shape.friction = math.sqrt(friction)      # product of two sqrt = geometric mean
+        shape.elasticity = restitution            # read back by _max_restitution
+        return shape
+
+    @property
+    def name(self):
+        return "pymunk-sleep" if self.sleeping else "pymunk"
+
+    def step(self, n=1):
+        """Advance ``n`` steps of ``dt``."""
+        step, dt = self.space.step, self.dt
+        for _ in range(n):
+            step(dt)
+        self.step_count += n
+        return self
+
+    @property
+    def time(self):
+        """Simulated time, s."""
+        return self.step_count * self.dt
+
+    # ---- observables (fresh arrays, row i = scene body i) ---------------------------------------
+    @property
+    def positions(self):
+        """(N,2) m, centres of mass."""
+        return np.array([tuple(b.position) for b in self._bodies], dtype=np.float64)
+
+    @property
+    def angles(self):
+        """(N,) rad, CCW."""
+        return np.array([b.angle for b in self._bodies], dtype=np.float64)
+
+    @property
+    def velocities(self):
+        """(N,2) m/s of the centres of mass."""
+        return np.array([tuple(b.velocity) for b in self._bodies], dtype=np.float64)
+
+    @property
+    def angular_velocities(self):
+        """(N,) rad/s."""
+        return np.array([b.angular_velocity for b in self._bodies], dtype=np.float64)
+
+    @property
+    def asleep(self):
+        """(N,) bool, Chipmunk's is_sleeping per body."""
+        return np.array([b.is_sleeping for b in self._bodies], dtype=bool)
+
+    def __repr__(self):
+        return (f"PymunkRunner(scene={self.scene.name!r}, bodies={len(self._bodies)}, "
+                f"dt={self.dt}, iterations={self.space.iterations}, sleeping={self.sleeping}, "
+                f"step={self.step_count})")

@@ -220,3 +220,12 @@ def test_polygon_dropped_on_a_vertex_settles_on_a_face():
     k = world.angles[0] / (2 * math.pi / 3)
     assert abs(k - round(k)) < 0.01
     assert np.abs(world.velocities).max() < 1e-3
+
+
+def test_friction_between_bodies_mixes_by_geometric_mean():
+    # a box (mu 0.2) sliding along a long static slab (mu 0.8): sqrt(0.16) = 0.4
+    slab = sim.Body.box(20.0, 1.0, position=(0.0, 0.5), friction=0.8)
+    box = sim.Body.box(1, 1, position=(-5.0, 1.5), velocity=(3.0, 0.0), friction=0.2)
+    world = sim.World(sim.Scene(bodies=[box], static_bodies=[slab]), dt=1 / 240)
+    run_until(world, 2.0)
+    assert world.positions[0, 0] + 5.0 == pytest.approx(9.0 / (2 * 0.4 * G), rel=0.01)

@@ -30,7 +30,7 @@ from tqdm import tqdm
 
 import sim
 from experiments.metadata import collect, write_results
-from experiments.peers import PymunkRunner
+from experiments.peers import make_runner
 
 NAME = "bench_step"
 DT = 1 / 60            # s
@@ -44,37 +44,13 @@ BUILDERS = {"rest_row": sim.scenes.rest_row, "pyramid": sim.scenes.pyramid}
 PARAM = {"rest_row": "n", "pyramid": "base"}       # the size parameter reported per scene
 
 
-class _SimSystem:
-    """sim.World with freeze off, behind the same two calls as the peers."""
-    name = "sim-off"
-
-    def __init__(self, scene):
-        self.world = sim.World(scene, dt=DT, iterations=ITERATIONS, freeze="off", slop=SLOP)
-
-    def step(self, n):
-        self.world.step(n)
-
-    @property
-    def positions(self):
-        return self.world.positions
+#: Systems timed, by their experiments.peers name, with the settings that make them comparable.
+SYSTEMS = ("sim-off", "pymunk")
+SYSTEM_SETTINGS = {"sim-off": {"slop": SLOP}, "pymunk": {"collision_slop": SLOP}}
 
 
-class _PymunkSystem:
-    name = "pymunk"
-
-    def __init__(self, scene):
-        self.runner = PymunkRunner(scene, dt=DT, iterations=ITERATIONS, sleeping=False,
-                                   collision_slop=SLOP)
-
-    def step(self, n):
-        self.runner.step(n)
-
-    @property
-    def positions(self):
-        return self.runner.positions
-
-
-SYSTEMS = (_SimSystem, _PymunkSystem)
+def _make(system, scene):
+    return make_runner(system, scene, dt=DT, iterations=ITERATIONS, **SYSTEM_SETTINGS[system])
 
 
 def _timed(system, steps):
@@ -94,9 +70,9 @@ def _timed(system, steps):
 def bench_scene(scene, repeats, steps, progress=None):
     """Time every system on ``scene``; one result row per system."""
     systems, starts, build_s = [], [], []
-    for make in SYSTEMS:
+    for name in SYSTEMS:
         t0 = time.perf_counter()
-        system = make(scene)
+        system = _make(name, scene)
         build_s.append(time.perf_counter() - t0)
         starts.append(system.positions)
         system.step(WARMUP_STEPS)                   # first steps excluded (contacts, caches)
@@ -158,9 +134,9 @@ def main(argv=None, data_dir=None):
     table, scenes = run(sizes, repeats, steps)
     parameters = {"dt": DT, "iterations": ITERATIONS, "slop": SLOP, "warmup_steps": WARMUP_STEPS,
                   "repeats": repeats, "steps_per_repeat": steps, "quick": args.quick,
-                  "sizes": sizes, "systems": [s.name for s in SYSTEMS],
-                  "pymunk_settings": PymunkRunner(scenes[0], dt=DT, iterations=ITERATIONS,
-                                                  collision_slop=SLOP).settings}
+                  "sizes": sizes, "systems": list(SYSTEMS),
+                  "system_settings": {name: _make(name, scenes[0]).settings
+                                      for name in SYSTEMS}}
     metadata = collect(scenes, parameters, script=NAME)
     csv_path, _ = write_results(NAME, table, metadata, folder=data_dir)
     with pd.option_context("display.width", 200, "display.max_columns", 20):

@@ -1,10 +1,92 @@
-"""Peer engines running a ``sim.Scene`` with the same observables as ``sim.World``.
+"""Every system the study compares, behind one small interface: ``Runner``.
 
-Every runner: ``Runner(scene, dt=..., iterations=..., sleeping=...)``, ``.step(n=1)``, and the
-properties ``positions`` (N,2) m (centres of mass, row i = scene body i), ``angles`` (N,) rad,
-``velocities`` (N,2) m/s, ``angular_velocities`` (N,) rad/s, ``asleep`` (N,) bool, ``name``,
-``settings`` (dict, for results metadata), ``time`` s and ``step_count``.
+A system is named by a string (``SYSTEMS``); ``make_runner(system, scene, ...)`` builds it:
+
+    sim-off, sim-sleep, sim-paper, sim-extended   sim.World under that freeze policy (SimRunner)
+    pymunk, pymunk-sleep                         Chipmunk2D, sleeping off / on (PymunkRunner)
+    pybullet, pybullet-sleep                     Bullet, 2D by planar joints (PybulletRunner)
+
+Every runner has ``step(n=1)`` and the observables ``positions`` (N,2) m (centres of mass, row i =
+scene body i), ``angles`` (N,) rad CCW, ``velocities`` (N,2) m/s, ``angular_velocities`` (N,)
+rad/s, ``asleep`` (N,) bool (the system does not solve the body this step), plus ``name`` (the
+system string), ``scene``, ``dt`` s, ``step_count``, ``time`` s, ``settings`` (a JSON-ready dict
+of everything that matters: dt, iterations, sleeping and its thresholds, mixing rules...; what
+experiments store in their metadata) and ``close()`` (runners are also context managers).
+
+Peers never leak into ``sim``: this package imports sim, never the reverse.
 """
-from .pymunk_runner import PymunkRunner
+from typing import Protocol, runtime_checkable
 
-__all__ = ["PymunkRunner"]
+import numpy as np
+
+from .pybullet_runner import PybulletRunner
+from .pymunk_runner import PymunkRunner
+from .sim_runner import SimRunner
+
+#: Every system name ``make_runner`` knows, sim's policies first.
+SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk", "pymunk-sleep",
+           "pybullet", "pybullet-sleep")
+
+#: Solver iterations when ``make_runner`` is given none: sim and pymunk 10, pybullet 50 (with 10,
+#: Bullet lets a base-20 pyramid creep and a base-40 one collapse).
+DEFAULT_ITERATIONS = {"sim": 10, "pymunk": 10, "pybullet": 50}
+
+
+@runtime_checkable
+class Runner(Protocol):
+    """What experiments may rely on, whatever the system."""
+    name: str
+    settings: dict
+
+    def step(self, n: int = 1) -> "Runner": ...
+    def close(self) -> None: ...
+
+    @property
+    def dt(self) -> float: ...
+    @property
+    def step_count(self) -> int: ...
+    @property
+    def time(self) -> float: ...
+    @property
+    def positions(self) -> np.ndarray: ...
+    @property
+    def angles(self) -> np.ndarray: ...
+    @property
+    def velocities(self) -> np.ndarray: ...
+    @property
+    def angular_velocities(self) -> np.ndarray: ...
+    @property
+    def asleep(self) -> np.ndarray: ...
+
+
+def engine_of(system):
+    """"sim", "pymunk" or "pybullet" for a system name; ValueError for an unknown one."""
+    if system not in SYSTEMS:
+        raise ValueError(f"unknown system {system!r}; choose one of {', '.join(SYSTEMS)}")
+    return system.split("-", 1)[0]
+
+
+def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
+    """Build ``scene`` in ``system`` (see ``SYSTEMS``) at step ``dt`` s.
+
+    iterations  solver iterations; None = the engine's default (``DEFAULT_ITERATIONS``)
+    settings    passed to the runner: sim.World's keywords (slop, the policy's parameters...),
+                PymunkRunner's (collision_slop, sleep_time, idle_speed) or PybulletRunner's
+                (sleep_threshold, restitution_threshold). Sleeping is chosen by the name.
+    """
+    engine = engine_of(system)
+    if "sleeping" in settings or "freeze" in settings:
+        raise ValueError(f"choose sleeping or the freeze policy by the system name, not by a "
+                         f"setting (got {system!r} with {sorted(settings)})")
+    iterations = DEFAULT_ITERATIONS[engine] if iterations is None else iterations
+    if engine == "sim":
+        return SimRunner(scene, dt=dt, iterations=iterations, freeze=system[len("sim-"):],
+                         **settings)
+    sleeping = system.endswith("-sleep")
+    if engine == "pymunk":
+        return PymunkRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
+    return PybulletRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
+
+
+__all__ = ["Runner", "SYSTEMS", "DEFAULT_ITERATIONS", "make_runner", "engine_of", "SimRunner",
+           "PymunkRunner", "PybulletRunner"]

@@ -152,7 +152,7 @@ class PymunkRunner:
             space.on_collision(None, None, pre_solve=_max_restitution)
         self.sleeping = bool(sleeping)
         self.settings = {
-            "engine": "pymunk", "pymunk_version": pymunk.version,
+            "engine": "pymunk", "system": self.name, "pymunk_version": pymunk.version,
             "chipmunk_version": pymunk.chipmunk_version, "dt": self.dt,
             "iterations": space.iterations, "sleeping": self.sleeping,
             "sleep_time_threshold": space.sleep_time_threshold,
@@ -213,6 +213,16 @@ class PymunkRunner:
     def asleep(self):
         """(N,) bool, Chipmunk's is_sleeping per body."""
         return np.array([b.is_sleeping for b in self._bodies], dtype=bool)
+
+    def close(self):
+        """Nothing to release (the space is freed with the runner); here so every runner can be
+        closed alike."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
 
     def __repr__(self):
         return (f"PymunkRunner(scene={self.scene.name!r}, bodies={len(self._bodies)}, "

@@ -1,0 +1,554 @@
+"""A ``sim.Scene`` built and stepped in pybullet (Bullet 3), 2D by construction, observed like a
+``sim.World``.
+
+Axes and angles
+- sim's plane (x, y) is Bullet's x-z plane: sim x -> Bullet x, sim y -> Bullet z, gravity along -z.
+  sim's angle is counter-clockwise about sim's +z (out of the screen), which is Bullet's -y
+  (x cross z = -y), so a sim angle theta is a rotation by -theta about Bullet's +y, and a sim
+  angular velocity w is -w about +y. (tests/test_pybullet_runner.py checks the world vertices of a
+  rotated box.)
+- Each dynamic body is its own URDF: a massless fixed base and one link joined to it by a `planar`
+  joint (axis y). The link can only translate in x-z and rotate about y, so bodies stay exactly in
+  the plane; ``out_of_plane()`` measures it. (Not the prismatic-prismatic-revolute chain: pybullet
+  puts a velocity motor on each such joint and its cost grows with N^2.) The joint's origin is the
+  body's initial pose, so all joint coordinates start at 0 (pybullet's resetJointStateMultiDof
+  ignores planar joints, and getJointStateMultiDof returns only 2 of their 3 coordinates).
+- The link frame is the centre of mass; mass and moment about y are sim's own values
+  (URDF_USE_INERTIA_FROM_FILE; the body is extruded 1 m in y, density unchanged, so the mass and
+  the moment about the extrusion axis equal sim's 2D values).
+- Shapes: an axis-aligned rectangle (in the body frame) becomes a URDF box, anything else a convex
+  OBJ mesh (the polygon extruded in y). Bullet inflates a convex hull by its collision margin
+  (0.001 m) but keeps a box's surface where it is, so meshes are inset by the margin: the contact
+  surface is then the polygon itself, with corners rounded by 1 mm.
+- The floor is a static box whose top is floor_y, 1 m thick and 1 km wider than the scene on each
+  side (a plane gave a resting box a one-corner contact in its first step); static polygons are
+  fixed URDF links.
+- Files (URDF, OBJ) are written to a temporary folder and deleted as soon as they are loaded.
+- Poses come from getLinkState (position, velocities) and the planar joint's rotation coordinate
+  (getJointState, unwrapped), never from Euler angles (Bullet's pitch is limited to +-pi/2).
+  getLinkState needs computeForwardKinematics=1: without it, it returns the pose of one step
+  earlier (free fall then looked like Chipmunk's explicit Euler).
+- changeDynamics silently ignores a link's material (lateralFriction, restitution) when the same
+  call also sets linearDamping, angularDamping or maxJointVelocity, so they go in two calls
+  (tests check that the values read back).
+
+Settings that differ from pybullet's defaults, to match sim
+- fixedTimeStep = dt, numSubSteps = 0 (one Bullet step per step), numSolverIterations = iterations
+  (default 50: 10 lets a base-20 pyramid creep and a base-40 one collapse; see below).
+- Damping: Bullet's multibodies default to linear and angular damping 0.04 (a quadratic drag: a
+  falling body loses 13 % of its speed in 1 s); set to 0, as are joint damping and rolling and
+  spinning friction. The largest joint velocity (default 100) is raised to 1000.
+- Friction: Bullet multiplies the two coefficients; each shape stores sqrt(mu), so pairs mix by
+  geometric mean exactly as in sim.
+- Restitution: Bullet multiplies too, and pybullet offers no per-pair override or contact callback,
+  so sim's max cannot be had for every pair. The floor and static bodies store 1.0 and each body
+  max(e_body, largest of floor and static e): body-floor (and body-static when the statics share
+  the floor's e) contacts get exactly max(e_body, e_floor); body-body contacts get the product of
+  the two bodies' values instead of the max (exact when both are 0). ``settings`` records whether
+  the scene's pairs are all exact. Impacts slower than sim's restitution threshold (1 m/s) do not
+  bounce (restitutionVelocityThreshold).
+- Initial velocities: since a planar joint's velocity cannot be set, they enter as an impulse over
+  the first step (force m v0 / dt and torque I w0 / dt at the centre of mass). Bullet, like sim,
+  updates velocities before solving contacts and moves positions with the new velocity, so the
+  first step sees v0 + g dt either way. Before the first step the observables report v0.
+- Sleeping is off unless ``sleeping=True`` (URDF_ENABLE_SLEEPING). Bullet puts a multibody to sleep
+  when the sum of squares of its joint velocities stays under sleep_threshold (default 0.05,
+  (m/s)^2 + (rad/s)^2) for 2 s (fixed in Bullet). getDynamicsInfo does not report sleep, so a body
+  counts as asleep when its velocities are exactly 0.0 and its pose did not change over the last
+  step.
+
+Measured deviations (tests/test_pybullet_runner.py pins them; dt 1/60)
+- A body that spins in free flight drifts: Bullet integrates the planar joint's translation
+  velocity in the rotating body frame with explicit Euler, which scales the speed by
+  sqrt(1 + (w dt)^2) per step. A box spinning at 2 rad/s gains 0.34 m/s sideways in a 1 s fall
+  (error proportional to dt). Resting and sliding bodies (w ~ 0) are unaffected; free fall without
+  spin, sliding and resting match sim to round-off and Bullet's 1e-5 m contact penetration.
+- Bounces overshoot: the apex is e^2 h plus ~10 % (e = 0.5, 0.7, 0.9: +11, +10, +9 %; sim +5 %,
+  pymunk 0 %). The box penetrates ~2 cm at impact and the position correction (no split impulse
+  for multibodies) pushes it out with extra speed.
+- Stacks settle softly and creep: with 50 iterations the boxes of a base-10 pyramid move up to
+  2.4 cm in 5 s (sim 2e-7 m, pymunk 1 cm), of a base-20 one 0.14 m (mean sinking 2.5 cm), of a
+  base-40 one 0.9 m (sinking 10 cm). With 10 iterations: base 20 0.78 m, base 40 collapses.
+"""
+import importlib.metadata
+import inspect
+import math
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pybullet as pb
+
+import sim
+from sim.geometry import mass_properties
+from sim.scene import Scene
+
+#: Solver iterations when none are given (see the module docstring).
+DEFAULT_ITERATIONS = 50
+#: Bullet's collision margin for URDF shapes, m; meshes are inset by it.
+COLLISION_MARGIN = 0.001
+#: btMultiBody's sleep timeout, s: fixed in Bullet, not settable from pybullet.
+DEACTIVATION_TIME = 2.0
+#: btMultiBody's default sleep threshold: sum of squared joint velocities, (m/s)^2 + (rad/s)^2.
+DEFAULT_SLEEP_THRESHOLD = 0.05
+#: Impacts slower than this do not bounce, m/s: sim.World's default restitution_threshold.
+RESTITUTION_THRESHOLD = inspect.signature(sim.World).parameters["restitution_threshold"].default
+#: Largest planar-joint velocity Bullet allows (its default, 100, could clip a long fall).
+MAX_JOINT_VELOCITY = 1000.0
+#: Half the extrusion depth in y, m.
+HALF_DEPTH = 0.5
+#: Thickness of the floor box under floor_y, m.
+FLOOR_THICKNESS = 1.0
+
+
+def _com_pose(body):
+    """Centre of mass (world, m), vertices about it (K,2) m, mass kg, moment kg m^2."""
+    mass, centroid, inertia = mass_properties(body.vertices, body.density)
+    c, s = math.cos(body.angle), math.sin(body.angle)
+    com = (body.position[0] + c * centroid[0] - s * centroid[1],
+           body.position[1] + s * centroid[0] + c * centroid[1])
+    return com, np.asarray(body.vertices, dtype=np.float64) - centroid, mass, inertia
+
+
+def _x_extent(scene):
+    """Smallest and largest x any body or static polygon reaches at the start, m."""
+    xs = [c[0] + sign * float(np.max(np.hypot(local[:, 0], local[:, 1])))
+          for b in list(scene.bodies) + list(scene.static_bodies)
+          for c, local, _, _ in [_com_pose(b)] for sign in (-1.0, 1.0)]
+    return min(xs), max(xs)
+
+
+def _num(x):
+    """A number as text that reads back to the same double (numpy scalars included)."""
+    return repr(float(x))
+
+
+def box_size(local):
+    """(width, height) if ``local`` (K,2) is an axis-aligned rectangle centred on the origin
+    (within 1e-12 of its size), else None."""
+    v = np.asarray(local, dtype=np.float64)
+    if len(v) != 4:
+        return None
+    w, h = np.abs(v).max(axis=0)
+    tol = 1e-12 * max(w, h)
+    corners = {(1, 1), (1, -1), (-1, 1), (-1, -1)}
+    found = set()
+    for x, y in v:
+        if abs(abs(x) - w) > tol or abs(abs(y) - h) > tol:
+            return None
+        found.add((int(math.copysign(1, x)), int(math.copysign(1, y))))
+    return (2.0 * float(w), 2.0 * float(h)) if found == corners else None
+
+
+def inset(local, distance):
+    """The convex CCW polygon (K,2) with every edge moved ``distance`` inwards."""
+    v = np.asarray(local, dtype=np.float64)
+    e = np.roll(v, -1, axis=0) - v
+    n = np.stack([e[:, 1], -e[:, 0]], axis=1)
+    n /= np.hypot(n[:, 0], n[:, 1])[:, None]            # outward normal of edge i (v_i -> v_i+1)
+    n_prev = np.roll(n, 1, axis=0)                       # edge ending at vertex i
+    # vertex i moves to where the two offset edges meet: along n_prev + n by d / (1 + n_prev.n)
+    denom = 1.0 + np.einsum("ij,ij->i", n_prev, n)
+    return v - distance * (n_prev + n) / denom[:, None]
+
+
+def _obj_text(local):
+    """A Wavefront OBJ of the polygon (K,2) extruded over y in [-HALF_DEPTH, HALF_DEPTH], inset by
+    the collision margin in every direction."""
+    v = inset(local, COLLISION_MARGIN)
+    k = len(v)
+    y = HALF_DEPTH - COLLISION_MARGIN
+    lines = ([f"v {_num(x)} {_num(-y)} {_num(z)}" for x, z in v]
+             + [f"v {_num(x)} {_num(y)} {_num(z)}" for x, z in v])
+    for i in range(1, k - 1):                             # caps as fans (OBJ indices from 1)
+        lines.append(f"f 1 {i + 2} {i + 1}")
+        lines.append(f"f {k + 1} {k + i + 1} {k + i + 2}")
+    for i in range(k):                                    # sides as two triangles each
+        j = (i + 1) % k
+        lines.append(f"f {i + 1} {j + 1} {k + j + 1}")
+        lines.append(f"f {i + 1} {k + j + 1} {k + i + 1}")
+    return "\n".join(lines) + "\n"
+
+
+def _geometry_xml(local, folder, stem):
+    size = box_size(local)
+    if size is not None:
+        return f'<box size="{_num(size[0])} {_num(2 * HALF_DEPTH)} {_num(size[1])}"/>', "box"
+    path = Path(folder) / f"{stem}.obj"
+    path.write_text(_obj_text(local))
+    return f'<mesh filename="{path}" scale="1 1 1"/>', "mesh"
+
+
+def _dynamic_urdf(geometry, mass, inertia, com, angle):
+    """A fixed massless base and a link on a planar joint (axis y) at the body's initial pose."""
+    # Only rotation about y is possible; ixx and izz just need to be valid (positive, triangle
+    # inequality), so they repeat iyy.
+    i = _num(inertia)
+    return f"""<?xml version="1.0"?>
+<robot name="body">
+  <link name="base">
+    <inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>
+  </link>
+  <joint name="plane" type="planar">
+    <parent link="base"/>
+    <child link="body"/>
+    <origin xyz="{_num(com[0])} 0 {_num(com[1])}" rpy="0 {_num(-angle)} 0"/>
+    <axis xyz="0 1 0"/>
+    <dynamics damping="0" friction="0"/>
+  </joint>
+  <link name="body">
+    <inertial>
+      <origin xyz="0 0 0" rpy="0 0 0"/>
+      <mass value="{_num(mass)}"/>
+      <inertia ixx="{i}" ixy="0" ixz="0" iyy="{i}" iyz="0" izz="{i}"/>
+    </inertial>
+    <collision><origin xyz="0 0 0" rpy="0 0 0"/><geometry>{geometry}</geometry></collision>
+  </link>
+</robot>
+"""
+
+
+def _static_urdf(geometry):
+    return f"""<?xml version="1.0"?>
+<robot name="static">
+  <link name="body">
+    <inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>
+    <collision><origin xyz="0 0 0" rpy="0 0 0"/><geometry>{geometry}</geometry></collision>
+  </link>
+</robot>
+"""
+
+
+def _pitch_quaternion(angle):
+    """Bullet quaternion (x, y, z, w) of the sim angle ``angle``: a rotation by -angle about y."""
+    return (0.0, math.sin(-0.5 * angle), 0.0, math.cos(-0.5 * angle))
+
+
+def restitution_values(scene):
+    """Per-shape restitution to store in Bullet (which multiplies a pair's two values), and
+    whether every possible pair then gets sim's max(e_a, e_b) exactly.
+
+    Returns (bodies (N,) array, environment value for the floor and static bodies, exact flag)."""
+    env = ([scene.floor_restitution] if scene.floor_y is not None else []) + [
+        b.restitution for b in scene.static_bodies]
+    e = np.array([b.restitution for b in scene.bodies], dtype=np.float64)
+    stored = np.maximum(e, max(env)) if env else e.copy()
+    env_value = 1.0
+    exact = all(r * env_value == max(ei, es) for ei, r in zip(e, stored) for es in env)
+    # body-body pairs, over distinct (e, stored) values (a value pairs with itself only if two
+    # bodies share it)
+    values, counts = np.unique(np.stack([e, stored], axis=1), axis=0, return_counts=True)
+    for a in range(len(values)):
+        for b in range(a, len(values)):
+            if (a != b or counts[a] > 1) and \
+                    values[a, 1] * values[b, 1] != max(values[a, 0], values[b, 0]):
+                exact = False
+    return stored, env_value, exact
+
+
+class PybulletRunner:
+    """Run ``scene`` in pybullet, one DIRECT client per runner (``close()`` disconnects).
+
+    dt               step, s                 iterations   numSolverIterations (default 50)
+    sleeping         URDF_ENABLE_SLEEPING on every body, or never sleep
+    sleep_threshold  Bullet's sleep threshold, sum of squared joint velocities; None = default 0.05
+    restitution_threshold  m/s, impacts slower than this do not bounce (sim's default, 1.0)
+    """
+
+    def __init__(self, scene, dt=1 / 60, iterations=DEFAULT_ITERATIONS, sleeping=False,
+                 sleep_threshold=None, restitution_threshold=RESTITUTION_THRESHOLD):
+        if not isinstance(scene, Scene):
+            raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
+        if not (dt > 0 and math.isfinite(dt)):
+            raise ValueError(f"dt must be > 0 and finite, got {dt!r}")
+        if isinstance(iterations, bool) or int(iterations) != iterations or iterations < 1:
+            raise ValueError(f"iterations must be an integer >= 1, got {iterations!r}")
+        if sleep_threshold is not None and not (sleep_threshold >= 0 and
+                                                math.isfinite(sleep_threshold)):
+            raise ValueError(f"sleep_threshold must be >= 0 and finite, got {sleep_threshold!r}")
+        scene.validate()
+        self.scene = scene
+        self.dt = float(dt)
+        self.sleeping = bool(sleeping)
+        self.step_count = 0
+        self._client = pb.connect(pb.DIRECT)
+        if self._client < 0:
+            raise RuntimeError("pybullet could not start a DIRECT client")
+        try:
+            self._build(scene, int(iterations), sleep_threshold, float(restitution_threshold))
+        except BaseException:
+            self.close()
+            raise
+
+    # ---- set-up -----------------------------------------------------------------------------
+    def _build(self, scene, iterations, sleep_threshold, restitution_threshold):
+        c = self._client
+        pb.setGravity(scene.gravity[0], 0.0, scene.gravity[1], physicsClientId=c)
+        pb.setPhysicsEngineParameter(fixedTimeStep=self.dt, numSubSteps=0,
+                                     numSolverIterations=iterations,
+                                     restitutionVelocityThreshold=restitution_threshold,
+                                     physicsClientId=c)
+        stored_e, env_e, exact_e = restitution_values(scene)
+        flags = pb.URDF_USE_INERTIA_FROM_FILE | (pb.URDF_ENABLE_SLEEPING if self.sleeping else 0)
+        self._ids = []                      # pybullet body id of scene body i
+        self._mass = np.empty(len(scene.bodies))
+        self._inertia = np.empty(len(scene.bodies))
+        self._angle0 = np.empty(len(scene.bodies))
+        self._com0 = np.empty((len(scene.bodies), 2))
+        self._kick = []                     # (body id, force, torque) applied in the first step
+        shapes = {"box": 0, "mesh": 0}
+        folder = tempfile.mkdtemp(prefix="freeze2d-pybullet-")
+        self.files_folder = folder          # deleted below; kept as a name for tests
+        try:
+            for i, b in enumerate(scene.bodies):
+                com, local, mass, inertia = _com_pose(b)
+                geometry, kind = _geometry_xml(local, folder, f"body{i}")
+                shapes[kind] += 1
+                path = Path(folder) / f"body{i}.urdf"
+                path.write_text(_dynamic_urdf(geometry, mass, inertia, com, b.angle))
+                uid = pb.loadURDF(str(path), useFixedBase=True, flags=flags, physicsClientId=c)
+                kwargs = {}
+                if sleep_threshold is not None:
+                    kwargs["sleepThreshold"] = float(sleep_threshold)
+                # Two calls: given damping or maxJointVelocity, changeDynamics silently skips
+                # the link's material (lateralFriction stayed 0.5 when they shared one call).
+                pb.changeDynamics(uid, 0, lateralFriction=math.sqrt(b.friction),
+                                  restitution=float(stored_e[i]), rollingFriction=0.0,
+                                  spinningFriction=0.0, jointDamping=0.0, frictionAnchor=0,
+                                  physicsClientId=c, **kwargs)
+                pb.changeDynamics(uid, 0, linearDamping=0.0, angularDamping=0.0,
+                                  maxJointVelocity=MAX_JOINT_VELOCITY, physicsClientId=c)
+                self._ids.append(uid)
+                self._mass[i], self._inertia[i] = mass, inertia
+                self._angle0[i], self._com0[i] = b.angle, com
+                vx, vy = b.velocity
+                if vx or vy or b.angular_velocity:
+                    self._kick.append((uid, [mass * vx / self.dt, 0.0, mass * vy / self.dt],
+                                       [com[0], 0.0, com[1]],
+                                       [0.0, -inertia * b.angular_velocity / self.dt, 0.0]))
+            self._static_ids = []
+            for j, b in enumerate(scene.static_bodies):
+                com, local, _, _ = _com_pose(b)
+                geometry, kind = _geometry_xml(local, folder, f"static{j}")
+                shapes[kind] += 1
+                path = Path(folder) / f"static{j}.urdf"
+                path.write_text(_static_urdf(geometry))
+                uid = pb.loadURDF(str(path), basePosition=(com[0], 0.0, com[1]),
+                                  baseOrientation=_pitch_quaternion(b.angle), useFixedBase=True,
+                                  physicsClientId=c)
+                pb.changeDynamics(uid, -1, lateralFriction=math.sqrt(b.friction),
+                                  restitution=env_e, rollingFriction=0.0, spinningFriction=0.0,
+                                  physicsClientId=c)
+                self._static_ids.append(uid)
+        finally:
+            shutil.rmtree(folder, ignore_errors=True)
+
+        self._floor = None
+        self.floor_span = None              # (x_min, x_max) m of the floor box
+        if scene.floor_y is not None:
+            # A box rather than a plane: against Bullet's plane a resting box gets one contact
+            # point in its first step (a corner) and is knocked ~1 mm sideways; box-box contacts
+            # come with all four corners at once. Wide like pymunk's floor segment.
+            x_lo, x_hi = _x_extent(scene)
+            margin = (x_hi - x_lo) + 1000.0
+            self.floor_span = (x_lo - margin, x_hi + margin)
+            half = (0.5 * (self.floor_span[1] - self.floor_span[0]), 2 * HALF_DEPTH,
+                    0.5 * FLOOR_THICKNESS)
+            shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
+            centre = (0.5 * (self.floor_span[0] + self.floor_span[1]), 0.0,
+                      scene.floor_y - 0.5 * FLOOR_THICKNESS)
+            self._floor = pb.createMultiBody(0.0, shape, -1, centre, physicsClientId=c)
+            pb.changeDynamics(self._floor, -1, lateralFriction=math.sqrt(scene.floor_friction),
+                              restitution=env_e, rollingFriction=0.0, spinningFriction=0.0,
+                              physicsClientId=c)
+
+        self._cache_step = -1
+        self._cache = None
+        self._previous = None               # (positions, joint angles) before the last step
+        self.settings = {
+            "engine": "pybullet", "system": self.name,
+            "pybullet_version": importlib.metadata.version("pybullet"),
+            "pybullet_api_version": pb.getAPIVersion(physicsClientId=c), "dt": self.dt,
+            "iterations": iterations, "num_sub_steps": 0,
+            "sleeping": self.sleeping, "deactivation_time_s": DEACTIVATION_TIME,
+            "sleep_threshold": DEFAULT_SLEEP_THRESHOLD if sleep_threshold is None
+                               else float(sleep_threshold),
+            "restitution_velocity_threshold": restitution_threshold,
+            "joint": "planar (axis y), fixed massless base", "inertia": "from URDF (sim's)",
+            "shapes": {"box": shapes["box"], "convex_mesh": shapes["mesh"]},
+            "collision_margin": COLLISION_MARGIN, "mesh_inset": COLLISION_MARGIN,
+            "extrusion_depth": 2 * HALF_DEPTH,
+            "linear_damping": 0.0, "angular_damping": 0.0, "joint_damping": 0.0,
+            "rolling_friction": 0.0, "spinning_friction": 0.0, "friction_anchor": False,
+            "max_joint_velocity": MAX_JOINT_VELOCITY,
+            "friction_mixing": "product of sqrt(mu) = geometric mean (exact)",
+            "restitution_mixing": "product; floor and statics store 1.0, bodies "
+                                  "max(e_body, e_environment)",
+            "restitution_exact_for_all_pairs": bool(exact_e),
+            "initial_velocity": "impulse over the first step",
+            "floor": None if self._floor is None else
+                     {"shape": "box", "top_z": scene.floor_y, "thickness": FLOOR_THICKNESS,
+                      "x_span": list(self.floor_span)},
+        }
+
+    @property
+    def name(self):
+        return "pybullet-sleep" if self.sleeping else "pybullet"
+
+    # ---- stepping ---------------------------------------------------------------------------
+    def step(self, n=1):
+        """Advance ``n`` steps of ``dt``."""
+        if isinstance(n, bool) or int(n) != n or n < 0:
+            raise ValueError(f"n must be an integer >= 0, got {n!r}")
+        n = int(n)
+        if n == 0:
+            return self
+        c = self._client
+        step = pb.stepSimulation
+        if self._kick:                                   # initial velocities, see the docstring
+            for uid, force, at, torque in self._kick:
+                pb.applyExternalForce(uid, 0, force, at, pb.WORLD_FRAME, physicsClientId=c)
+                pb.applyExternalTorque(uid, 0, torque, pb.WORLD_FRAME, physicsClientId=c)
+            self._kick = []
+            step(physicsClientId=c)
+            self.step_count += 1
+            n -= 1
+        if self.sleeping and n:                          # keep the pose before the last step
+            for _ in range(n - 1):
+                step(physicsClientId=c)
+            self.step_count += n - 1
+            self._previous = self._read_pose()
+            step(physicsClientId=c)
+            self.step_count += 1
+        else:
+            for _ in range(n):
+                step(physicsClientId=c)
+            self.step_count += n
+        return self
+
+    @property
+    def time(self):
+        """Simulated time, s."""
+        return self.step_count * self.dt
+
+    # ---- observables ------------------------------------------------------------------------
+    def _read_pose(self):
+        c = self._client
+        pos = np.empty((len(self._ids), 2))
+        q0 = np.empty(len(self._ids))
+        for i, uid in enumerate(self._ids):
+            p = pb.getLinkState(uid, 0, computeForwardKinematics=1, physicsClientId=c)[0]
+            pos[i] = p[0], p[2]
+            q0[i] = pb.getJointState(uid, 0, physicsClientId=c)[0]
+        return pos, q0
+
+    def _read(self):
+        """Positions, angles, velocities, angular velocities, and raw link states, cached until
+        the next step."""
+        if self._cache_step == self.step_count:
+            return self._cache
+        c = self._client
+        n = len(self._ids)
+        pos = np.empty((n, 2))
+        vel = np.empty((n, 2))
+        q0 = np.empty(n)
+        w = np.empty(n)
+        raw_pos = np.empty((n, 3))
+        raw_orn = np.empty((n, 4))
+        raw_vel = np.empty((n, 6))
+        for i, uid in enumerate(self._ids):
+            s = pb.getLinkState(uid, 0, computeLinkVelocity=1, computeForwardKinematics=1,
+                                physicsClientId=c)
+            raw_pos[i], raw_orn[i] = s[0], s[1]
+            raw_vel[i, :3], raw_vel[i, 3:] = s[6], s[7]
+            q0[i] = pb.getJointState(uid, 0, physicsClientId=c)[0]
+        pos[:, 0], pos[:, 1] = raw_pos[:, 0], raw_pos[:, 2]
+        vel[:, 0], vel[:, 1] = raw_vel[:, 0], raw_vel[:, 2]
+        w[:] = -raw_vel[:, 4]
+        angles = self._angle0 - q0
+        if self.step_count == 0:                        # the first-step impulse is still pending
+            vel = np.array([b.velocity for b in self.scene.bodies], dtype=np.float64)
+            w = np.array([b.angular_velocity for b in self.scene.bodies], dtype=np.float64)
+        self._cache = (pos, angles, vel, w, q0, raw_pos, raw_orn, raw_vel)
+        self._cache_step = self.step_count
+        return self._cache
+
+    @property
+    def positions(self):
+        """(N,2) m, centres of mass."""
+        return self._read()[0].copy()
+
+    @property
+    def angles(self):
+        """(N,) rad, CCW, unwrapped (from the planar joint's rotation coordinate)."""
+        return self._read()[1].copy()
+
+    @property
+    def velocities(self):
+        """(N,2) m/s of the centres of mass."""
+        return self._read()[2].copy()
+
+    @property
+    def angular_velocities(self):
+        """(N,) rad/s, CCW."""
+        return self._read()[3].copy()
+
+    @property
+    def asleep(self):
+        """(N,) bool: velocities exactly 0.0 and pose unchanged over the last step (Bullet does
+        not report sleep). Always False with sleeping off."""
+        n = len(self._ids)
+        if not self.sleeping or self._previous is None or self.step_count == 0:
+            return np.zeros(n, dtype=bool)
+        pos, _, _, _, q0, _, _, raw_vel = self._read()
+        prev_pos, prev_q0 = self._previous
+        return ((raw_vel == 0.0).all(axis=1) & (pos == prev_pos).all(axis=1) & (q0 == prev_q0))
+
+    def out_of_plane(self):
+        """How far the bodies left the x-z plane: dict of max |y| of the centres of mass (m), max
+        tilt of a body's y axis away from world y (rad), max |velocity along y| (m/s), max angular
+        velocity about x or z (rad/s), and the largest distance a fixed base moved (m)."""
+        _, _, _, _, _, raw_pos, raw_orn, raw_vel = self._read()
+        qx, qz = raw_orn[:, 0], raw_orn[:, 2]
+        tilt = np.arccos(np.clip(1.0 - 2.0 * (qx * qx + qz * qz), -1.0, 1.0))
+        base = max((math.hypot(*pb.getBasePositionAndOrientation(uid, physicsClientId=self._client)[0])
+                    for uid in self._ids), default=0.0)
+        return {"max_abs_y_m": float(np.abs(raw_pos[:, 1]).max()),
+                "max_tilt_rad": float(tilt.max()),
+                "max_abs_vy_m_s": float(np.abs(raw_vel[:, 1]).max()),
+                "max_abs_wxz_rad_s": float(np.abs(raw_vel[:, [3, 5]]).max()),
+                "max_base_drift_m": float(base)}
+
+    def vertices(self, i):
+        """World vertices (K,2) of dynamic body ``i`` as Bullet places its shape: the scene's
+        polygon carried by the link's position and quaternion (for axis tests)."""
+        _, _, _, _, _, raw_pos, raw_orn, _ = self._read()
+        _, local, _, _ = _com_pose(self.scene.bodies[i])
+        m = np.array(pb.getMatrixFromQuaternion(raw_orn[i].tolist()), dtype=np.float64).reshape(3, 3)
+        pts = np.stack([local[:, 0], np.zeros(len(local)), local[:, 1]], axis=1) @ m.T + raw_pos[i]
+        return pts[:, [0, 2]]
+
+    # ---- lifetime ---------------------------------------------------------------------------
+    def close(self):
+        """Disconnect the pybullet client (idempotent)."""
+        client, self._client = getattr(self, "_client", -1), -1
+        if client is not None and client >= 0:
+            try:
+                pb.disconnect(physicsClientId=client)
+            except Exception:            # already gone, or pybullet torn down at exit
+                pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        self.close()
+
+    def __repr__(self):
+        return (f"PybulletRunner(scene={self.scene.name!r}, bodies={len(self.scene.bodies)}, "
+                f"dt={self.dt}, iterations={self.settings.get('iterations')}, "
+                f"sleeping={self.sleeping}, step={self.step_count})")

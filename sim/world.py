@@ -200,6 +200,9 @@ class World:
             np.zeros((n, self.policy.REAL_COLUMNS)),           # body_real: policy's own, per body
             np.zeros((n, self.policy.INT_COLUMNS), np.int64),  # body_int: policy's own, per body
             np.zeros((max(16, 4 * n), 2), np.int64))           # links: policy's body pairs
+        initial = getattr(self.policy, "initial", None)
+        if initial is not None:
+            initial(self._activity[7])
         self._allocate_contacts(max(64, 4 * m))
 
     def _allocate_contacts(self, capacity):

@@ -21,7 +21,7 @@ import numpy as np
 from .activity import resting_bodies
 from .broadphase import build_grid, find_pairs, update_geometry
 from .contacts import NORMAL_IMPULSE, POINT_COUNT, collide_pairs, save_for_warm_start
-from .freeze.dispatch import update_freeze
+from .freeze.dispatch import freeze_after_solve, freeze_before_solve
 from .jit import kernel
 from .layout import (BAD_BODY, BAUMGARTE, CELL_SIZE, DT, FLOOR_FRICTION, FLOOR_RESTITUTION,
                      FLOOR_Y, GRAVITY_X, GRAVITY_Y, HAS_FLOOR, ITERATIONS, MARGIN, MAX_CORRECTION,
@@ -166,6 +166,14 @@ def run(n_steps, settings, bodies, geometry, contacts, activity, resting, min_se
         count = _detect(settings, bodies, geometry, contacts, activity, resting)
         if count < 0:
             return GROW, step, resting
+        # Bodies woken by this step's contacts join it: detect again with them awake, until no
+        # more wake (the woken bodies' own contacts were not generated while they were frozen).
+        while freeze_before_solve(isettings[POLICY], count, settings, bodies, contacts,
+                                  activity) > 0:
+            resting = rebuild_resting(settings, bodies, geometry, activity)
+            count = _detect(settings, bodies, geometry, contacts, activity, resting)
+            if count < 0:
+                return GROW, step, resting
         n_awake = counters[N_AWAKE]
         integrate_velocities(awake, n_awake, velocity, fsettings[GRAVITY_X], fsettings[GRAVITY_Y],
                              dt)
@@ -192,5 +200,5 @@ def run(n_steps, settings, bodies, geometry, contacts, activity, resting, min_se
         if bad >= 0:
             counters[BAD_BODY] = bad
             return NON_FINITE, step + 1, resting
-        update_freeze(isettings[POLICY], count, settings, bodies, geometry, contacts, activity)
+        freeze_after_solve(isettings[POLICY], count, settings, bodies, contacts, activity)
     return OK, n_steps, resting

@@ -54,7 +54,9 @@ def _find(parent, i):
 
 
 @kernel
-def update(count, settings, bodies, contacts, activity):
+def before_solve(count, settings, bodies, contacts, activity):
+    """An awake body touching a sleeping one wakes that body's whole island, before the solve, so
+    the touch is solved between moving bodies. Returns the number of bodies woken."""
     fsettings, isettings, counters = settings
     velocity, angular_velocity, inv_mass, inv_inertia, extent = (bodies[2], bodies[3], bodies[4],
                                                                  bodies[5], bodies[11])
@@ -62,7 +64,7 @@ def update(count, settings, bodies, contacts, activity):
     states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, _ = activity
     n_dyn = isettings[N_DYNAMIC]
     dt = fsettings[DT]
-    # 1. an awake body touching a sleeping one wakes that body's whole island
+    woken = 0
     for c in range(count):
         a = manifold_int[c, BODY_A]
         b = manifold_int[c, BODY_B]
@@ -79,13 +81,26 @@ def update(count, settings, bodies, contacts, activity):
                     states[i] = _FREE
                     record(events, counters, i, _SLEEPING, _FREE,
                            _TOUCHED if i == sleeper else _BY_ISLAND)
+                    woken += 1
                     if nxt < 0 or nxt == sleeper:
                         break
                     i = nxt
+    return woken
+
+
+@kernel
+def after_solve(count, settings, bodies, contacts, activity):
+    """Idle timers, islands, and islands falling asleep."""
+    fsettings, isettings, counters = settings
+    velocity, angular_velocity, extent = bodies[2], bodies[3], bodies[11]
+    manifold_int = contacts[1]
+    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, _ = activity
+    n_dyn = isettings[N_DYNAMIC]
+    dt = fsettings[DT]
     n_awake = counters[N_AWAKE]
     if n_awake == 0:
         return
-    # 2. idle timers
+    # idle timers
     limit = fsettings[SLEEP_SPEED]
     for k in range(n_awake):
         i = awake[k]
@@ -96,7 +111,7 @@ def update(count, settings, bodies, contacts, activity):
         else:
             body_real[i, TIMER] = 0.0
         body_int[i, PARENT] = i
-    # 3. islands of touching awake bodies (union-find over this step's manifolds)
+    # islands of touching awake bodies (union-find over this step's manifolds)
     parent = body_int[:, PARENT]
     for c in range(count):
         a = manifold_int[c, BODY_A]
@@ -125,7 +140,7 @@ def update(count, settings, bodies, contacts, activity):
             n_sleep += 1
     if n_sleep == 0:
         return
-    # 4. put the islands to sleep, linking each island's bodies in a ring (first/last body of
+    # put the islands to sleep, linking each island's bodies in a ring (first/last body of
     # each island, indexed by the awake slot of the island's root)
     first = np.full(n_awake, -1, np.int64)
     last = np.full(n_awake, -1, np.int64)

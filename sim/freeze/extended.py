@@ -4,7 +4,8 @@ three admitted limits (no general rest test, no way back to motion, two bodies o
 Freezing (the general rest test), checked every step for awake bodies:
   1. slow: |v| + |w| * extent < ``rest_speed`` (m/s) for ``rest_steps`` consecutive steps;
   2. steady: over each of those steps the velocity changed by less than ``rest_acceleration``
-     (m/s^2) times dt (again |dv| + |dw| * extent), so a body that has just started to slide down
+     (m/s^2) times dt (again |dv| + |dw| * extent; the previous velocity is the one at the last
+     slow step, so a body just slowed down from fast motion waits one more step), so a body that has just started to slide down
      a ramp, or to tip, is not frozen at the instant it is slow. (Friction at its Coulomb limit is
      not a usable sign: a resting body's contact forces are statically indeterminate, and the
      solver leaves some at the limit in a pyramid that holds.) A body accelerating more slowly
@@ -229,27 +230,34 @@ def after_solve(count, settings, bodies, contacts, activity):
         return
     limit = fsettings[REST_SPEED]
     change_limit = fsettings[REST_ACCELERATION] * dt
+    any_candidate = False
     for k in range(n_awake):
         i = awake[k]
-        speed = np.hypot(velocity[i, 0], velocity[i, 1]) + abs(angular_velocity[i]) * extent[i]
-        change = (np.hypot(velocity[i, 0] - body_real[i, PREVIOUS_VX],
-                           velocity[i, 1] - body_real[i, PREVIOUS_VY])
-                  + abs(angular_velocity[i] - body_real[i, PREVIOUS_W]) * extent[i])
-        body_real[i, PREVIOUS_VX] = velocity[i, 0]
-        body_real[i, PREVIOUS_VY] = velocity[i, 1]
-        body_real[i, PREVIOUS_W] = angular_velocity[i]
+        vx = velocity[i, 0]
+        vy = velocity[i, 1]
+        w = angular_velocity[i]
+        body_int[i, MARK] = 0
+        # cheap exit for bodies clearly in motion (most of them when nothing can rest): any one
+        # component at or above the limit means |v| + |w| extent is too
+        if abs(vx) >= limit or abs(vy) >= limit or abs(w) * extent[i] >= limit:
+            body_int[i, REST_COUNT] = 0
+            continue
+        speed = np.sqrt(vx * vx + vy * vy) + abs(w) * extent[i]
+        dvx = vx - body_real[i, PREVIOUS_VX]
+        dvy = vy - body_real[i, PREVIOUS_VY]
+        change = np.sqrt(dvx * dvx + dvy * dvy) + abs(w - body_real[i, PREVIOUS_W]) * extent[i]
+        body_real[i, PREVIOUS_VX] = vx
+        body_real[i, PREVIOUS_VY] = vy
+        body_real[i, PREVIOUS_W] = w
         if speed < limit and change <= change_limit:
             body_int[i, REST_COUNT] += 1
         else:
             body_int[i, REST_COUNT] = 0
         # MARK = 1: candidate (slow and steady long enough); cleared below when a neighbour
         # cannot rest
-        body_int[i, MARK] = 1 if body_int[i, REST_COUNT] >= isettings[REST_STEPS] else 0
-    any_candidate = False
-    for k in range(n_awake):
-        if body_int[awake[k], MARK] == 1:
+        if body_int[i, REST_COUNT] >= isettings[REST_STEPS]:
+            body_int[i, MARK] = 1
             any_candidate = True
-            break
     if not any_candidate:
         return
     changed = True

@@ -102,15 +102,21 @@ def after_solve(count, settings, bodies, contacts, activity):
         return
     # idle timers
     limit = fsettings[SLEEP_SPEED]
+    longest = 0.0
     for k in range(n_awake):
         i = awake[k]
-        speed = (np.hypot(velocity[i, 0], velocity[i, 1])
-                 + abs(angular_velocity[i]) * extent[i])
-        if speed < limit:
+        vx = velocity[i, 0]
+        vy = velocity[i, 1]
+        w = abs(angular_velocity[i]) * extent[i]
+        if abs(vx) < limit and abs(vy) < limit and w < limit \
+                and np.sqrt(vx * vx + vy * vy) + w < limit:
             body_real[i, TIMER] += dt
+            longest = max(longest, body_real[i, TIMER])
         else:
             body_real[i, TIMER] = 0.0
         body_int[i, PARENT] = i
+    if longest < fsettings[SLEEP_TIME]:
+        return                   # no island can sleep: skip building them
     # islands of touching awake bodies (union-find over this step's manifolds)
     parent = body_int[:, PARENT]
     for c in range(count):

@@ -5,11 +5,11 @@ policy name and its parameters for ``sim.World``.
 """
 import math
 
-from . import extended, off, sleep
+from . import extended, off, paper, sleep
 
 #: Every policy the study compares, in the order of the paper.
 POLICY_NAMES = ("off", "sleep", "paper", "extended")
-_IMPLEMENTED = {off.NAME: off, sleep.NAME: sleep, extended.NAME: extended}
+_IMPLEMENTED = {m.NAME: m for m in (off, sleep, paper, extended)}
 
 
 def resolve(name, params):

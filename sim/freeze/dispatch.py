@@ -5,7 +5,7 @@ step's contacts disturb, so the collision is solved with them moving; returns ho
 ``after_solve`` (positions final: decide transitions, record events, freeze bodies)."""
 from ..jit import kernel
 from ..layout import EXTENDED, PAPER, SLEEP
-from . import extended, sleep
+from . import extended, paper, sleep
 
 
 @kernel
@@ -14,6 +14,8 @@ def freeze_before_solve(policy, count, settings, bodies, contacts, activity):
         return sleep.before_solve(count, settings, bodies, contacts, activity)
     if policy == EXTENDED:
         return extended.before_solve(count, settings, bodies, contacts, activity)
+    if policy == PAPER:
+        return paper.before_solve(count, settings, bodies, contacts, activity)
     return 0
 
 
@@ -23,3 +25,5 @@ def freeze_after_solve(policy, count, settings, bodies, contacts, activity):
         sleep.after_solve(count, settings, bodies, contacts, activity)
     elif policy == EXTENDED:
         extended.after_solve(count, settings, bodies, contacts, activity)
+    elif policy == PAPER:
+        paper.after_solve(count, settings, bodies, contacts, activity)

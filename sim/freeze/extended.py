@@ -57,8 +57,8 @@ INT_SETTINGS = {"rest_steps": REST_STEPS}
 # body_real columns: support summary and equilibrium load (see module docstring), and this step's
 # impulses from awake bodies (scratch)
 (SUPPORT_NX, SUPPORT_NY, SUPPORT_LO, SUPPORT_HI, SUPPORT_H, SUPPORT_MU, LOAD_X, LOAD_Y, LOAD_M,
- PUSH_X, PUSH_Y, PUSH_M, PREVIOUS_VX, PREVIOUS_VY, PREVIOUS_W) = range(15)
-REAL_COLUMNS = 15
+ PUSH_X, PUSH_Y, PUSH_M, PUSH_NORMAL, PREVIOUS_VX, PREVIOUS_VY, PREVIOUS_W) = range(16)
+REAL_COLUMNS = 16
 #: the centre of pressure may sit this far (m) outside the support extent before a frozen body
 #: counts as tipping: round-off in a body balanced on one point must not wake it
 TIP_TOLERANCE = 1e-4
@@ -98,13 +98,17 @@ def _is_movable(i, n_dyn, awake_slot):
 
 @kernel
 def before_solve(count, settings, bodies, contacts, activity):
-    """Impacts: an awake body approaching a frozen one so fast that stopping it would take a
-    normal impulse above ``impulse_threshold`` wakes the frozen body (and, through the support
-    graph, all it carries) *before* the solve, so the collision is solved between moving bodies
-    and momentum is passed on, not reflected off an immovable body. The estimate is the impulse
-    that stops the approach against an immovable body, from the velocities before gravity is
-    applied: a body merely resting on a frozen one does not count, however heavy.
-    Returns the number of bodies woken."""
+    """Impacts and pushes, judged *before* the solve so that the collision is solved between
+    moving bodies and momentum is passed on, not reflected off an immovable body (a body woken
+    after the step would have stopped its pusher dead first).
+
+    For each frozen body that awake bodies touch, the impulse each approaching contact point
+    would need to stop its mover against an immovable body is estimated from the velocities
+    before gravity is applied (so a body merely resting on a frozen one contributes nothing,
+    however heavy; its weight is judged after the solve). The frozen body wakes (and, through the
+    support graph, all it carries) if the estimates add up to more than ``impulse_threshold``
+    (an impact), or if its load plus the estimated push breaks its equilibrium (a push, or
+    tipping). Returns the number of bodies woken."""
     fsettings, isettings, counters = settings
     position, velocity, angular_velocity = bodies[0], bodies[2], bodies[3]
     inv_mass, inv_inertia = bodies[4], bodies[5]
@@ -112,8 +116,8 @@ def before_solve(count, settings, bodies, contacts, activity):
     states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
         links = activity
     n_dyn = isettings[N_DYNAMIC]
-    queue = np.empty(n_dyn, np.int64)
-    n_queue = 0
+    touched = np.empty(min(2 * count, n_dyn) + 1, np.int64)
+    n_touched = 0
     for c in range(count):
         a = manifold_int[c, BODY_A]
         b = manifold_int[c, BODY_B]
@@ -123,28 +127,60 @@ def before_solve(count, settings, bodies, contacts, activity):
             if not (0 <= frozen_body < n_dyn and awake_slot[frozen_body] < 0
                     and _is_movable(mover, n_dyn, awake_slot)):
                 continue
-            estimate = 0.0
+            n_touched = _touch(frozen_body, touched, n_touched, body_real, body_int)
+            # n points from a to b: a push on the frozen body is along +n if it is b, -n if a;
+            # the mover's point approaches when its velocity is along that direction
+            sign = 1.0 if frozen_body == b else -1.0
             for j in range(manifold_int[c, POINT_COUNT]):
                 wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
                 wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
                 rx = wx - position[mover, 0]
                 ry = wy - position[mover, 1]
-                # normal velocity of the mover's point, towards the frozen body
                 vx = velocity[mover, 0] - angular_velocity[mover] * ry
                 vy = velocity[mover, 1] + angular_velocity[mover] * rx
-                vn = vx * nx + vy * ny
-                if mover == a:
-                    vn = -vn                     # n points from a to b: a approaches when vn > 0
+                vn = -sign * (vx * nx + vy * ny)    # < 0: the mover's point approaches
                 if vn < 0.0:
                     rn = rx * ny - ry * nx
-                    estimate += -vn / (inv_mass[mover] + inv_inertia[mover] * rn * rn)
-            if estimate > fsettings[IMPULSE_THRESHOLD]:
-                n_queue = _wake_one(frozen_body, _IMPACT, n_queue, queue, states, awake,
-                                    awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
-                                    solver_inv_inertia, events, body_int)
+                    p = -vn / (inv_mass[mover] + inv_inertia[mover] * rn * rn)
+                    px = sign * p * nx
+                    py = sign * p * ny
+                    body_real[frozen_body, PUSH_X] += px
+                    body_real[frozen_body, PUSH_Y] += py
+                    body_real[frozen_body, PUSH_M] += ((wx - position[frozen_body, 0]) * py
+                                                       - (wy - position[frozen_body, 1]) * px)
+                    body_real[frozen_body, PUSH_NORMAL] += p
+    queue = np.empty(n_dyn, np.int64)
+    n_queue = 0
+    for k in range(n_touched):
+        i = touched[k]
+        body_int[i, TOUCHED] = 0
+        if body_real[i, PUSH_NORMAL] > fsettings[IMPULSE_THRESHOLD]:
+            cause = _IMPACT
+        elif body_real[i, PUSH_NORMAL] > 0.0:
+            cause = _equilibrium_broken(i, body_real, position)
+        else:
+            cause = -1
+        if cause >= 0:
+            n_queue = _wake_one(i, cause, n_queue, queue, states, awake, awake_slot, counters,
+                                inv_mass, inv_inertia, solver_inv_mass, solver_inv_inertia,
+                                events, body_int)
     return _wake_supported(n_queue, queue, states, awake, awake_slot, counters, inv_mass,
                            inv_inertia, solver_inv_mass, solver_inv_inertia, events, body_int,
                            links)
+
+
+@inline_kernel
+def _touch(i, touched, n_touched, body_real, body_int):
+    """Add frozen body i to this pass's touched list, its push accumulators zeroed."""
+    if body_int[i, TOUCHED] == 0:
+        body_int[i, TOUCHED] = 1
+        body_real[i, PUSH_X] = 0.0
+        body_real[i, PUSH_Y] = 0.0
+        body_real[i, PUSH_M] = 0.0
+        body_real[i, PUSH_NORMAL] = 0.0
+        touched[n_touched] = i
+        return n_touched + 1
+    return n_touched
 
 
 @kernel
@@ -168,8 +204,9 @@ def _wake_supported(n_queue, queue, states, awake, awake_slot, counters, inv_mas
 
 @kernel
 def after_solve(count, settings, bodies, contacts, activity):
-    """Pushes and tipping on frozen bodies (from this step's solved impulses), then the rest test
-    and freezing (see the module docstring)."""
+    """Loads on frozen bodies from this step's solved impulses (the weight of awake bodies
+    resting on them, which the approach estimate before the solve does not see), then the rest
+    test and freezing (see the module docstring)."""
     fsettings, isettings, counters = settings
     position, velocity, angular_velocity = bodies[0], bodies[2], bodies[3]
     inv_mass, inv_inertia, extent = bodies[4], bodies[5], bodies[11]
@@ -194,13 +231,7 @@ def after_solve(count, settings, bodies, contacts, activity):
             if not (0 <= frozen_body < n_dyn and awake_slot[frozen_body] < 0
                     and _is_movable(other, n_dyn, awake_slot)):
                 continue
-            if body_int[frozen_body, TOUCHED] == 0:
-                body_int[frozen_body, TOUCHED] = 1
-                body_real[frozen_body, PUSH_X] = 0.0
-                body_real[frozen_body, PUSH_Y] = 0.0
-                body_real[frozen_body, PUSH_M] = 0.0
-                touched[n_touched] = frozen_body
-                n_touched += 1
+            n_touched = _touch(frozen_body, touched, n_touched, body_real, body_int)
             for j in range(manifold_int[c, POINT_COUNT]):
                 px, py = _impulse_on(frozen_body, c, j, manifold_int, manifold_float, point_float)
                 body_real[frozen_body, PUSH_X] += px

@@ -15,8 +15,8 @@ receives its weight m g dt every step; that part is not collision, so the impuls
 the threshold is the normal impulse minus the body's weight impulse.
 
 Section 4, staying in contact:
-  - one vertex touching -> VS: that vertex no longer moves vertically; the body only rotates
-    about it and translates horizontally. Done by solving the ordinary contacts and then one exact
+  - one vertex touching -> VS: that vertex no longer moves vertically (it is held on the
+    surface's height); the body only rotates about it and translates horizontally. Done by solving the ordinary contacts and then one exact
     vertical constraint at the vertex (an impulse that zeroes the vertex's vertical velocity, and a
     translation that keeps it at its height). CHOICE: the vertex keeps the floor's friction.
   - two or more vertices touching, centre of mass over the support (its x within the touching
@@ -47,8 +47,9 @@ that is knocked away stays where it was, floating; VS never returns to FREE.
 import numpy as np
 
 from ..activity import CAUSE, freeze, record, wake
-from ..contacts import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, NORMAL_IMPULSE, NORMAL_X,
-                        NORMAL_Y, POINT_COUNT, SEPARATION)
+from ..contacts import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, INCIDENT, LOCAL_FACE_X,
+                        LOCAL_FACE_Y, LOCAL_X, LOCAL_Y, NORMAL_IMPULSE, NORMAL_X, NORMAL_Y,
+                        POINT_COUNT, REFERENCE, SEPARATION)
 from ..jit import inline_kernel, kernel
 from ..layout import (DT, FLOOR_FRICTION, GRAVITY_Y, IMPULSE_THRESHOLD, N_AWAKE, N_DYNAMIC, SLOP,
                       STEP_COUNT)
@@ -105,12 +106,6 @@ def _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float):
 
 
 @inline_kernel
-def _moving(i, n_dyn, states, awake_slot, solver_inv_mass):
-    """A body that is solved: awake, dynamic, and not an RS body (RS bodies are immovable)."""
-    return 0 <= i < n_dyn and awake_slot[i] >= 0 and solver_inv_mass[i] > 0.0
-
-
-@inline_kernel
 def _collision_impulse(c, mover, position, velocity, angular_velocity, inv_mass, inv_inertia,
                        manifold_int, manifold_float, point_float):
     """Normal impulse that would stop ``mover``'s approach in manifold c against an immovable
@@ -150,7 +145,7 @@ def before_solve(count, settings, bodies, contacts, activity):
         b = manifold_int[c, BODY_B]
         for held, mover in ((a, b), (b, a)):
             if not (0 <= held < n_dyn and solver_inv_mass[held] == 0.0
-                    and _moving(mover, n_dyn, states, awake_slot, solver_inv_mass)):
+                    and 0 <= mover < n_dyn and awake_slot[mover] >= 0):
                 continue
             if _floor_like_for(mover, held, c, n_dyn, states, manifold_int, manifold_float):
                 continue                    # landing on its top edge: it acts as the floor
@@ -161,13 +156,20 @@ def before_solve(count, settings, bodies, contacts, activity):
                                   inv_inertia, manifold_int, manifold_float, point_float) \
                     <= fsettings[IMPULSE_THRESHOLD]:
                 continue
-            wake(held, awake, awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
-                 solver_inv_inertia)
-            record(events, counters, held, states[held], _FREE, _IMPACT)
-            states[held] = _FREE
-            body_int[held, SUPPORT] = -2
-            body_int[held, RS_CONTACT_STEPS] = 0
-            woken += 1
+            # both bodies of the collision end their rest: the held one wakes, and a sliding RS
+            # mover (itself immovable to the solver) is released too
+            for body in (held, mover):
+                if states[body] == _FREE or (body == mover and states[body] != _RS):
+                    continue                    # (a VS mover stays VS: the seed's 2nd limit)
+                wake(body, awake, awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
+                     solver_inv_inertia)
+                solver_inv_mass[body] = inv_mass[body]        # also for an awake RS body
+                solver_inv_inertia[body] = inv_inertia[body]
+                record(events, counters, body, states[body], _FREE, _IMPACT)
+                states[body] = _FREE
+                body_int[body, SUPPORT] = -2
+                body_int[body, RS_CONTACT_STEPS] = 0
+                woken += 1
     return woken
 
 
@@ -175,7 +177,8 @@ def before_solve(count, settings, bodies, contacts, activity):
 def after_solve(count, settings, bodies, contacts, activity):
     fsettings, isettings, counters = settings
     position, angle, velocity, angular_velocity = bodies[0], bodies[1], bodies[2], bodies[3]
-    inv_mass, inv_inertia, friction = bodies[4], bodies[5], bodies[6]
+    inv_mass, inv_inertia = bodies[4], bodies[5]
+    vert_start, local_verts = bodies[8], bodies[9]
     manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
     states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
         _ = activity
@@ -269,18 +272,18 @@ def after_solve(count, settings, bodies, contacts, activity):
         if n_touch >= 1:
             # section 4.1 (one vertex), or 4.2 with the centre of mass outside the support: pivot
             # on the touching vertex on the centre of mass's side, and keep rotating
-            pivot_x = hi if com_x > hi else lo
-            for j in range(manifold_int[c, POINT_COUNT]):
-                x = point_float[c, j, ANCHOR_BX] + position[b, 0]
-                if x == pivot_x:
-                    y = point_float[c, j, ANCHOR_BY] + position[b, 1]
-                    cs = np.cos(angle[i])
-                    sn = np.sin(angle[i])
-                    dx = x - position[i, 0]
-                    dy = y - position[i, 1]
-                    body_real[i, PIVOT_LX] = cs * dx + sn * dy
-                    body_real[i, PIVOT_LY] = -sn * dx + cs * dy
-                    body_real[i, PIVOT_Y] = y
+            # (a VS body keeps its pivot, and the pivot its height, until another vertex lands
+            # and the centre of mass is outside them: then it pivots on the new outer vertex)
+            if state == _FREE or n_touch >= 2:
+                pivot_x = hi if com_x > hi else lo
+                for j in range(manifold_int[c, POINT_COUNT]):
+                    x = point_float[c, j, ANCHOR_BX] + position[b, 0]
+                    if x == pivot_x:
+                        y = point_float[c, j, ANCHOR_BY] + position[b, 1]
+                        _set_pivot(i, x, y, position, angle, vert_start, local_verts, body_real)
+                        body_real[i, PIVOT_Y] = _surface_height(c, j, i, position, angle,
+                                                                manifold_int, manifold_float,
+                                                                point_float)
             if state == _FREE:
                 record(events, counters, i, state, _VS, _ONE_VERTEX_ON_FLOOR)
                 states[i] = _VS
@@ -303,6 +306,47 @@ def after_solve(count, settings, bodies, contacts, activity):
                 record(events, counters, body, states[body], states[body],
                        _HELD_BY_CONTACT)
         body_int[i, RS_CONTACT_STEPS] = 0
+
+
+@inline_kernel
+def _surface_height(c, j, i, position, angle, manifold_int, manifold_float, point_float):
+    """Height of the floor-like surface under point j of manifold c: the pivot stays *on* it
+    (the vertex may have ended the step a little above or below it)."""
+    ref = manifold_int[c, REFERENCE]
+    if ref < 0:
+        return manifold_float[c, LOCAL_FACE_Y]              # the floor
+    if ref != i:                                            # the support's face: horizontal
+        cs = np.cos(angle[ref])
+        sn = np.sin(angle[ref])
+        return (sn * manifold_float[c, LOCAL_FACE_X] + cs * manifold_float[c, LOCAL_FACE_Y]
+                + position[ref, 1])
+    # i holds the reference face; the support's vertex is the incident point
+    inc = manifold_int[c, INCIDENT]
+    cs = np.cos(angle[inc])
+    sn = np.sin(angle[inc])
+    return sn * point_float[c, j, LOCAL_X] + cs * point_float[c, j, LOCAL_Y] + position[inc, 1]
+
+
+@inline_kernel
+def _set_pivot(i, x, y, position, angle, vert_start, local_verts, body_real):
+    """Pivot on body i's vertex nearest to the contact point (x, y): its body-frame position and
+    its current height, which it keeps while the body is VS."""
+    cs = np.cos(angle[i])
+    sn = np.sin(angle[i])
+    dx = x - position[i, 0]
+    dy = y - position[i, 1]
+    lx = cs * dx + sn * dy
+    ly = -sn * dx + cs * dy
+    best = vert_start[i]
+    nearest = np.inf
+    for v in range(vert_start[i], vert_start[i + 1]):
+        d = (local_verts[v, 0] - lx) ** 2 + (local_verts[v, 1] - ly) ** 2
+        if d < nearest:
+            nearest = d
+            best = v
+    body_real[i, PIVOT_LX] = local_verts[best, 0]
+    body_real[i, PIVOT_LY] = local_verts[best, 1]
+    body_real[i, PIVOT_Y] = position[i, 1] + sn * local_verts[best, 0] + cs * local_verts[best, 1]
 
 
 @inline_kernel

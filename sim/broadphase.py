@@ -1,6 +1,9 @@
-"""Broadphase: world-space geometry, bounding boxes and candidate pairs from a uniform grid.
+"""Broadphase: world-space geometry, bounding boxes and candidate pairs from uniform grids.
 
 Bodies are indexed 0..M-1 with the N dynamic bodies first and the static polygons after them.
+Only *awake* bodies (a list of indices) move; every other body — static polygons and frozen
+bodies — sits in a *resting grid* built once when that set changes and only ever queried with
+awake bodies' boxes, so resting bodies cost nothing per step (DESIGN section 2).
 A pair is encoded as one int64 key, ``(a + 1) * (M + 1) + b`` with a < b, and ``a = -1`` for the
 floor, so that sorting keys orders pairs deterministically and the floor pairs come first.
 """
@@ -12,14 +15,16 @@ MIN_X, MIN_Y, MAX_X, MAX_Y = 0, 1, 2, 3
 
 
 @kernel
-def update_geometry(first, last, position, angle, vert_start, local_verts, local_normals,
+def update_geometry(which, count, position, angle, vert_start, local_verts, local_normals,
                     rotation, world_verts, world_normals, aabb, margin):
-    """World vertices, normals, rotation (cos, sin) and margin-fattened AABBs of bodies first..last-1.
+    """World vertices, normals, rotation (cos, sin) and margin-fattened AABBs of bodies
+    which[0..count-1].
 
     position (M,2) m, angle (M,) rad, vert_start (M+1,) offsets into local_verts/local_normals (V,2);
     outputs rotation (M,2), world_verts (V,2) m, world_normals (V,2), aabb (M,4) m.
     """
-    for i in range(first, last):
+    for k in range(count):
+        i = which[k]
         c = np.cos(angle[i])
         s = np.sin(angle[i])
         rotation[i, 0] = c
@@ -30,17 +35,17 @@ def update_geometry(first, last, position, angle, vert_start, local_verts, local
         lo_y = np.inf
         hi_x = -np.inf
         hi_y = -np.inf
-        for k in range(vert_start[i], vert_start[i + 1]):
-            x = local_verts[k, 0]
-            y = local_verts[k, 1]
+        for v in range(vert_start[i], vert_start[i + 1]):
+            x = local_verts[v, 0]
+            y = local_verts[v, 1]
             wx = c * x - s * y + px
             wy = s * x + c * y + py
-            world_verts[k, 0] = wx
-            world_verts[k, 1] = wy
-            nx = local_normals[k, 0]
-            ny = local_normals[k, 1]
-            world_normals[k, 0] = c * nx - s * ny
-            world_normals[k, 1] = s * nx + c * ny
+            world_verts[v, 0] = wx
+            world_verts[v, 1] = wy
+            nx = local_normals[v, 0]
+            ny = local_normals[v, 1]
+            world_normals[v, 0] = c * nx - s * ny
+            world_normals[v, 1] = s * nx + c * ny
             lo_x = min(lo_x, wx)
             lo_y = min(lo_y, wy)
             hi_x = max(hi_x, wx)
@@ -56,42 +61,31 @@ def _cell(x, inv_cell):
     return np.int64(np.floor(x * inv_cell))
 
 
+# grid layout (int64 array of GRID_INFO fields)
+LO_CX, LO_CY, WIDTH, MASK, DENSE, INV_CELL_BITS = range(6)
+GRID_INFO = 6
+
+
 @inline_kernel
-def _bucket(cx, cy, mask, dense, lo_cx, lo_cy, width):
-    if dense:
-        return (cy - lo_cy) * width + (cx - lo_cx)
+def _bucket(cx, cy, info):
+    if info[DENSE] == 1:
+        return (cy - info[LO_CY]) * info[WIDTH] + (cx - info[LO_CX])
     # multiplicative hash of the cell coordinates into a power-of-two table
-    return ((cx * 73856093) ^ (cy * 19349663)) & mask
+    return ((cx * 73856093) ^ (cy * 19349663)) & info[MASK]
 
 
 @kernel
-def find_pairs(aabb, n_dynamic, has_floor, floor_y, cell_size, pair_keys):
-    """Candidate pairs from a uniform grid, written sorted into ``pair_keys`` (P,).
-
-    Each box is entered in every cell it covers (a table of cells, filled by counting sort),
-    boxes sharing a cell are tested, and a pair is reported only from the cell holding the
-    lower-left corner of the two boxes' intersection, so each pair once. The cost is linear in the
-    bodies for scenes of similar sizes (stacks and pyramids, where sweeping along one axis tests
-    whole columns against each other). Static-static pairs are skipped; a dynamic body whose box
-    reaches below the floor plane pairs with the floor.
-    Returns the pair count, or ``-needed`` when ``pair_keys`` is too small.
-    """
-    m = aabb.shape[0]
-    stride = m + 1
-    cap = pair_keys.shape[0]
+def build_grid(which, count, aabb, cell_size):
+    """A uniform grid of the boxes of bodies which[0..count-1]: each box is entered in every cell
+    it covers; cells map to buckets of a table filled by counting sort (dense when the occupied
+    cells are compact, hashed otherwise). Returns (start (T+1,), entry_body (E,), entry_cx (E,),
+    entry_cy (E,), info (GRID_INFO,)); bucket h holds entries start[h]..start[h+1]-1."""
     inv_cell = 1.0 / cell_size
-    count = 0
-    if has_floor:
-        for i in range(n_dynamic):
-            if aabb[i, MIN_Y] <= floor_y:
-                if count < cap:
-                    pair_keys[count] = i          # (a + 1) * stride + b with a = -1
-                count += 1
-    # count grid entries and the extent of the occupied cells
     n_entries = 0
     lo_cx = lo_cy = np.int64(2 ** 62)
     hi_cx = hi_cy = -np.int64(2 ** 62)
-    for i in range(m):
+    for k in range(count):
+        i = which[k]
         c0 = _cell(aabb[i, MIN_X], inv_cell)
         c1 = _cell(aabb[i, MAX_X], inv_cell)
         r0 = _cell(aabb[i, MIN_Y], inv_cell)
@@ -101,61 +95,119 @@ def find_pairs(aabb, n_dynamic, has_floor, floor_y, cell_size, pair_keys):
         hi_cx = max(hi_cx, c1)
         lo_cy = min(lo_cy, r0)
         hi_cy = max(hi_cy, r1)
+    info = np.zeros(GRID_INFO, np.int64)
+    if count == 0:
+        info[DENSE] = 1
+        info[WIDTH] = 1
+        return (np.zeros(2, np.int64), np.empty(0, np.int64), np.empty(0, np.int64),
+                np.empty(0, np.int64), info)
     width = hi_cx - lo_cx + 1
-    # A compact scene gets a dense table, one bucket per cell (no hash collisions); a sparse one
-    # (bodies flung far apart) gets a hash table twice the entry count.
-    dense = width * (hi_cy - lo_cy + 1) <= max(4 * n_entries, 4096)
-    if dense:
+    info[LO_CX] = lo_cx
+    info[LO_CY] = lo_cy
+    info[WIDTH] = width
+    # A compact set gets a dense table, one bucket per cell (no hash collisions); a sparse one
+    # (bodies flung far apart) a hash table twice the entry count.
+    if width * (hi_cy - lo_cy + 1) <= max(4 * n_entries, 4096):
+        info[DENSE] = 1
         size = width * (hi_cy - lo_cy + 1)
-        mask = 0
     else:
         size = 1
         while size < 2 * n_entries:
             size *= 2
-        mask = size - 1
+        info[MASK] = size - 1
     start = np.zeros(size + 1, np.int64)
     entry_body = np.empty(n_entries, np.int64)
     entry_cx = np.empty(n_entries, np.int64)
     entry_cy = np.empty(n_entries, np.int64)
-    for i in range(m):
+    for k in range(count):
+        i = which[k]
         for cx in range(_cell(aabb[i, MIN_X], inv_cell), _cell(aabb[i, MAX_X], inv_cell) + 1):
             for cy in range(_cell(aabb[i, MIN_Y], inv_cell), _cell(aabb[i, MAX_Y], inv_cell) + 1):
-                start[_bucket(cx, cy, mask, dense, lo_cx, lo_cy, width) + 1] += 1
-    for k in range(size):
-        start[k + 1] += start[k]
+                start[_bucket(cx, cy, info) + 1] += 1
+    for h in range(size):
+        start[h + 1] += start[h]
     fill = start[:-1].copy()
-    for i in range(m):           # bodies in increasing index within each bucket: deterministic
+    for k in range(count):
+        i = which[k]
         for cx in range(_cell(aabb[i, MIN_X], inv_cell), _cell(aabb[i, MAX_X], inv_cell) + 1):
             for cy in range(_cell(aabb[i, MIN_Y], inv_cell), _cell(aabb[i, MAX_Y], inv_cell) + 1):
-                h = _bucket(cx, cy, mask, dense, lo_cx, lo_cy, width)
+                h = _bucket(cx, cy, info)
                 e = fill[h]
                 entry_body[e] = i
                 entry_cx[e] = cx
                 entry_cy[e] = cy
                 fill[h] = e + 1
-    for h in range(size):
+    return start, entry_body, entry_cx, entry_cy, info
+
+
+@inline_kernel
+def _report(i, j, cx, cy, aabb, inv_cell, stride, pair_keys, count):
+    """Append pair (i, j) if their boxes overlap and (cx, cy) is the cell of the lower-left corner
+    of the overlap, so that a pair found in several shared cells is reported once."""
+    lo_x = max(aabb[i, MIN_X], aabb[j, MIN_X])
+    lo_y = max(aabb[i, MIN_Y], aabb[j, MIN_Y])
+    if lo_x > min(aabb[i, MAX_X], aabb[j, MAX_X]) or lo_y > min(aabb[i, MAX_Y], aabb[j, MAX_Y]):
+        return count
+    if _cell(lo_x, inv_cell) != cx or _cell(lo_y, inv_cell) != cy:
+        return count
+    if count < pair_keys.shape[0]:
+        pair_keys[count] = (min(i, j) + 1) * stride + max(i, j)
+    return count + 1
+
+
+@kernel
+def find_pairs(awake, n_awake, aabb, has_floor, floor_y, cell_size, resting_grid, pair_keys):
+    """Candidate pairs of the awake bodies, written sorted into ``pair_keys`` (P,).
+
+    Awake-awake pairs come from a grid of the awake boxes built here; awake-resting pairs from
+    querying ``resting_grid`` (see ``build_grid``) with each awake box; resting-resting pairs are
+    never looked at. An awake body whose box reaches below the floor plane pairs with the floor.
+    Returns the pair count, or ``-needed`` when ``pair_keys`` is too small (nothing else changes,
+    so the caller can grow the buffer and call again).
+    """
+    m = aabb.shape[0]
+    stride = m + 1
+    inv_cell = 1.0 / cell_size
+    count = 0
+    if has_floor:
+        for k in range(n_awake):
+            i = awake[k]
+            if aabb[i, MIN_Y] <= floor_y:
+                if count < pair_keys.shape[0]:
+                    pair_keys[count] = i          # (a + 1) * stride + b with a = -1
+                count += 1
+    start, entry_body, entry_cx, entry_cy, info = build_grid(awake, n_awake, aabb, cell_size)
+    for h in range(start.shape[0] - 1):
         for e1 in range(start[h], start[h + 1]):
             i = entry_body[e1]
             cx = entry_cx[e1]
             cy = entry_cy[e1]
             for e2 in range(e1 + 1, start[h + 1]):
-                j = entry_body[e2]
-                if entry_cx[e2] != cx or entry_cy[e2] != cy:
-                    continue             # another cell that hashed to the same bucket
-                if i >= n_dynamic and j >= n_dynamic:
-                    continue
-                lo_x = max(aabb[i, MIN_X], aabb[j, MIN_X])
-                lo_y = max(aabb[i, MIN_Y], aabb[j, MIN_Y])
-                if lo_x > min(aabb[i, MAX_X], aabb[j, MAX_X]):
-                    continue
-                if lo_y > min(aabb[i, MAX_Y], aabb[j, MAX_Y]):
-                    continue
-                if _cell(lo_x, inv_cell) != cx or _cell(lo_y, inv_cell) != cy:
-                    continue             # reported from the cell of the overlap's corner
-                if count < cap:
-                    pair_keys[count] = (i + 1) * stride + j      # i < j: entries are in order
-                count += 1
-    if count > cap:
+                if entry_cx[e2] == cx and entry_cy[e2] == cy:   # not another cell in the bucket
+                    count = _report(i, entry_body[e2], cx, cy, aabb, inv_cell, stride, pair_keys,
+                                    count)
+    r_start, r_body, r_cx, r_cy, r_info = resting_grid
+    if r_body.shape[0] > 0:
+        n_buckets = r_start.shape[0] - 1
+        for k in range(n_awake):
+            i = awake[k]
+            for cx in range(_cell(aabb[i, MIN_X], inv_cell), _cell(aabb[i, MAX_X], inv_cell) + 1):
+                for cy in range(_cell(aabb[i, MIN_Y], inv_cell),
+                                _cell(aabb[i, MAX_Y], inv_cell) + 1):
+                    if r_info[DENSE] == 1:
+                        if (cx < r_info[LO_CX] or cx >= r_info[LO_CX] + r_info[WIDTH]
+                                or cy < r_info[LO_CY]):
+                            continue
+                        h = _bucket(cx, cy, r_info)
+                        if h >= n_buckets:
+                            continue
+                    else:
+                        h = _bucket(cx, cy, r_info)
+                    for e in range(r_start[h], r_start[h + 1]):
+                        if r_cx[e] == cx and r_cy[e] == cy:
+                            count = _report(i, r_body[e], cx, cy, aabb, inv_cell, stride,
+                                            pair_keys, count)
+    if count > pair_keys.shape[0]:
         return -count
     pair_keys[:count].sort()
     return count

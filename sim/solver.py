@@ -1,6 +1,6 @@
 """Sequential-impulse contact solver (velocity level) and non-linear Gauss-Seidel position correction.
 
-Per step (see ``kernel.step_once``): integrate gravity into velocities, ``prepare`` the contact rows,
+Per step (see ``kernel.run``): integrate gravity into velocities, ``prepare`` the contact rows,
 ``warm_start`` them with last step's impulses, ``solve_velocities`` for ``iterations`` sweeps,
 integrate positions, then ``correct_positions``.
 
@@ -28,18 +28,19 @@ MAX_CONDITION = 1000.0
 
 
 @kernel
-def integrate_velocities(first, last, velocity, inv_mass, gravity_x, gravity_y, dt):
-    """v += g dt for dynamic bodies (static bodies have inv_mass 0 and never move)."""
-    for i in range(first, last):
-        if inv_mass[i] > 0.0:
-            velocity[i, 0] += gravity_x * dt
-            velocity[i, 1] += gravity_y * dt
+def integrate_velocities(which, count, velocity, gravity_x, gravity_y, dt):
+    """v += g dt for the bodies which[0..count-1] (the awake dynamic bodies)."""
+    for k in range(count):
+        i = which[k]
+        velocity[i, 0] += gravity_x * dt
+        velocity[i, 1] += gravity_y * dt
 
 
 @kernel
-def integrate_positions(first, last, position, angle, velocity, angular_velocity, dt):
-    """Semi-implicit Euler: positions from the new velocities."""
-    for i in range(first, last):
+def integrate_positions(which, count, position, angle, velocity, angular_velocity, dt):
+    """Semi-implicit Euler: positions from the new velocities, bodies which[0..count-1]."""
+    for k in range(count):
+        i = which[k]
         position[i, 0] += velocity[i, 0] * dt
         position[i, 1] += velocity[i, 1] * dt
         angle[i] += angular_velocity[i] * dt
@@ -282,9 +283,10 @@ def solve_velocities(count, manifold_int, manifold_float, point_float, velocity,
 
 
 @kernel
-def update_rotation(first, last, angle, rotation):
-    """rotation[i] = (cos, sin) of angle[i], for bodies first..last-1."""
-    for i in range(first, last):
+def update_rotation(which, count, angle, rotation):
+    """rotation[i] = (cos, sin) of angle[i], for bodies which[0..count-1]."""
+    for k in range(count):
+        i = which[k]
         rotation[i, 0] = np.cos(angle[i])
         rotation[i, 1] = np.sin(angle[i])
 

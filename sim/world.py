@@ -7,8 +7,10 @@ import numpy as np
 
 from . import contacts as C
 from . import kernel as K
+from . import layout as L
+from .activity import CAUSES
 from .broadphase import find_pairs, update_geometry
-from .freeze import resolve
+from .freeze import POLICY_NAMES, resolve
 from .geometry import edge_normals, mass_properties
 from .scene import Scene
 from .state import State
@@ -95,20 +97,18 @@ class World:
         self.events = []            # (step, body, from_state, to_state, cause)
         self.max_penetration = 0.0  # m, deepest contact penetration seen since the start
         self.penetration = 0.0      # m, after the last step
+        self._resting = K.rebuild_resting((self._fsettings, self._isettings, self._counters),
+                                          self._bodies, self._geometry, self._activity)
         self._check_initial_overlap()
         if self.initial_iterations and self.warm_starting:
             while K.presolve(self.initial_iterations, INITIAL_TOLERANCE,
-                             *self._kernel_arguments()) == K.GROW:
+                             *self._kernel_state()) == K.GROW:
                 self._allocate_contacts(2 * len(self._pair_keys))
 
-    def _kernel_arguments(self):
-        """The state arrays every kernel in ``sim.kernel`` takes, in order."""
-        return (self._fsettings, self._isettings, self._counters, self._position, self._angle,
-                self._velocity, self._angular_velocity, self._inv_mass, self._inv_inertia,
-                self._friction, self._restitution, self._vert_start, self._local_verts,
-                self._local_normals, self._rotation, self._world_verts, self._world_normals,
-                self._aabb, self._pair_keys, *self._manifolds, self._prev_key,
-                self._prev_count, self._prev_id, self._prev_impulse)
+    def _kernel_state(self):
+        """The argument tuples every kernel in ``sim.kernel`` takes (see its docstring)."""
+        return ((self._fsettings, self._isettings, self._counters), self._bodies, self._geometry,
+                self._contacts, self._activity, self._resting)
 
     # ---- set-up -----------------------------------------------------------------------------
     def _pack(self, scene):
@@ -157,8 +157,8 @@ class World:
         self._world_verts = np.empty((v_total, 2))             # (V,2) m
         self._world_normals = np.empty((v_total, 2))
         self._aabb = np.empty((m, 4))                          # (M,4) m, min x, min y, max x, max y
-        update_geometry(0, m, self._position, self._angle, self._vert_start, self._local_verts,
-                        self._local_normals, self._rotation, self._world_verts,
+        update_geometry(np.arange(m), m, self._position, self._angle, self._vert_start,
+                        self._local_verts, self._local_normals, self._rotation, self._world_verts,
                         self._world_normals, self._aabb, self.speculative_distance)
         # Grid cell of the broadphase, m: about two typical bodies wide, but large enough that
         # the biggest body (a long wall, a plank) covers at most ~32 cells per axis.
@@ -167,42 +167,75 @@ class World:
                         float(self.extents.max()) / 16.0)
         g = scene.gravity
         has_floor = scene.floor_y is not None
-        self._fsettings = np.zeros(K.N_FLOAT_SETTINGS)
-        self._fsettings[[K.DT, K.GRAVITY_X, K.GRAVITY_Y, K.FLOOR_Y, K.FLOOR_FRICTION,
-                         K.FLOOR_RESTITUTION, K.SLOP, K.MARGIN, K.BAUMGARTE, K.MAX_CORRECTION,
-                         K.RESTITUTION_THRESHOLD, K.CELL_SIZE]] = (
+        self._fsettings = np.zeros(L.N_FLOAT_SETTINGS)
+        self._fsettings[[L.DT, L.GRAVITY_X, L.GRAVITY_Y, L.FLOOR_Y, L.FLOOR_FRICTION,
+                         L.FLOOR_RESTITUTION, L.SLOP, L.MARGIN, L.BAUMGARTE, L.MAX_CORRECTION,
+                         L.RESTITUTION_THRESHOLD, L.CELL_SIZE]] = (
             self.dt, g[0], g[1], scene.floor_y if has_floor else 0.0, scene.floor_friction,
             scene.floor_restitution, self.slop, self.speculative_distance, self.baumgarte,
             self.max_correction, self.restitution_threshold, cell_size)
-        self._isettings = np.zeros(K.N_INT_SETTINGS, np.int64)
-        self._isettings[[K.ITERATIONS, K.POSITION_ITERATIONS, K.HAS_FLOOR, K.WARM_START,
-                         K.N_DYNAMIC]] = (self.iterations, self.position_iterations,
-                                          int(has_floor), int(self.warm_starting), n)
-        self._counters = np.zeros(K.N_COUNTERS, np.int64)
+        for name, column in self.policy.FLOAT_SETTINGS.items():
+            self._fsettings[column] = self.policy_parameters[name]
+        self._isettings = np.zeros(L.N_INT_SETTINGS, np.int64)
+        self._isettings[[L.ITERATIONS, L.POSITION_ITERATIONS, L.HAS_FLOOR, L.WARM_START,
+                         L.N_DYNAMIC, L.POLICY]] = (self.iterations, self.position_iterations,
+                                                   int(has_floor), int(self.warm_starting), n,
+                                                   POLICY_NAMES.index(self.freeze))
+        for name, column in self.policy.INT_SETTINGS.items():
+            self._isettings[column] = self.policy_parameters[name]
+        self._counters = np.zeros(L.N_COUNTERS, np.int64)
+        self._counters[L.N_AWAKE] = n                          # every body starts awake
+        self._bodies = (self._position, self._angle, self._velocity, self._angular_velocity,
+                        self._inv_mass, self._inv_inertia, self._friction, self._restitution,
+                        self._vert_start, self._local_verts, self._local_normals, self.extents)
+        self._geometry = (self._rotation, self._world_verts, self._world_normals, self._aabb)
         self._states = np.full(n, State.FREE, np.int8)         # (N,) int8 sim.State
+        self._activity = (
+            self._states,
+            np.arange(n, dtype=np.int64),                      # awake (N,) body indices
+            np.arange(n, dtype=np.int64),                      # awake_slot (N,), -1 = frozen
+            self._inv_mass.copy(),                             # solver_inv_mass (M,) 1/kg
+            self._inv_inertia.copy(),                          # solver_inv_inertia (M,)
+            np.zeros((4 * n + 64, 5), np.int64),               # events, see sim.activity
+            np.zeros((n, self.policy.REAL_COLUMNS)),           # body_real: policy's own, per body
+            np.zeros((n, self.policy.INT_COLUMNS), np.int64),  # body_int: policy's own, per body
+            np.zeros((max(16, 4 * n), 2), np.int64))           # links: policy's body pairs
+        initial = getattr(self.policy, "initial", None)
+        if initial is not None:
+            initial(self._activity[7])
         self._allocate_contacts(max(64, 4 * m))
 
     def _allocate_contacts(self, capacity):
         """(Re)allocate pair and contact buffers, keeping the current manifolds (warm start)."""
-        old = getattr(self, "_manifolds", None)
-        self._pair_keys = np.empty(capacity, np.int64)             # (P,) sorted pair keys
-        self._manifolds = C.allocate(capacity)                     # see sim.contacts
-        self._prev_key = np.empty(capacity, np.int64)
-        self._prev_count = np.empty(capacity, np.int64)
-        self._prev_id = np.empty((capacity, 2), np.int64)
-        self._prev_impulse = np.empty((capacity, 2, 2))            # N s, normal and tangent
+        old = getattr(self, "_contacts", None)
+        manifolds = C.allocate(capacity)                           # see sim.contacts
         if old is not None:
-            k = int(self._counters[K.N_MANIFOLDS])
-            for new_arr, old_arr in zip(self._manifolds, old):
+            k = int(self._counters[L.N_MANIFOLDS])
+            for new_arr, old_arr in zip(manifolds, old[1:5]):
                 new_arr[:k] = old_arr[:k]
+        self._contacts = (np.empty(capacity, np.int64),            # pair_keys (P,) sorted
+                          *manifolds,
+                          np.empty(capacity, np.int64),            # prev_key
+                          np.empty(capacity, np.int64),            # prev_count
+                          np.empty((capacity, 2), np.int64),       # prev_id
+                          np.empty((capacity, 2, 2)))              # prev_impulse, N s
+
+    @property
+    def _pair_keys(self):
+        return self._contacts[0]
+
+    @property
+    def _manifolds(self):
+        return self._contacts[1:5]
 
     def _check_initial_overlap(self):
         """Refuse scenes whose bodies start interpenetrated beyond ``overlap_tolerance``: the
         position correction would launch them apart and the run would measure nothing real."""
         scratch = C.allocate(len(self._pair_keys))
         keys = np.empty(len(self._pair_keys), np.int64)
-        pair_args = (self._aabb, self.n_bodies, self.scene.floor_y is not None,
-                     self._fsettings[K.FLOOR_Y], self._fsettings[K.CELL_SIZE])
+        pair_args = (np.arange(self.n_bodies), self.n_bodies, self._aabb,
+                     self.scene.floor_y is not None, self._fsettings[L.FLOOR_Y],
+                     self._fsettings[L.CELL_SIZE], self._resting)
         n_pairs = find_pairs(*pair_args, keys)
         if n_pairs < 0:
             keys = np.empty(-n_pairs, np.int64)
@@ -212,7 +245,7 @@ class World:
         count = C.collide_pairs(n_pairs, keys, len(self._angle), self._position, self._rotation,
                                 self._vert_start, self._local_verts, self._local_normals,
                                 self._world_verts, self._world_normals, self._friction,
-                                self._restitution, self._fsettings[K.FLOOR_Y], 0.0, 0.0, 0.0,
+                                self._restitution, self._fsettings[L.FLOOR_Y], 0.0, 0.0, 0.0,
                                 *scratch, 0, empty, empty, np.empty((0, 2), np.int64),
                                 np.empty((0, 2, 2)), False)
         manifold_int, _, point_float, _ = scratch
@@ -241,13 +274,14 @@ class World:
         min_sep = np.zeros(n)
         done = 0
         while done < n:
-            status, steps = K.run(n - done, *self._kernel_arguments(), min_sep[done:])
+            status, steps, self._resting = K.run(n - done, *self._kernel_state(), min_sep[done:])
             done += steps
+            self._flush_events()
             if status == K.GROW:
                 self._allocate_contacts(2 * len(self._pair_keys))
             elif status == K.NON_FINITE:
                 self._record_penetration(min_sep[:done])
-                i = int(self._counters[K.BAD_BODY])
+                i = int(self._counters[L.BAD_BODY])
                 raise SimulationError(
                     f"step {self.step_count}: {self._describe(i)} became non-finite "
                     f"(position {self._position[i].tolist()}, angle {self._angle[i]}, velocity "
@@ -255,6 +289,15 @@ class World:
                     f"try a smaller dt or check the scene")
         self._record_penetration(min_sep)
         return self
+
+    def _flush_events(self):
+        """Move the kernel's event buffer into ``self.events`` as (step, body, from, to, cause)."""
+        k = int(self._counters[L.N_EVENTS])
+        if k:
+            rows = self._activity[5][:k].tolist()
+            self.events.extend((step, body, State(a), State(b), CAUSES[cause])
+                               for step, body, a, b, cause in rows)
+            self._counters[L.N_EVENTS] = 0
 
     def _record_penetration(self, min_sep):
         if len(min_sep):
@@ -284,7 +327,7 @@ class World:
 
     @property
     def step_count(self):
-        return int(self._counters[K.STEP_COUNT])
+        return int(self._counters[L.STEP_COUNT])
 
     @property
     def time(self):
@@ -312,7 +355,7 @@ class World:
         """The contact points of the last step: dict of arrays over points —
         body_a, body_b (-1 = floor) (P,) int; point (P,2) m (anchor on B); normal (P,2) A->B;
         separation (P,) m; normal_impulse, tangent_impulse (P,) N s."""
-        count = int(self._counters[K.N_MANIFOLDS])
+        count = int(self._counters[L.N_MANIFOLDS])
         mi, mf, pf, _ = self._manifolds
         n_pts = mi[:count, C.POINT_COUNT]
         rows = np.repeat(np.arange(count), n_pts)

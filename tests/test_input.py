@@ -160,10 +160,25 @@ def test_step_count_must_be_a_non_negative_integer():
     assert world.step_count == 0
 
 
-def test_policies_not_yet_built_say_so():
-    for name in ("sleep", "paper", "extended"):
-        with pytest.raises(NotImplementedError, match=name):
-            sim.World(sim.scenes.single_box(), freeze=name)
+@pytest.mark.parametrize("freeze,kwargs,problem", [
+    ("paper", {"impulse_threshold": -1.0}, "impulse_threshold must be finite and >= 0"),
+    ("extended", {"rest_steps": 0}, "rest_steps must be an integer >= 1"),
+    ("extended", {"rest_steps": 1.5}, "rest_steps must be an integer >= 1"),
+    ("extended", {"rest_speed": math.nan}, "rest_speed must be finite"),
+    ("sleep", {"sleep_time": "long"}, "sleep_time must be a number"),
+    ("sleep", {"impulse_threshold": 1.0}, "freeze='sleep' does not take impulse_threshold"),
+])
+def test_bad_policy_parameters(freeze, kwargs, problem):
+    with pytest.raises(ValueError, match=problem):
+        sim.World(sim.scenes.single_box(), freeze=freeze, **kwargs)
+
+
+def test_every_policy_builds_and_reports_its_parameters():
+    for name in sim.POLICY_NAMES:
+        world = sim.World(sim.scenes.single_box(), freeze=name)
+        world.step(3)
+        assert world.freeze == name
+        assert set(world.policy_parameters) == set(world.policy.PARAMETERS)
 
 
 def test_observables_are_copies():

@@ -3,11 +3,13 @@
 Each policy is a module with ``NAME`` and ``PARAMETERS`` (name -> default). ``resolve`` validates a
 policy name and its parameters for ``sim.World``.
 """
-from . import off
+import math
+
+from . import extended, off, paper, sleep
 
 #: Every policy the study compares, in the order of the paper.
 POLICY_NAMES = ("off", "sleep", "paper", "extended")
-_IMPLEMENTED = {off.NAME: off}
+_IMPLEMENTED = {m.NAME: m for m in (off, sleep, paper, extended)}
 
 
 def resolve(name, params):
@@ -19,10 +21,22 @@ def resolve(name, params):
     if not isinstance(name, str) or name not in POLICY_NAMES:
         raise ValueError(f"unknown freeze policy {name!r}; choose one of {', '.join(POLICY_NAMES)}")
     if name not in _IMPLEMENTED:
-        raise NotImplementedError(f"freeze={name!r} is not implemented yet (only 'off' is)")
+        raise NotImplementedError(f"freeze={name!r} is not implemented yet "
+                                  f"(available: {', '.join(_IMPLEMENTED)})")
     policy = _IMPLEMENTED[name]
     unknown = sorted(set(params) - set(policy.PARAMETERS))
     if unknown:
         takes = ", ".join(policy.PARAMETERS) or "no parameters"
         raise ValueError(f"freeze={name!r} does not take {', '.join(unknown)} (it takes {takes})")
-    return policy, {**policy.PARAMETERS, **params}
+    values = {**policy.PARAMETERS, **params}
+    for key, value in values.items():
+        integral = key in policy.INT_SETTINGS
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            raise ValueError(f"{key} must be a number, got {value!r}") from None
+        if not math.isfinite(x) or x < 0 or (integral and (x != int(x) or x < 1)):
+            raise ValueError(f"{key} must be {'an integer >= 1' if integral else 'finite and >= 0'}"
+                             f", got {value!r}")
+        values[key] = int(x) if integral else x
+    return policy, values

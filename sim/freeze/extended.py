@@ -1,0 +1,472 @@
+"""``extended``: ours. The seed's idea — stop computing forces for bodies at rest — without its
+three admitted limits (no general rest test, no way back to motion, two bodies only).
+
+Freezing (the general rest test), checked every step for awake bodies:
+  1. slow: |v| + |w| * extent < ``rest_speed`` (m/s) for ``rest_steps`` consecutive steps;
+  2. steady: over each of those steps the velocity changed by less than ``rest_acceleration``
+     (m/s^2) times dt (again |dv| + |dw| * extent; the previous velocity is the one at the last
+     slow step, so a body just slowed down from fast motion waits one more step), so a body that has just started to slide down
+     a ramp, or to tip, is not frozen at the instant it is slow. (Friction at its Coulomb limit is
+     not a usable sign: a resting body's contact forces are statically indeterminate, and the
+     solver leaves some at the limit in a pyramid that holds.) A body accelerating more slowly
+     than ``rest_acceleration`` is indistinguishable from one at rest over the test and can be
+     frozen: that is the accuracy the study trades for speed;
+  3. whole groups only: every body it touches is the floor, static, frozen, or itself passes 1-2
+     and is freezing in this step (iterated to a fixed point). An awake body that is still moving
+     keeps its neighbours awake, so nothing freezes against something that pushes it.
+  Nothing in the test is about horizontal faces: a plank across two boxes, a box leaning on a wall
+  or a block of an arch passes it if it is slow and its friction holds.
+
+What freezing records (the support graph): for each contact whose impulse on the body points
+against gravity, the partner is a *support*; a link (support, body) is stored when the support is
+dynamic. From its supports the body keeps a summary for the wake test: the dominant support normal
+n_s, the support points' extent [lo, hi] along the tangent t_s = perp(n_s), the smallest support
+friction mu_s, and the *load* it was in equilibrium under: its weight plus every non-support
+impulse on it (bodies resting on it, side contacts), as a force and a moment about its centre of
+mass. A body freezing onto an already frozen body adds its own push to that body's load.
+
+Waking (every transition back to motion), checked every step only for frozen bodies that awake
+bodies touch (so resting bodies cost nothing otherwise):
+  - impact: an awake body's contact pushes with a normal impulse above ``impulse_threshold`` (N s);
+  - push: the frozen body's load plus this step's impulses from awake bodies would need more
+    friction than mu_s provides at its supports (a horizontal push), or would lift it off its
+    supports;
+  - tipping: the resultant's line of action leaves the support extent [lo, hi] (the centre of
+    pressure leaves the base, as when a weight lands on the overhanging end of a plank);
+  - support removed or moved: when any body wakes, everything it supports wakes in the same step,
+    transitively through the support graph (a breadth-first walk of the links).
+
+Per-body state: body_int[:, REST_COUNT] steps slow in a row; body_real columns below.
+"""
+import numpy as np
+
+from ..activity import CAUSE, freeze, record, wake
+from ..contacts import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, NORMAL_IMPULSE, NORMAL_X,
+                        NORMAL_Y, POINT_COUNT, TANGENT_IMPULSE)
+from ..jit import inline_kernel, kernel
+from ..layout import (DT, GRAVITY_X, GRAVITY_Y, IMPULSE_THRESHOLD, N_AWAKE, N_DYNAMIC, N_LINKS,
+                      REST_ACCELERATION, REST_SPEED, REST_STEPS)
+from ..state import State
+
+NAME = "extended"
+PARAMETERS = {"impulse_threshold": 0.5, "rest_speed": 0.02, "rest_acceleration": 0.1,
+              "rest_steps": 2}
+FLOAT_SETTINGS = {"impulse_threshold": IMPULSE_THRESHOLD, "rest_speed": REST_SPEED,
+                  "rest_acceleration": REST_ACCELERATION}
+INT_SETTINGS = {"rest_steps": REST_STEPS}
+# body_real columns: support summary and equilibrium load (see module docstring), and this step's
+# impulses from awake bodies (scratch)
+(SUPPORT_NX, SUPPORT_NY, SUPPORT_LO, SUPPORT_HI, SUPPORT_H, SUPPORT_MU, LOAD_X, LOAD_Y, LOAD_M,
+ PUSH_X, PUSH_Y, PUSH_M, PUSH_NORMAL, PREVIOUS_VX, PREVIOUS_VY, PREVIOUS_W) = range(16)
+REAL_COLUMNS = 16
+#: the centre of pressure may sit this far (m) outside the support extent before a frozen body
+#: counts as tipping: round-off in a body balanced on one point must not wake it
+TIP_TOLERANCE = 1e-4
+# body_int columns
+REST_COUNT, MARK, TOUCHED = range(3)
+INT_COLUMNS = 3
+
+
+_FREE = np.int8(State.FREE)
+_FROZEN = np.int8(State.ROTATION_STABLE)   # extended reports frozen bodies as ROTATION_STABLE
+_RESTED = CAUSE["rested"]
+_IMPACT = CAUSE["impact"]
+_PUSHED = CAUSE["pushed"]
+_TIPPING = CAUSE["tipping"]
+_SUPPORT_LOST = CAUSE["support_lost"]
+
+
+@inline_kernel
+def _impulse_on(body, c, j, manifold_int, manifold_float, point_float):
+    """Impulse (x, y) that point j of manifold c applies to ``body`` (normal and friction)."""
+    nx = manifold_float[c, NORMAL_X]
+    ny = manifold_float[c, NORMAL_Y]
+    pn = point_float[c, j, NORMAL_IMPULSE]
+    pt = point_float[c, j, TANGENT_IMPULSE]
+    px = pn * nx + pt * ny            # tangent = (ny, -nx), as in the solver
+    py = pn * ny - pt * nx
+    if manifold_int[c, BODY_B] == body:
+        return px, py
+    return -px, -py
+
+
+@inline_kernel
+def _is_movable(i, n_dyn, awake_slot):
+    """An awake dynamic body (floor -1, static and frozen bodies are not)."""
+    return 0 <= i < n_dyn and awake_slot[i] >= 0
+
+
+@kernel
+def before_solve(count, settings, bodies, contacts, activity):
+    """Impacts and pushes, judged *before* the solve so that the collision is solved between
+    moving bodies and momentum is passed on, not reflected off an immovable body (a body woken
+    after the step would have stopped its pusher dead first).
+
+    For each frozen body that awake bodies touch, the impulse each approaching contact point
+    would need to stop its mover against an immovable body is estimated from the velocities
+    before gravity is applied (so a body merely resting on a frozen one contributes nothing,
+    however heavy; its weight is judged after the solve). The frozen body wakes (and, through the
+    support graph, all it carries) if the estimates add up to more than ``impulse_threshold``
+    (an impact), or if its load plus the estimated push breaks its equilibrium (a push, or
+    tipping). Returns the number of bodies woken."""
+    fsettings, isettings, counters = settings
+    position, velocity, angular_velocity = bodies[0], bodies[2], bodies[3]
+    inv_mass, inv_inertia = bodies[4], bodies[5]
+    manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
+    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
+        links = activity
+    n_dyn = isettings[N_DYNAMIC]
+    touched = np.empty(min(2 * count, n_dyn) + 1, np.int64)
+    n_touched = 0
+    for c in range(count):
+        a = manifold_int[c, BODY_A]
+        b = manifold_int[c, BODY_B]
+        nx = manifold_float[c, NORMAL_X]
+        ny = manifold_float[c, NORMAL_Y]
+        for frozen_body, mover in ((a, b), (b, a)):
+            if not (0 <= frozen_body < n_dyn and awake_slot[frozen_body] < 0
+                    and _is_movable(mover, n_dyn, awake_slot)):
+                continue
+            n_touched = _touch(frozen_body, touched, n_touched, body_real, body_int)
+            # n points from a to b: a push on the frozen body is along +n if it is b, -n if a;
+            # the mover's point approaches when its velocity is along that direction
+            sign = 1.0 if frozen_body == b else -1.0
+            for j in range(manifold_int[c, POINT_COUNT]):
+                wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
+                wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
+                rx = wx - position[mover, 0]
+                ry = wy - position[mover, 1]
+                vx = velocity[mover, 0] - angular_velocity[mover] * ry
+                vy = velocity[mover, 1] + angular_velocity[mover] * rx
+                vn = -sign * (vx * nx + vy * ny)    # < 0: the mover's point approaches
+                if vn < 0.0:
+                    rn = rx * ny - ry * nx
+                    p = -vn / (inv_mass[mover] + inv_inertia[mover] * rn * rn)
+                    px = sign * p * nx
+                    py = sign * p * ny
+                    body_real[frozen_body, PUSH_X] += px
+                    body_real[frozen_body, PUSH_Y] += py
+                    body_real[frozen_body, PUSH_M] += ((wx - position[frozen_body, 0]) * py
+                                                       - (wy - position[frozen_body, 1]) * px)
+                    body_real[frozen_body, PUSH_NORMAL] += p
+    queue = np.empty(n_dyn, np.int64)
+    n_queue = 0
+    for k in range(n_touched):
+        i = touched[k]
+        body_int[i, TOUCHED] = 0
+        if body_real[i, PUSH_NORMAL] > fsettings[IMPULSE_THRESHOLD]:
+            cause = _IMPACT
+        elif body_real[i, PUSH_NORMAL] > 0.0:
+            cause = _equilibrium_broken(i, body_real, position)
+        else:
+            cause = -1
+        if cause >= 0:
+            n_queue = _wake_one(i, cause, n_queue, queue, states, awake, awake_slot, counters,
+                                inv_mass, inv_inertia, solver_inv_mass, solver_inv_inertia,
+                                events, body_int)
+    return _wake_supported(n_queue, queue, states, awake, awake_slot, counters, inv_mass,
+                           inv_inertia, solver_inv_mass, solver_inv_inertia, events, body_int,
+                           links)
+
+
+@inline_kernel
+def _touch(i, touched, n_touched, body_real, body_int):
+    """Add frozen body i to this pass's touched list, its push accumulators zeroed."""
+    if body_int[i, TOUCHED] == 0:
+        body_int[i, TOUCHED] = 1
+        body_real[i, PUSH_X] = 0.0
+        body_real[i, PUSH_Y] = 0.0
+        body_real[i, PUSH_M] = 0.0
+        body_real[i, PUSH_NORMAL] = 0.0
+        touched[n_touched] = i
+        return n_touched + 1
+    return n_touched
+
+
+@kernel
+def _wake_supported(n_queue, queue, states, awake, awake_slot, counters, inv_mass, inv_inertia,
+                    solver_inv_mass, solver_inv_inertia, events, body_int, links):
+    """Support removed: everything the bodies in queue[0..n_queue-1] carry wakes too, in this
+    same step, transitively (breadth first over the links). Returns the number woken in all."""
+    head = 0
+    while head < n_queue:
+        s = queue[head]
+        head += 1
+        for k in range(counters[N_LINKS]):
+            if links[k, 0] == s and awake_slot[links[k, 1]] < 0:
+                n_queue = _wake_one(links[k, 1], _SUPPORT_LOST, n_queue, queue, states, awake,
+                                    awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
+                                    solver_inv_inertia, events, body_int)
+    if n_queue > 0:
+        _drop_links_of_awake(links, counters, awake_slot)
+    return n_queue
+
+
+@kernel
+def after_solve(count, settings, bodies, contacts, activity):
+    """Loads on frozen bodies from this step's solved impulses (the weight of awake bodies
+    resting on them, which the approach estimate before the solve does not see), then the rest
+    test and freezing (see the module docstring)."""
+    fsettings, isettings, counters = settings
+    position, velocity, angular_velocity = bodies[0], bodies[2], bodies[3]
+    inv_mass, inv_inertia, extent = bodies[4], bodies[5], bodies[11]
+    manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
+    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
+        links = activity
+    n_dyn = isettings[N_DYNAMIC]
+    dt = fsettings[DT]
+    gx = fsettings[GRAVITY_X]
+    gy = fsettings[GRAVITY_Y]
+    g = np.hypot(gx, gy)
+    up_x = -gx / g if g > 0 else 0.0
+    up_y = -gy / g if g > 0 else 1.0
+
+    # ---- 1. pushes and tipping: frozen bodies touched by awake bodies ---------------------------------
+    n_touched = 0
+    touched = np.empty(min(2 * count, n_dyn) + 1, np.int64)
+    for c in range(count):
+        a = manifold_int[c, BODY_A]
+        b = manifold_int[c, BODY_B]
+        for frozen_body, other in ((a, b), (b, a)):
+            if not (0 <= frozen_body < n_dyn and awake_slot[frozen_body] < 0
+                    and _is_movable(other, n_dyn, awake_slot)):
+                continue
+            n_touched = _touch(frozen_body, touched, n_touched, body_real, body_int)
+            for j in range(manifold_int[c, POINT_COUNT]):
+                px, py = _impulse_on(frozen_body, c, j, manifold_int, manifold_float, point_float)
+                body_real[frozen_body, PUSH_X] += px
+                body_real[frozen_body, PUSH_Y] += py
+                # the anchor relative to B's centre; A's anchor is the same world point
+                wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
+                wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
+                rx = wx - position[frozen_body, 0]
+                ry = wy - position[frozen_body, 1]
+                body_real[frozen_body, PUSH_M] += rx * py - ry * px
+    queue = np.empty(n_dyn, np.int64)
+    n_queue = 0
+    for k in range(n_touched):
+        i = touched[k]
+        body_int[i, TOUCHED] = 0
+        cause = _equilibrium_broken(i, body_real, position)
+        if cause >= 0:
+            n_queue = _wake_one(i, cause, n_queue, queue, states, awake, awake_slot, counters,
+                                inv_mass, inv_inertia, solver_inv_mass, solver_inv_inertia,
+                                events, body_int)
+    _wake_supported(n_queue, queue, states, awake, awake_slot, counters, inv_mass, inv_inertia,
+                    solver_inv_mass, solver_inv_inertia, events, body_int, links)
+
+    # ---- 2. the rest test -----------------------------------------------------------------
+    n_awake = counters[N_AWAKE]
+    if n_awake == 0:
+        return
+    limit = fsettings[REST_SPEED]
+    change_limit = fsettings[REST_ACCELERATION] * dt
+    any_candidate = False
+    for k in range(n_awake):
+        i = awake[k]
+        vx = velocity[i, 0]
+        vy = velocity[i, 1]
+        w = angular_velocity[i]
+        body_int[i, MARK] = 0
+        # cheap exit for bodies clearly in motion (most of them when nothing can rest): any one
+        # component at or above the limit means |v| + |w| extent is too
+        if abs(vx) >= limit or abs(vy) >= limit or abs(w) * extent[i] >= limit:
+            body_int[i, REST_COUNT] = 0
+            continue
+        speed = np.sqrt(vx * vx + vy * vy) + abs(w) * extent[i]
+        dvx = vx - body_real[i, PREVIOUS_VX]
+        dvy = vy - body_real[i, PREVIOUS_VY]
+        change = np.sqrt(dvx * dvx + dvy * dvy) + abs(w - body_real[i, PREVIOUS_W]) * extent[i]
+        body_real[i, PREVIOUS_VX] = vx
+        body_real[i, PREVIOUS_VY] = vy
+        body_real[i, PREVIOUS_W] = w
+        if speed < limit and change <= change_limit:
+            body_int[i, REST_COUNT] += 1
+        else:
+            body_int[i, REST_COUNT] = 0
+        # MARK = 1: candidate (slow and steady long enough); cleared below when a neighbour
+        # cannot rest
+        if body_int[i, REST_COUNT] >= isettings[REST_STEPS]:
+            body_int[i, MARK] = 1
+            any_candidate = True
+    if not any_candidate:
+        return
+    changed = True
+    while changed:                       # a candidate touching an awake non-candidate is out
+        changed = False
+        for c in range(count):
+            a = manifold_int[c, BODY_A]
+            b = manifold_int[c, BODY_B]
+            if not (_is_movable(a, n_dyn, awake_slot) and _is_movable(b, n_dyn, awake_slot)):
+                continue
+            if body_int[a, MARK] != body_int[b, MARK]:
+                body_int[a, MARK] = 0
+                body_int[b, MARK] = 0
+                changed = True
+    # freeze the survivors: summarise supports and loads, link dynamic supports
+    for k in range(n_awake):
+        i = awake[k]
+        if body_int[i, MARK] == 1:
+            body_real[i, LOAD_X] = gx * dt / inv_mass[i]
+            body_real[i, LOAD_Y] = gy * dt / inv_mass[i]
+            body_real[i, LOAD_M] = 0.0
+            body_real[i, SUPPORT_NX] = 0.0
+            body_real[i, SUPPORT_NY] = 0.0
+            body_real[i, SUPPORT_MU] = np.inf
+    for c in range(count):
+        a = manifold_int[c, BODY_A]
+        b = manifold_int[c, BODY_B]
+        for i, other in ((a, b), (b, a)):
+            if not (_is_movable(i, n_dyn, awake_slot) and body_int[i, MARK] == 1):
+                continue
+            sx = 0.0
+            sy = 0.0
+            for j in range(manifold_int[c, POINT_COUNT]):
+                px, py = _impulse_on(i, c, j, manifold_int, manifold_float, point_float)
+                if px * up_x + py * up_y > 0.1 * np.hypot(px, py):       # a support
+                    sx += px
+                    sy += py
+                else:                                                    # a load
+                    wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
+                    wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
+                    body_real[i, LOAD_X] += px
+                    body_real[i, LOAD_Y] += py
+                    body_real[i, LOAD_M] += ((wx - position[i, 0]) * py
+                                             - (wy - position[i, 1]) * px)
+            if sx != 0.0 or sy != 0.0:
+                body_real[i, SUPPORT_NX] += sx          # impulse-weighted support direction
+                body_real[i, SUPPORT_NY] += sy
+                body_real[i, SUPPORT_MU] = min(body_real[i, SUPPORT_MU],
+                                               manifold_float[c, FRICTION])
+                if 0 <= other < n_dyn:
+                    n_links = counters[N_LINKS]
+                    if n_links == links.shape[0]:
+                        _drop_links_of_awake(links, counters, awake_slot)
+                        n_links = counters[N_LINKS]
+                    if n_links < links.shape[0]:
+                        links[n_links, 0] = other
+                        links[n_links, 1] = i
+                        counters[N_LINKS] = n_links + 1
+                    if awake_slot[other] < 0:
+                        # resting on an already frozen body: that body now carries this push
+                        # (the impulse on it is the opposite of the support impulse on i)
+                        _add_load(other, -sx, -sy, c, i, manifold_int, point_float, position,
+                                  body_real)
+    # support extent along the tangent of the dominant support normal
+    for k in range(n_awake):
+        i = awake[k]
+        if body_int[i, MARK] == 1:
+            nx = body_real[i, SUPPORT_NX]
+            ny = body_real[i, SUPPORT_NY]
+            norm = np.hypot(nx, ny)
+            if norm > 0.0:
+                body_real[i, SUPPORT_NX] = nx / norm
+                body_real[i, SUPPORT_NY] = ny / norm
+            else:                       # held with no support against gravity: zero-g scenes
+                body_real[i, SUPPORT_NX] = up_x
+                body_real[i, SUPPORT_NY] = up_y
+            body_real[i, SUPPORT_LO] = np.inf
+            body_real[i, SUPPORT_HI] = -np.inf
+            body_real[i, SUPPORT_H] = 0.0
+            body_int[i, TOUCHED] = 0          # scratch: number of support points
+    for c in range(count):
+        a = manifold_int[c, BODY_A]
+        b = manifold_int[c, BODY_B]
+        for i in (a, b):
+            if not (_is_movable(i, n_dyn, awake_slot) and body_int[i, MARK] == 1):
+                continue
+            tx = -body_real[i, SUPPORT_NY]
+            ty = body_real[i, SUPPORT_NX]
+            for j in range(manifold_int[c, POINT_COUNT]):
+                px, py = _impulse_on(i, c, j, manifold_int, manifold_float, point_float)
+                if px * up_x + py * up_y > 0.1 * np.hypot(px, py):
+                    wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
+                    wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
+                    s = wx * tx + wy * ty
+                    body_real[i, SUPPORT_LO] = min(body_real[i, SUPPORT_LO], s)
+                    body_real[i, SUPPORT_HI] = max(body_real[i, SUPPORT_HI], s)
+                    body_real[i, SUPPORT_H] += wx * ty - wy * tx      # offset along n = -perp(t)
+                    body_int[i, TOUCHED] += 1
+    k = 0
+    while k < counters[N_AWAKE]:
+        i = awake[k]
+        if body_int[i, MARK] == 1:
+            if body_int[i, TOUCHED] > 0:
+                body_real[i, SUPPORT_H] /= body_int[i, TOUCHED]
+            body_int[i, TOUCHED] = 0
+            body_int[i, MARK] = 0
+            body_int[i, REST_COUNT] = 0
+            freeze(i, awake, awake_slot, counters, solver_inv_mass, solver_inv_inertia, velocity,
+                   angular_velocity)
+            states[i] = _FROZEN
+            record(events, counters, i, _FREE, _FROZEN, _RESTED)
+            continue                 # freeze() moved the last awake body into slot k
+        k += 1
+
+
+@inline_kernel
+def _add_load(i, fx, fy, c, other, manifold_int, point_float, position, body_real):
+    """Add impulse (fx, fy), applied at manifold c's first point, to frozen body i's load."""
+    b = manifold_int[c, BODY_B]
+    wx = point_float[c, 0, ANCHOR_BX] + position[b, 0]
+    wy = point_float[c, 0, ANCHOR_BY] + position[b, 1]
+    body_real[i, LOAD_X] += fx
+    body_real[i, LOAD_Y] += fy
+    body_real[i, LOAD_M] += (wx - position[i, 0]) * fy - (wy - position[i, 1]) * fx
+
+
+@inline_kernel
+def _equilibrium_broken(i, body_real, position):
+    """Cause code if frozen body i cannot stay at rest under its load plus this step's pushes,
+    else -1. The supports must supply the reaction R = -(load + push): it must press into them
+    (R . n_s > 0), stay inside the friction cone (|R . t_s| <= mu_s R . n_s) and act through the
+    support extent: its centre of pressure s in [lo, hi].
+
+    With q = h n + s t a point of the support line (h its offset along n) and x the centre of
+    mass, moment balance cross(q - x, R) + M = 0 gives, since cross(n, R) = R.t and
+    cross(t, R) = -R.n:  s = x.t + ((h - x.n) R.t + M) / R.n."""
+    lx = body_real[i, LOAD_X] + body_real[i, PUSH_X]
+    ly = body_real[i, LOAD_Y] + body_real[i, PUSH_Y]
+    moment = body_real[i, LOAD_M] + body_real[i, PUSH_M]
+    nx = body_real[i, SUPPORT_NX]
+    ny = body_real[i, SUPPORT_NY]
+    tx = -ny
+    ty = nx
+    rn = -(lx * nx + ly * ny)
+    rt = -(lx * tx + ly * ty)
+    if rn <= 0.0:
+        return _PUSHED                    # lifted off its supports
+    if abs(rt) > body_real[i, SUPPORT_MU] * rn:
+        return _PUSHED                    # friction cannot hold it: it slides
+    if body_real[i, SUPPORT_HI] < body_real[i, SUPPORT_LO]:
+        return -1                         # no recorded support points (zero gravity)
+    x_t = position[i, 0] * tx + position[i, 1] * ty
+    x_n = position[i, 0] * nx + position[i, 1] * ny
+    s = x_t + ((body_real[i, SUPPORT_H] - x_n) * rt + moment) / rn
+    if s < body_real[i, SUPPORT_LO] - TIP_TOLERANCE or s > body_real[i, SUPPORT_HI] + TIP_TOLERANCE:
+        return _TIPPING
+    return -1
+
+
+@inline_kernel
+def _wake_one(i, cause, n_queue, queue, states, awake, awake_slot, counters, inv_mass,
+              inv_inertia, solver_inv_mass, solver_inv_inertia, events, body_int):
+    wake(i, awake, awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
+         solver_inv_inertia)
+    record(events, counters, i, states[i], _FREE, cause)
+    states[i] = _FREE
+    body_int[i, REST_COUNT] = 0
+    queue[n_queue] = i
+    return n_queue + 1
+
+
+@kernel
+def _drop_links_of_awake(links, counters, awake_slot):
+    """Compact the link list, keeping only links whose supported body is still frozen."""
+    kept = 0
+    for k in range(counters[N_LINKS]):
+        if awake_slot[links[k, 1]] < 0:
+            links[kept, 0] = links[k, 0]
+            links[kept, 1] = links[k, 1]
+            kept += 1
+    counters[N_LINKS] = kept

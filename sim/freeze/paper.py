@@ -1,0 +1,410 @@
+"""``paper``: the seed's state machine, as written (``shared/seed/translation.md``), with its
+limits left visible. Where the seed is vague, the choice made here is marked CHOICE.
+
+States: FREE (the seed's vertical-unstable), VERTICAL_STABLE (VS), ROTATION_STABLE (RS).
+
+Floor-like surfaces (sections 2, 5.2): the floor; an upward, floor-parallel face of a static body
+(CHOICE: the seed has no static bodies; a fixed ledge is treated as the floor is); and the
+floor-parallel top edge of an RS body. A contact counts as floor-like when its normal on the body
+is within 1 degree of straight up.
+
+Section 2, the impulse threshold: when a FREE body's floor-like contact pushes with a normal
+impulse larger than ``impulse_threshold`` (N s) the body bounces by its impulse (the ordinary
+solve stands); otherwise it *stays in contact*. CHOICE: in an impulse solver a resting body
+receives its weight m g dt every step; that part is not collision, so the impulse compared with
+the threshold is the normal impulse minus the body's weight impulse.
+
+Section 4, staying in contact:
+  - one vertex touching -> VS: that vertex no longer moves vertically (it is held on the
+    surface's height); the body only rotates about it and translates horizontally. Done by solving the ordinary contacts and then one exact
+    vertical constraint at the vertex (an impulse that zeroes the vertex's vertical velocity, and a
+    translation that keeps it at its height). CHOICE: the vertex keeps the floor's friction.
+  - two or more vertices touching, centre of mass over the support (its x within the touching
+    points') -> RS. Otherwise the body keeps rotating: VS about the touching vertex on the side of
+    the centre of mass.
+RS: rotation and vertical motion stop (held at the pose reached); the body is no longer solved
+against anything (its solver masses are zero: to others it is immovable); horizontal motion goes on
+under Coulomb friction with its support, v_x reduced by mu g dt per step, until it stops; then it is
+frozen outright (taken out of the awake list).
+
+Section 5.1: a VS body in contact with an RS body for two consecutive steps -> both held at rest
+(frozen), until another body collides with them.
+Section 5.2: a FREE body landing on an RS body's floor-parallel top edge treats it as the floor
+(same threshold and states); two stacked RS bodies are held without computing their interaction
+(frozen bodies are never paired). An RS body resting on another RS body whose centre of mass is no
+longer over any of their contact points becomes FREE (seed figure 3).
+
+Waking (section 3: "until a collision with another body is detected"): a moving body (FREE or VS)
+colliding with a held or RS body anywhere but its floor-parallel top edge makes that body FREE,
+before the step is solved. CHOICE: a collision is what section 2 calls one, an impact whose
+impulse (estimated as the impulse that would stop the mover against an immovable body) exceeds
+``impulse_threshold``; a body sliding or tipping along a held one does not wake it.
+CHOICE (figure 3): a body freed because its centre of mass left its support's edge does not take
+that edge as its floor again; it tips off it (otherwise it would at once become VS on the edge's
+corner and, its vertex held up, never fall). Nothing else wakes a body (the seed's second limit): a body resting on a body
+that is knocked away stays where it was, floating; VS never returns to FREE.
+"""
+import numpy as np
+
+from ..activity import CAUSE, freeze, record, wake
+from ..contacts import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, INCIDENT, LOCAL_FACE_X,
+                        LOCAL_FACE_Y, LOCAL_X, LOCAL_Y, NORMAL_IMPULSE, NORMAL_X, NORMAL_Y,
+                        POINT_COUNT, REFERENCE, SEPARATION)
+from ..jit import inline_kernel, kernel
+from ..layout import (DT, FLOOR_FRICTION, GRAVITY_Y, IMPULSE_THRESHOLD, N_AWAKE, N_DYNAMIC, SLOP,
+                      STEP_COUNT)
+from ..state import State
+
+NAME = "paper"
+PARAMETERS = {"impulse_threshold": 1.0}
+FLOAT_SETTINGS = {"impulse_threshold": IMPULSE_THRESHOLD}
+INT_SETTINGS = {}
+# body_real columns
+HELD_Y, HELD_ANGLE, PIVOT_LX, PIVOT_LY, PIVOT_Y, SLIDE_MU = range(6)
+REAL_COLUMNS = 6
+# body_int columns: the body's floor-like support (-1 floor, -2 none), the floor-like manifold of
+# this step (scratch), consecutive steps a VS body has touched an RS body, and that body
+# (section 5.1), and the support a body slid off (figure 3; -2 none)
+SUPPORT, FLOOR_MANIFOLD, RS_CONTACT_STEPS, RS_PARTNER, LEFT_SUPPORT = range(5)
+INT_COLUMNS = 5
+
+#: a contact normal within 1 degree of vertical counts as floor-parallel
+COS_FLOOR = np.cos(np.radians(1.0))
+
+_FREE = np.int8(State.FREE)
+_VS = np.int8(State.VERTICAL_STABLE)
+_RS = np.int8(State.ROTATION_STABLE)
+_COM_OUTSIDE_SUPPORT = CAUSE["com_outside_support"]
+_HELD_BY_CONTACT = CAUSE["held_by_contact"]
+_IMPACT = CAUSE["impact"]
+_ONE_VERTEX_ON_FLOOR = CAUSE["one_vertex_on_floor"]
+_STOPPED_SLIDING = CAUSE["stopped_sliding"]
+_TWO_VERTICES_ON_FLOOR = CAUSE["two_vertices_on_floor"]
+
+
+def initial(body_int):
+    body_int[:, SUPPORT] = -2
+    body_int[:, FLOOR_MANIFOLD] = -1
+    body_int[:, LEFT_SUPPORT] = -2
+
+
+@inline_kernel
+def _up_normal_on(i, c, manifold_int, manifold_float):
+    """y component of manifold c's normal as it pushes on body i."""
+    ny = manifold_float[c, NORMAL_Y]
+    return ny if manifold_int[c, BODY_B] == i else -ny
+
+
+@inline_kernel
+def _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float):
+    """Is ``other`` a floor-like surface under body i in manifold c?"""
+    if _up_normal_on(i, c, manifold_int, manifold_float) < COS_FLOOR:
+        return False
+    if other < 0 or other >= n_dyn:
+        return True                         # the floor, or a static body's upward face
+    return states[other] == _RS
+
+
+@inline_kernel
+def _collision_impulse(c, mover, position, velocity, angular_velocity, inv_mass, inv_inertia,
+                       manifold_int, manifold_float, point_float):
+    """Normal impulse that would stop ``mover``'s approach in manifold c against an immovable
+    partner, from the current velocities, N s."""
+    a = manifold_int[c, BODY_A]
+    b = manifold_int[c, BODY_B]
+    nx = manifold_float[c, NORMAL_X]
+    ny = manifold_float[c, NORMAL_Y]
+    total = 0.0
+    for j in range(manifold_int[c, POINT_COUNT]):
+        rx = point_float[c, j, ANCHOR_BX] + position[b, 0] - position[mover, 0]
+        ry = point_float[c, j, ANCHOR_BY] + position[b, 1] - position[mover, 1]
+        vn = ((velocity[mover, 0] - angular_velocity[mover] * ry) * nx
+              + (velocity[mover, 1] + angular_velocity[mover] * rx) * ny)
+        if mover == a:
+            vn = -vn                        # n points from a to b: a approaches when vn > 0
+        if vn < 0.0:
+            rn = rx * ny - ry * nx
+            total += -vn / (inv_mass[mover] + inv_inertia[mover] * rn * rn)
+    return total
+
+
+@kernel
+def before_solve(count, settings, bodies, contacts, activity):
+    """Section 3: a moving body colliding with a held body (frozen, or RS and sliding) anywhere
+    but its floor-parallel top edge makes it FREE before the solve. Returns the number woken."""
+    fsettings, isettings, counters = settings
+    position, velocity, angular_velocity = bodies[0], bodies[2], bodies[3]
+    inv_mass, inv_inertia = bodies[4], bodies[5]
+    manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
+    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
+        _ = activity
+    n_dyn = isettings[N_DYNAMIC]
+    woken = 0
+    for c in range(count):
+        a = manifold_int[c, BODY_A]
+        b = manifold_int[c, BODY_B]
+        for held, mover in ((a, b), (b, a)):
+            if not (0 <= held < n_dyn and solver_inv_mass[held] == 0.0
+                    and 0 <= mover < n_dyn and awake_slot[mover] >= 0):
+                continue
+            if _floor_like_for(mover, held, c, n_dyn, states, manifold_int, manifold_float):
+                continue                    # landing on its top edge: it acts as the floor
+            # a collision in the seed's sense (section 2): stopping the mover against the held
+            # body would take more than the threshold impulse (estimated from the velocities
+            # before gravity, so merely resting or sliding along it is not a collision)
+            if _collision_impulse(c, mover, position, velocity, angular_velocity, inv_mass,
+                                  inv_inertia, manifold_int, manifold_float, point_float) \
+                    <= fsettings[IMPULSE_THRESHOLD]:
+                continue
+            # both bodies of the collision end their rest: the held one wakes, and a sliding RS
+            # mover (itself immovable to the solver) is released too
+            for body in (held, mover):
+                if states[body] == _FREE or (body == mover and states[body] != _RS):
+                    continue                    # (a VS mover stays VS: the seed's 2nd limit)
+                wake(body, awake, awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
+                     solver_inv_inertia)
+                solver_inv_mass[body] = inv_mass[body]        # also for an awake RS body
+                solver_inv_inertia[body] = inv_inertia[body]
+                record(events, counters, body, states[body], _FREE, _IMPACT)
+                states[body] = _FREE
+                body_int[body, SUPPORT] = -2
+                body_int[body, RS_CONTACT_STEPS] = 0
+                woken += 1
+    return woken
+
+
+@kernel
+def after_solve(count, settings, bodies, contacts, activity):
+    fsettings, isettings, counters = settings
+    position, angle, velocity, angular_velocity = bodies[0], bodies[1], bodies[2], bodies[3]
+    inv_mass, inv_inertia = bodies[4], bodies[5]
+    vert_start, local_verts = bodies[8], bodies[9]
+    manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
+    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
+        _ = activity
+    n_dyn = isettings[N_DYNAMIC]
+    dt = fsettings[DT]
+    g = abs(fsettings[GRAVITY_Y])
+    n_awake = counters[N_AWAKE]
+    for k in range(n_awake):
+        body_int[awake[k], FLOOR_MANIFOLD] = -1
+        body_int[awake[k], RS_PARTNER] = -1
+    # each moving or sliding body's floor-like manifold this step (the one with most points)
+    # and lasting contact between VS and RS bodies (section 5.1)
+    for c in range(count):
+        a = manifold_int[c, BODY_A]
+        b = manifold_int[c, BODY_B]
+        for i, other in ((b, a), (a, b)):
+            if not (0 <= i < n_dyn and awake_slot[i] >= 0):
+                continue
+            if _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float) \
+                    and other != body_int[i, LEFT_SUPPORT]:
+                best = body_int[i, FLOOR_MANIFOLD]
+                if best < 0 or manifold_int[c, POINT_COUNT] > manifold_int[best, POINT_COUNT]:
+                    body_int[i, FLOOR_MANIFOLD] = c
+            if states[i] == _VS and 0 <= other < n_dyn and states[other] == _RS \
+                    and body_int[i, SUPPORT] != other:
+                body_int[i, RS_PARTNER] = other
+    for k in range(n_awake):
+        i = awake[k]
+        if body_int[i, RS_PARTNER] >= 0:
+            body_int[i, RS_CONTACT_STEPS] += 1
+        else:
+            body_int[i, RS_CONTACT_STEPS] = 0
+    held_pairs = np.empty((count, 2), np.int64)
+    n_held = 0
+    k = 0
+    while k < counters[N_AWAKE]:
+        i = awake[k]
+        k += 1
+        c = body_int[i, FLOOR_MANIFOLD]
+        state = states[i]
+        if state == _RS:
+            if _slide_or_stop(i, c, dt, g, position, angle, velocity, angular_velocity,
+                              manifold_int, point_float, body_real, body_int, states, awake,
+                              awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
+                              solver_inv_inertia, events):
+                k -= 1                      # the body left the awake list; its slot was refilled
+            continue
+        if c < 0:
+            if state == _VS:
+                _hold_pivot(i, position, angle, velocity, angular_velocity, inv_mass,
+                            inv_inertia, body_real)
+            continue
+        # touching points of the floor-like contact: their world x, and the collision impulse
+        lo = np.inf
+        hi = -np.inf
+        n_touch = 0
+        normal = 0.0
+        b = manifold_int[c, BODY_B]
+        for j in range(manifold_int[c, POINT_COUNT]):
+            normal += point_float[c, j, NORMAL_IMPULSE]
+            if point_float[c, j, SEPARATION] <= fsettings[SLOP] \
+                    and point_float[c, j, NORMAL_IMPULSE] > 0.0:
+                x = point_float[c, j, ANCHOR_BX] + position[b, 0]
+                lo = min(lo, x)
+                hi = max(hi, x)
+                n_touch += 1
+        support = manifold_int[c, BODY_A] if b == i else b
+        if state == _FREE:
+            if n_touch == 0 or normal - g * dt / inv_mass[i] > fsettings[IMPULSE_THRESHOLD]:
+                continue                    # bouncing by its impulse: stays FREE
+        com_x = position[i, 0]
+        if n_touch >= 2 and lo <= com_x <= hi:
+            # section 4.2: at rest on two or more vertices, centre of mass over the support
+            body_real[i, HELD_Y] = position[i, 1]
+            body_real[i, HELD_ANGLE] = angle[i]
+            body_real[i, SLIDE_MU] = manifold_float[c, FRICTION]
+            body_int[i, SUPPORT] = support if support >= 0 else -1
+            velocity[i, 1] = 0.0
+            angular_velocity[i] = 0.0
+            solver_inv_mass[i] = 0.0            # immovable to others from now on
+            solver_inv_inertia[i] = 0.0
+            record(events, counters, i, state, _RS, _TWO_VERTICES_ON_FLOOR)
+            states[i] = _RS
+            body_int[i, LEFT_SUPPORT] = -2
+            if _slide_or_stop(i, c, dt, g, position, angle, velocity, angular_velocity,
+                              manifold_int, point_float, body_real, body_int, states, awake,
+                              awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
+                              solver_inv_inertia, events):
+                k -= 1
+            continue
+        if n_touch >= 1:
+            # section 4.1 (one vertex), or 4.2 with the centre of mass outside the support: pivot
+            # on the touching vertex on the centre of mass's side, and keep rotating
+            # (a VS body keeps its pivot, and the pivot its height, until another vertex lands
+            # and the centre of mass is outside them: then it pivots on the new outer vertex)
+            if state == _FREE or n_touch >= 2:
+                pivot_x = hi if com_x > hi else lo
+                for j in range(manifold_int[c, POINT_COUNT]):
+                    x = point_float[c, j, ANCHOR_BX] + position[b, 0]
+                    if x == pivot_x:
+                        y = point_float[c, j, ANCHOR_BY] + position[b, 1]
+                        _set_pivot(i, x, y, position, angle, vert_start, local_verts, body_real)
+                        body_real[i, PIVOT_Y] = _surface_height(c, j, i, position, angle,
+                                                                manifold_int, manifold_float,
+                                                                point_float)
+            if state == _FREE:
+                record(events, counters, i, state, _VS, _ONE_VERTEX_ON_FLOOR)
+                states[i] = _VS
+                body_int[i, LEFT_SUPPORT] = -2
+                body_int[i, SUPPORT] = support if support >= 0 else -1
+        if states[i] == _VS:
+            _hold_pivot(i, position, angle, velocity, angular_velocity, inv_mass, inv_inertia,
+                        body_real)
+            if body_int[i, RS_CONTACT_STEPS] >= 2 and n_held < count:
+                held_pairs[n_held, 0] = i
+                n_held += 1
+    # section 5.1: VS in lasting contact with RS: both held at rest
+    for h in range(n_held):
+        i = held_pairs[h, 0]
+        partner = body_int[i, RS_PARTNER]
+        for body in (i, partner):
+            if awake_slot[body] >= 0:
+                freeze(body, awake, awake_slot, counters, solver_inv_mass, solver_inv_inertia,
+                       velocity, angular_velocity)
+                record(events, counters, body, states[body], states[body],
+                       _HELD_BY_CONTACT)
+        body_int[i, RS_CONTACT_STEPS] = 0
+
+
+@inline_kernel
+def _surface_height(c, j, i, position, angle, manifold_int, manifold_float, point_float):
+    """Height of the floor-like surface under point j of manifold c: the pivot stays *on* it
+    (the vertex may have ended the step a little above or below it)."""
+    ref = manifold_int[c, REFERENCE]
+    if ref < 0:
+        return manifold_float[c, LOCAL_FACE_Y]              # the floor
+    if ref != i:                                            # the support's face: horizontal
+        cs = np.cos(angle[ref])
+        sn = np.sin(angle[ref])
+        return (sn * manifold_float[c, LOCAL_FACE_X] + cs * manifold_float[c, LOCAL_FACE_Y]
+                + position[ref, 1])
+    # i holds the reference face; the support's vertex is the incident point
+    inc = manifold_int[c, INCIDENT]
+    cs = np.cos(angle[inc])
+    sn = np.sin(angle[inc])
+    return sn * point_float[c, j, LOCAL_X] + cs * point_float[c, j, LOCAL_Y] + position[inc, 1]
+
+
+@inline_kernel
+def _set_pivot(i, x, y, position, angle, vert_start, local_verts, body_real):
+    """Pivot on body i's vertex nearest to the contact point (x, y): its body-frame position and
+    its current height, which it keeps while the body is VS."""
+    cs = np.cos(angle[i])
+    sn = np.sin(angle[i])
+    dx = x - position[i, 0]
+    dy = y - position[i, 1]
+    lx = cs * dx + sn * dy
+    ly = -sn * dx + cs * dy
+    best = vert_start[i]
+    nearest = np.inf
+    for v in range(vert_start[i], vert_start[i + 1]):
+        d = (local_verts[v, 0] - lx) ** 2 + (local_verts[v, 1] - ly) ** 2
+        if d < nearest:
+            nearest = d
+            best = v
+    body_real[i, PIVOT_LX] = local_verts[best, 0]
+    body_real[i, PIVOT_LY] = local_verts[best, 1]
+    body_real[i, PIVOT_Y] = position[i, 1] + sn * local_verts[best, 0] + cs * local_verts[best, 1]
+
+
+@inline_kernel
+def _hold_pivot(i, position, angle, velocity, angular_velocity, inv_mass, inv_inertia,
+                body_real):
+    """VS: the pivot vertex does not move vertically. One exact vertical impulse at the vertex
+    zeroes its vertical velocity; a vertical translation puts it back at its height."""
+    cs = np.cos(angle[i])
+    sn = np.sin(angle[i])
+    lx = body_real[i, PIVOT_LX]
+    ly = body_real[i, PIVOT_LY]
+    rx = cs * lx - sn * ly
+    ry = sn * lx + cs * ly
+    vy = velocity[i, 1] + angular_velocity[i] * rx        # the vertex's vertical velocity
+    k = inv_mass[i] + inv_inertia[i] * rx * rx
+    p = -vy / k
+    velocity[i, 1] += inv_mass[i] * p
+    angular_velocity[i] += inv_inertia[i] * rx * p
+    position[i, 1] += body_real[i, PIVOT_Y] - (position[i, 1] + ry)
+
+
+@inline_kernel
+def _slide_or_stop(i, c, dt, g, position, angle, velocity, angular_velocity, manifold_int,
+                   point_float, body_real, body_int, states, awake, awake_slot, counters,
+                   inv_mass, inv_inertia, solver_inv_mass, solver_inv_inertia, events):
+    """RS: hold the pose's rotation and height, slow the horizontal motion by Coulomb friction,
+    freeze the body when it stops, free it when its centre of mass leaves its support (figure 3).
+    Returns True when the body left the awake list."""
+    position[i, 1] = body_real[i, HELD_Y]
+    angle[i] = body_real[i, HELD_ANGLE]
+    velocity[i, 1] = 0.0
+    angular_velocity[i] = 0.0
+    support = body_int[i, SUPPORT]
+    if support >= 0:
+        # resting on another body: is any of their contact points under the centre of mass?
+        lo = np.inf
+        hi = -np.inf
+        if c >= 0:
+            b = manifold_int[c, BODY_B]
+            for j in range(manifold_int[c, POINT_COUNT]):
+                x = point_float[c, j, ANCHOR_BX] + position[b, 0]
+                lo = min(lo, x)
+                hi = max(hi, x)
+        if not (lo <= position[i, 0] <= hi):
+            solver_inv_mass[i] = inv_mass[i]
+            solver_inv_inertia[i] = inv_inertia[i]
+            record(events, counters, i, _RS, _FREE, _COM_OUTSIDE_SUPPORT)
+            states[i] = _FREE
+            body_int[i, LEFT_SUPPORT] = support     # it tips off that edge, not onto it
+            body_int[i, SUPPORT] = -2
+            return False
+    dv = body_real[i, SLIDE_MU] * g * dt
+    vx = velocity[i, 0]
+    if abs(vx) > dv:
+        velocity[i, 0] = vx - dv if vx > 0 else vx + dv
+        return False
+    velocity[i, 0] = 0.0
+    freeze(i, awake, awake_slot, counters, solver_inv_mass, solver_inv_inertia, velocity,
+           angular_velocity)
+    record(events, counters, i, _RS, _RS, _STOPPED_SLIDING)
+    return True

@@ -1,0 +1,171 @@
+"""``sleep``: what the big engines do (Box2D, Chipmunk, Bullet), in our solver, to isolate the
+freezing method from the engine.
+
+A body is *idle* while its speed |v| + |w| * extent stays under ``sleep_speed`` (m/s); its timer
+counts how long. An *island* is a connected component of the contact graph among awake dynamic
+bodies (the floor and static bodies do not connect islands). When every body of an island has been
+idle for ``sleep_time`` (s), the island falls asleep: all its bodies are frozen (state SLEEPING)
+and linked in a ring so the island can be woken as a whole. A sleeping island wakes entirely when
+an awake body touches any of its bodies (a contact manifold between them exists) — so a support
+knocked away, or a body landing on it, wakes it. Nothing that is asleep is solved.
+
+Per-body state: body_real[:, TIMER] s; body_int[:, NEXT] the ring of a sleeping island (-1 when
+awake), body_int[:, PARENT] union-find scratch.
+"""
+import numpy as np
+
+from ..activity import CAUSE, freeze, record, wake
+from ..contacts import BODY_A, BODY_B
+from ..jit import inline_kernel, kernel
+from ..layout import DT, N_AWAKE, N_DYNAMIC, SLEEP_SPEED, SLEEP_TIME
+from ..state import State
+
+NAME = "sleep"
+PARAMETERS = {"sleep_speed": 0.05, "sleep_time": 0.5}
+FLOAT_SETTINGS = {"sleep_speed": SLEEP_SPEED, "sleep_time": SLEEP_TIME}
+INT_SETTINGS = {}
+TIMER = 0
+REAL_COLUMNS = 1
+NEXT, PARENT = 0, 1
+INT_COLUMNS = 2
+
+_FREE = np.int8(State.FREE)
+_SLEEPING = np.int8(State.SLEEPING)
+_TOUCHED = CAUSE["touched"]
+_BY_ISLAND = CAUSE["woken_by_island"]
+_TIMER = CAUSE["timer"]
+
+
+def initial(body_int):
+    """Per-body state of a new World: no body belongs to a sleeping island."""
+    body_int[:, NEXT] = -1
+
+
+@inline_kernel
+def _find(parent, i):
+    root = i
+    while parent[root] != root:
+        root = parent[root]
+    while parent[i] != root:          # path compression
+        nxt = parent[i]
+        parent[i] = root
+        i = nxt
+    return root
+
+
+@kernel
+def before_solve(count, settings, bodies, contacts, activity):
+    """An awake body touching a sleeping one wakes that body's whole island, before the solve, so
+    the touch is solved between moving bodies. Returns the number of bodies woken."""
+    fsettings, isettings, counters = settings
+    velocity, angular_velocity, inv_mass, inv_inertia, extent = (bodies[2], bodies[3], bodies[4],
+                                                                 bodies[5], bodies[11])
+    manifold_int = contacts[1]
+    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, _ = activity
+    n_dyn = isettings[N_DYNAMIC]
+    dt = fsettings[DT]
+    woken = 0
+    for c in range(count):
+        a = manifold_int[c, BODY_A]
+        b = manifold_int[c, BODY_B]
+        for sleeper, other in ((a, b), (b, a)):
+            if 0 <= sleeper < n_dyn and awake_slot[sleeper] < 0 and 0 <= other < n_dyn \
+                    and awake_slot[other] >= 0:
+                i = sleeper
+                while True:
+                    nxt = body_int[i, NEXT]
+                    body_int[i, NEXT] = -1
+                    body_real[i, TIMER] = 0.0
+                    wake(i, awake, awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
+                         solver_inv_inertia)
+                    states[i] = _FREE
+                    record(events, counters, i, _SLEEPING, _FREE,
+                           _TOUCHED if i == sleeper else _BY_ISLAND)
+                    woken += 1
+                    if nxt < 0 or nxt == sleeper:
+                        break
+                    i = nxt
+    return woken
+
+
+@kernel
+def after_solve(count, settings, bodies, contacts, activity):
+    """Idle timers, islands, and islands falling asleep."""
+    fsettings, isettings, counters = settings
+    velocity, angular_velocity, extent = bodies[2], bodies[3], bodies[11]
+    manifold_int = contacts[1]
+    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, _ = activity
+    n_dyn = isettings[N_DYNAMIC]
+    dt = fsettings[DT]
+    n_awake = counters[N_AWAKE]
+    if n_awake == 0:
+        return
+    # idle timers
+    limit = fsettings[SLEEP_SPEED]
+    longest = 0.0
+    for k in range(n_awake):
+        i = awake[k]
+        vx = velocity[i, 0]
+        vy = velocity[i, 1]
+        w = abs(angular_velocity[i]) * extent[i]
+        if abs(vx) < limit and abs(vy) < limit and w < limit \
+                and np.sqrt(vx * vx + vy * vy) + w < limit:
+            body_real[i, TIMER] += dt
+            longest = max(longest, body_real[i, TIMER])
+        else:
+            body_real[i, TIMER] = 0.0
+        body_int[i, PARENT] = i
+    if longest < fsettings[SLEEP_TIME]:
+        return                   # no island can sleep: skip building them
+    # islands of touching awake bodies (union-find over this step's manifolds)
+    parent = body_int[:, PARENT]
+    for c in range(count):
+        a = manifold_int[c, BODY_A]
+        b = manifold_int[c, BODY_B]
+        if 0 <= a < n_dyn and b < n_dyn and awake_slot[a] >= 0 and awake_slot[b] >= 0:
+            ra = _find(parent, a)
+            rb = _find(parent, b)
+            if ra != rb:
+                parent[max(ra, rb)] = min(ra, rb)    # the lower index is the root: deterministic
+    # an island sleeps when its least idle body has been idle long enough (minimum timer per
+    # island, indexed by the awake slot of the island's root)
+    island_min = np.full(n_awake, np.inf)
+    root_slot = np.empty(n_awake, np.int64)
+    for k in range(n_awake):
+        i = awake[k]
+        root_slot[k] = awake_slot[_find(parent, i)]
+    for k in range(n_awake):
+        island_min[root_slot[k]] = min(island_min[root_slot[k]], body_real[awake[k], TIMER])
+    sleepers = np.empty(n_awake, np.int64)
+    sleeper_island = np.empty(n_awake, np.int64)
+    n_sleep = 0
+    for k in range(n_awake):
+        if island_min[root_slot[k]] >= fsettings[SLEEP_TIME]:
+            sleepers[n_sleep] = awake[k]
+            sleeper_island[n_sleep] = root_slot[k]
+            n_sleep += 1
+    if n_sleep == 0:
+        return
+    # put the islands to sleep, linking each island's bodies in a ring (first/last body of
+    # each island, indexed by the awake slot of the island's root)
+    first = np.full(n_awake, -1, np.int64)
+    last = np.full(n_awake, -1, np.int64)
+    for k in range(n_sleep):
+        i = sleepers[k]
+        s = sleeper_island[k]
+        if first[s] < 0:
+            first[s] = i
+        else:
+            body_int[last[s], NEXT] = i
+        last[s] = i
+    for k in range(n_sleep):
+        s = sleeper_island[k]
+        if first[s] >= 0:
+            body_int[last[s], NEXT] = first[s]          # close the ring
+            first[s] = -1
+    for k in range(n_sleep):
+        i = sleepers[k]
+        freeze(i, awake, awake_slot, counters, solver_inv_mass, solver_inv_inertia, velocity,
+               angular_velocity)
+        states[i] = _SLEEPING
+        record(events, counters, i, _FREE, _SLEEPING, _TIMER)

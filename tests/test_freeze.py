@@ -1,0 +1,300 @@
+"""Freeze policies: the seed's figures under `paper`, accuracy against `off`, the seed's limits
+shown honestly, the general rest test and waking of `extended`, the engines' island `sleep`."""
+import math
+
+import numpy as np
+import pytest
+
+import sim
+from sim import State
+from conftest import G
+
+FROZEN_POLICIES = ("sleep", "paper", "extended")
+
+
+def transitions(world, body=None):
+    """(body, from, to, cause) of every event, optionally of one body."""
+    return [(b, f, t, c) for _, b, f, t, c in world.events if body is None or b == body]
+
+
+def awake_count(world):
+    return int(world._counters[sim.layout.N_AWAKE])
+
+
+# ---- the seed's figures under `paper` -----------------------------------------------------------
+def test_seed_fig1_states_at_the_moment_drawn():
+    world = sim.World(sim.scenes.seed_fig1(), freeze="paper")
+    world.step(3)
+    a, b, c = world.states
+    assert (a, b, c) == (State.ROTATION_STABLE, State.VERTICAL_STABLE, State.FREE)
+
+
+def test_seed_fig1_vertical_stable_vertex_does_not_move_vertically():
+    world = sim.World(sim.scenes.seed_fig1(), freeze="paper")
+    world.step(1)
+    corner = world.vertices(1)[np.argmin(world.vertices(1)[:, 1])]
+    for _ in range(20):
+        world.step()
+        assert world.states[1] == State.VERTICAL_STABLE
+        low = world.vertices(1)[np.argmin(world.vertices(1)[:, 1])]
+        assert low[1] == pytest.approx(corner[1], abs=1e-9)   # the pivot keeps its height
+    assert world.angles[1] < math.radians(30.0) - 0.05          # while the box turns about it
+
+
+def test_seed_fig2_lands_on_the_top_edge_and_both_end_frozen():
+    world = sim.World(sim.scenes.seed_fig2(), freeze="paper")
+    world.step(240)
+    assert list(world.states) == [State.ROTATION_STABLE, State.ROTATION_STABLE]
+    assert awake_count(world) == 0
+    assert world.positions[0, 1] == pytest.approx(1.0 + 0.4, abs=0.006)   # on B (1 m), A 0.8 m
+    assert abs(world.positions[0, 0]) < 1.0                                 # over B
+    landing = [t for t in transitions(world, 0) if t[3] == "one_vertex_on_floor"]
+    assert landing, "A should first touch B's edge with one vertex (it falls tilted 10 degrees)"
+
+
+def test_seed_fig3_transition_log_is_exactly_the_expected_sequence():
+    world = sim.World(sim.scenes.seed_fig3(), freeze="paper")
+    world.step(300)
+    FREE, VS, RS = State.FREE, State.VERTICAL_STABLE, State.ROTATION_STABLE
+    assert transitions(world) == [
+        (1, FREE, RS, "two_vertices_on_floor"),      # B rests on the floor
+        (1, RS, RS, "stopped_sliding"),              # ... and is frozen at once
+        (0, FREE, RS, "two_vertices_on_floor"),      # A rests on B's top edge, sliding
+        (0, RS, FREE, "com_outside_support"),        # a0 passes B's edge: A is free
+        (0, FREE, VS, "one_vertex_on_floor"),        # A lands on the floor on a corner
+        (0, VS, RS, "two_vertices_on_floor"),        # ... tips onto a face
+        (0, RS, RS, "stopped_sliding"),              # ... and stops
+    ]
+    # A is freed when its centre of mass passes B's edge (x = 1): under Coulomb friction
+    # x(t) = 0.1 + 2.5 t - mu g t^2 / 2 with mu = 0.2
+    mu, v0, x0 = 0.2, 2.5, 0.1
+    t = (v0 - math.sqrt(v0 ** 2 - 2 * mu * G * (1.0 - x0))) / (mu * G)
+    freed = next(step for step, b, _, _, c in world.events if c == "com_outside_support")
+    assert abs(freed - t / world.dt) <= 2
+    assert world.positions[0, 1] < 0.5 and world.positions[0, 0] > 1.0     # on the floor
+
+
+# ---- accuracy against `off` -------------------------------------------------------------------
+DETERMINATE = {
+    "single_box": lambda: sim.scenes.single_box(), "rest_row": lambda: sim.scenes.rest_row(10),
+    "stack": lambda: sim.scenes.stack(5), "pyramid": lambda: sim.scenes.pyramid(10),
+    "arch": lambda: sim.scenes.arch(), "sliding_box": lambda: sim.scenes.sliding_box(),
+    "seed_fig1": sim.scenes.seed_fig1, "seed_fig2": sim.scenes.seed_fig2,
+}
+
+
+# Measured, not hidden: `paper` stops a body's rotation the step its second vertex touches (RS),
+# so a box that lands on a corner ends a little tilted and short of where `off` lets it rock and
+# slide: 2.9 cm on seed_fig1 (body C), 1.2 cm on seed_fig2 (body A). strict: if the model changes
+# and they pass, the mark must go.
+PAPER_MISSES = {("seed_fig1", "paper"), ("seed_fig2", "paper")}
+
+
+@pytest.mark.parametrize("name,policy", [
+    pytest.param(n, p, marks=pytest.mark.xfail(strict=True, reason="paper's RS stops rotation at "
+                                               "the first two-vertex touch (see PAPER_MISSES)"))
+    if (n, p) in PAPER_MISSES else (n, p)
+    for n in sorted(DETERMINATE) for p in FROZEN_POLICIES])
+def test_final_poses_match_off(name, policy):
+    ref = sim.World(DETERMINATE[name]()).step(300)
+    world = sim.World(DETERMINATE[name](), freeze=policy).step(300)
+    assert np.linalg.norm(world.positions - ref.positions, axis=1).max() < 0.01
+    turn = np.angle(np.exp(1j * (world.angles - ref.angles)))
+    assert np.abs(turn).max() < 0.01
+
+
+@pytest.mark.parametrize("policy", FROZEN_POLICIES)
+def test_chaotic_scenes_keep_their_outcome(policy):
+    # seed_fig3: A ends on the floor beyond B's edge; drop: a settled pile inside the bin
+    ref = sim.World(sim.scenes.seed_fig3()).step(300)
+    world = sim.World(sim.scenes.seed_fig3(), freeze=policy).step(300)
+    for w in (ref, world):
+        assert w.positions[0, 1] < 0.5 and w.positions[0, 0] > 1.0
+    scene = sim.scenes.drop(20, seed=3)
+    walls = sorted(b.position[0] for b in scene.static_bodies)
+    ref = sim.World(scene).step(480)
+    world = sim.World(scene, freeze=policy).step(480)
+    for w in (ref, world):
+        assert np.all((w.positions[:, 0] > walls[0]) & (w.positions[:, 0] < walls[1]))
+        assert np.all(w.positions[:, 1] > 0.0)
+    # the pile's height agrees within one body size
+    assert abs(world.positions[:, 1].max() - ref.positions[:, 1].max()) < 0.8
+
+
+@pytest.mark.parametrize("policy", ("off",) + FROZEN_POLICIES)
+def test_sliding_box_slides_the_analytic_distance(policy):
+    speed, mu = 3.0, 0.4
+    world = sim.World(sim.scenes.sliding_box(speed=speed, friction=mu), freeze=policy)
+    world.step(120)
+    assert world.positions[0, 0] == pytest.approx(speed ** 2 / (2 * mu * G), rel=0.03)
+    assert abs(world.velocities[0, 0]) < 1e-9
+
+
+# ---- the seed's limits, shown honestly ----------------------------------------------------------
+def knocked_stack(distance=4.0):
+    """Two boxes stacked; a heavy projectile, ``distance`` m away, knocks the bottom one out from
+    under the top one (it flies 15 m/s, so at 4 m it hits before anything could fall asleep)."""
+    base, top = sim.scenes.stack(2).bodies
+    shot = sim.Body.box(0.4, 0.4, position=(-distance, 0.25), velocity=(15.0, 0.0), density=40.0,
+                        name="shot")
+    return sim.Scene(bodies=[base, top, shot], name="knocked_stack")
+
+
+def test_paper_leaves_the_upper_body_floating_when_its_support_is_knocked_away():
+    world = sim.World(knocked_stack(), freeze="paper").step(120)
+    assert abs(world.positions[0, 0]) > 1.0                    # the base was knocked away
+    # documented behaviour of `paper` (the seed's second limit): nothing wakes the top box
+    assert world.positions[1, 1] == pytest.approx(1.5, abs=1e-9)
+    assert world.states[1] == State.ROTATION_STABLE
+
+
+@pytest.mark.parametrize("policy", ("off", "sleep", "extended"))
+def test_extended_and_sleep_let_the_upper_body_fall(policy):
+    world = sim.World(knocked_stack(), freeze=policy).step(120)
+    assert abs(world.positions[0, 0]) > 1.0
+    assert world.positions[1, 1] < 0.6                         # the top box fell to the floor
+
+
+def test_a_five_box_stack_freezes_whole_under_extended():
+    world = sim.World(sim.scenes.stack(5), freeze="extended").step(3)
+    assert awake_count(world) == 0
+    steps = {step for step, *_ in world.events}
+    assert len(steps) == 1                                     # all in one step
+    assert list(world.states) == [State.ROTATION_STABLE] * 5
+
+
+@pytest.mark.parametrize("policy", ("paper", "extended"))
+def test_rest_row_frozen_within_three_steps(policy):
+    world = sim.World(sim.scenes.rest_row(50), freeze=policy)
+    world.step(3)
+    assert awake_count(world) == 0
+
+
+def test_paper_cannot_freeze_bodies_on_two_supports_or_inclined_faces():
+    # the seed's first and third limits: pyramid boxes rest on two boxes, arch blocks on
+    # inclined faces; `extended` freezes both
+    for scene in (sim.scenes.pyramid(6), sim.scenes.arch()):
+        paper = sim.World(scene, freeze="paper").step(60)
+        extended = sim.World(scene, freeze="extended").step(60)
+        assert awake_count(paper) > 0
+        assert awake_count(extended) == 0
+
+
+# ---- extended: waking ---------------------------------------------------------------------------
+def test_extended_wakes_the_whole_stack_in_the_step_of_the_impact():
+    world = sim.World(knocked_stack(), freeze="extended").step(120)
+    woken = [(step, b, c) for step, b, f, t, c in world.events if t == State.FREE]
+    assert [c for _, b, c in woken if b == 0] == ["impact"]
+    assert [c for _, b, c in woken if b == 1] == ["support_lost"]
+    steps = {step for step, b, c in woken if b in (0, 1)}
+    assert len(steps) == 1                                     # same step, not one layer per step
+
+
+def test_extended_matches_off_when_a_frozen_stack_is_hit():
+    ref = sim.World(knocked_stack()).step(120)
+    world = sim.World(knocked_stack(), freeze="extended").step(120)
+    # momentum goes into the stack (woken before the solve), not reflected off frozen bodies
+    np.testing.assert_allclose(world.positions, ref.positions, atol=0.05)
+
+
+def test_extended_slow_push_wakes_a_frozen_box():
+    # a box pushed sideways slowly (below the impact threshold) by a frictionless sliding box
+    pushed = sim.Body.box(1, 1, position=(0.0, 0.5), friction=0.3)
+    pusher = sim.Body.box(1, 1, position=(-1.6, 0.5), velocity=(1.2, 0.0), density=10.0,
+                          friction=0.0)
+    scene = sim.Scene(bodies=[pushed, pusher], floor_friction=0.3)
+    world = sim.World(scene, freeze="extended", impulse_threshold=100.0).step(90)
+    causes = [c for _, b, f, t, c in world.events if b == 0 and t == State.FREE]
+    assert causes and causes[0] == "pushed"
+    assert world.positions[0, 0] > 0.05                         # it moved
+
+
+def test_extended_tipping_wakes_an_overhanging_plank():
+    # a plank resting on a box, its centre of mass over the box (x = 0.3, box edge 0.5), its right
+    # end overhanging; a weight lands on the overhang and moves the combined centre past the edge
+    base = sim.Body.box(1.0, 1.0, position=(0.0, 0.5))
+    plank = sim.Body.box(3.0, 0.2, position=(0.3, 1.1))
+    weight = sim.Body.box(0.5, 0.5, position=(1.6, 2.0), density=8.0)
+    world = sim.World(sim.Scene(bodies=[base, plank, weight]), freeze="extended",
+                      impulse_threshold=1e6)      # no impact waking: only the balance test
+    world.step(90)
+    frozen_first = [step for step, b, f, t, c in world.events if b == 1 and c == "rested"]
+    assert frozen_first and frozen_first[0] <= 3
+    causes = [c for _, b, f, t, c in world.events if b == 1 and t == State.FREE]
+    assert causes[:1] == ["tipping"]
+    assert world.angles[1] < -0.2                               # the plank tipped over the edge
+
+
+def test_extended_general_rest_test_freezes_plank_on_two_boxes_and_box_leaning_on_wall():
+    left = sim.Body.box(1, 1, position=(-1.5, 0.5))
+    right = sim.Body.box(1, 1, position=(1.5, 0.5))
+    plank = sim.Body.box(4.0, 0.2, position=(0.0, 1.1))
+    world = sim.World(sim.Scene(bodies=[left, right, plank]), freeze="extended").step(10)
+    assert awake_count(world) == 0
+    wall = sim.Body.box(0.5, 4.0, position=(0.25, 2.0), name="wall", friction=0.6)
+    tilt = math.radians(20.0)                   # a 0.4 x 2 box leaning on the wall
+    w, h = 0.4, 2.0
+    lean = sim.Body.box(w, h, angle=tilt, friction=0.8,
+                        position=(-(w / 2) * math.cos(tilt) - (h / 2) * math.sin(tilt) - 1e-4,
+                                  (w / 2) * math.sin(tilt) + (h / 2) * math.cos(tilt)))
+    scene = sim.Scene(bodies=[lean], static_bodies=[wall], floor_friction=0.8)
+    ref = sim.World(scene).step(240)
+    world = sim.World(scene, freeze="extended").step(240)
+    assert awake_count(world) == 0
+    np.testing.assert_allclose(world.positions, ref.positions, atol=0.01)
+
+
+def test_extended_does_not_freeze_a_box_sliding_down_a_ramp():
+    # a 30 degree ramp rising to the right, friction 0.4 < tan 30 = 0.58: the box slides down
+    slope = math.radians(30.0)
+    ramp = sim.Body(vertices=[(-4.0, 0.0), (4.0, 0.0), (4.0, 8.0 * math.tan(slope))], name="ramp")
+    half = 0.25
+    surface = np.array([0.0, 4.0 * math.tan(slope)])
+    normal = np.array([-math.sin(slope), math.cos(slope)])
+    box = sim.Body.box(2 * half, 2 * half, angle=slope, friction=0.4,
+                       position=tuple(surface + (half + 1e-4) * normal))
+    scene = sim.Scene(bodies=[box], static_bodies=[ramp], floor_friction=0.4)
+    ref = sim.World(scene).step(60)
+    world = sim.World(scene, freeze="extended").step(60)
+    assert world.states[0] == State.FREE and world.velocities[0, 0] < -0.5
+    assert not world.events
+    np.testing.assert_allclose(world.positions, ref.positions, atol=1e-9)
+
+
+# ---- sleep ------------------------------------------------------------------------------------
+def test_sleep_puts_an_island_to_sleep_after_sleep_time():
+    world = sim.World(sim.scenes.stack(3), freeze="sleep", sleep_time=0.5)
+    world.step(29)
+    assert awake_count(world) == 3
+    world.step(3)
+    assert awake_count(world) == 0
+    assert {c for *_, c in world.events} == {"timer"}
+    assert list(world.states) == [State.SLEEPING] * 3
+
+
+def test_sleep_touch_wakes_the_whole_island():
+    world = sim.World(knocked_stack(distance=15.0), freeze="sleep", sleep_time=0.5)
+    world.step(40)
+    assert awake_count(world) == 1                      # the stack is asleep, the shot flies
+    world.step(80)
+    woken = [(b, c) for _, b, f, t, c in world.events if f == State.SLEEPING]
+    assert woken[0] == (0, "touched")
+    assert (1, "woken_by_island") in woken
+
+
+# ---- cost: frozen bodies are out of the hot loops -----------------------------------------------
+def test_frozen_bodies_leave_the_awake_list_and_come_back():
+    world = sim.World(knocked_stack(), freeze="extended").step(5)
+    assert awake_count(world) == 1                             # only the projectile
+    awake = world._activity[1][:1]
+    assert list(awake) == [2]
+    assert np.all(world._activity[3][:2] == 0.0)               # frozen: zero solver mass
+    world.step(60)
+    assert world._activity[3][0] == world._inv_mass[0] or world.states[0] != State.FREE
+
+
+@pytest.mark.parametrize("policy", ("off",) + FROZEN_POLICIES)
+def test_every_policy_is_deterministic(policy):
+    runs = [sim.World(knocked_stack(), freeze=policy).step(150) for _ in range(2)]
+    np.testing.assert_array_equal(runs[0].positions, runs[1].positions)
+    assert runs[0].events == runs[1].events

@@ -298,3 +298,34 @@ def test_every_policy_is_deterministic(policy):
     runs = [sim.World(knocked_stack(), freeze=policy).step(150) for _ in range(2)]
     np.testing.assert_array_equal(runs[0].positions, runs[1].positions)
     assert runs[0].events == runs[1].events
+
+
+def test_extended_never_freezes_a_body_that_a_moving_body_touches():
+    # B slides across the top of A for ~0.8 s; A, slow and held by the floor, must wait for B
+    a = sim.Body.box(3.0, 0.5, position=(0.0, 0.25), friction=0.2)
+    b = sim.Body.box(0.5, 0.5, position=(-1.2, 0.75), velocity=(2.0, 0.0), friction=0.2)
+    world = sim.World(sim.Scene(bodies=[a, b]), freeze="extended")
+    world.step(30)
+    assert abs(world.velocities[1, 0]) > 0.5                     # B still sliding on A
+    assert not [e for e in world.events if e[1] == 0]            # A has not frozen
+    world.step(90)
+    rested = {b for _, b, f, t, c in world.events if c == "rested"}
+    assert rested == {0, 1}                                      # both, once B stopped
+
+
+@pytest.mark.parametrize("threshold,bounces", [(1.0, True), (100.0, False)])
+def test_paper_impulse_threshold_decides_bounce_or_stay(threshold, bounces):
+    # a 0.25 kg box with restitution 0.7 hits the floor at ~6.3 m/s: an impulse of ~2.7 N s
+    box = sim.Body.box(0.5, 0.5, position=(0.0, 2.25), restitution=0.7)
+    world = sim.World(sim.Scene(bodies=[box]), freeze="paper", impulse_threshold=threshold)
+    heights = []
+    for _ in range(150):
+        world.step()
+        heights.append(world.positions[0, 1] - 0.25)
+    low = int(np.argmin(heights[:60]))
+    apex = max(heights[low:])
+    if bounces:
+        assert apex == pytest.approx(0.7 ** 2 * 2.0, rel=0.10)      # as `off` (section 2)
+    else:
+        assert apex < 0.01                                         # stays in contact
+        assert world.states[0] == State.ROTATION_STABLE

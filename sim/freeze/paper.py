@@ -22,7 +22,8 @@ Section 4, staying in contact:
   - two or more vertices touching, centre of mass over the support (its x within the touching
     points') -> RS. Otherwise the body keeps rotating: VS about the touching vertex on the side of
     the centre of mass.
-RS: rotation and vertical motion stop (held at the pose reached); the body is no longer solved
+RS: rotation and vertical motion stop (held at the pose reached, set down on the surface: CHOICE,
+the step's solve may have begun a bounce the threshold has just ruled out); the body is no longer solved
 against anything (its solver masses are zero: to others it is immovable); horizontal motion goes on
 under Coulomb friction with its support, v_x reduced by mu g dt per step, until it stops; then it is
 frozen outright (taken out of the awake list).
@@ -251,7 +252,19 @@ def after_solve(count, settings, bodies, contacts, activity):
                 continue                    # bouncing by its impulse: stays FREE
         com_x = position[i, 0]
         if n_touch >= 2 and lo <= com_x <= hi:
-            # section 4.2: at rest on two or more vertices, centre of mass over the support
+            # section 4.2: at rest on two or more vertices, centre of mass over the support. It
+            # *stays in contact*: set it down on the surface (this step's solve may already have
+            # started a bounce, or left it pressed in by up to the slop)
+            for j in range(manifold_int[c, POINT_COUNT]):
+                if point_float[c, j, SEPARATION] <= fsettings[SLOP]:
+                    surface = _surface_height(c, j, i, position, angle, manifold_int,
+                                              manifold_float, point_float)
+            cs = np.cos(angle[i])
+            sn = np.sin(angle[i])
+            lowest = np.inf
+            for v in range(vert_start[i], vert_start[i + 1]):
+                lowest = min(lowest, sn * local_verts[v, 0] + cs * local_verts[v, 1])
+            position[i, 1] = surface - lowest
             body_real[i, HELD_Y] = position[i, 1]
             body_real[i, HELD_ANGLE] = angle[i]
             body_real[i, SLIDE_MU] = manifold_float[c, FRICTION]

@@ -9,7 +9,9 @@ QUICK      ?=
 QUICKFLAG  := $(if $(QUICK),--quick,)
 DATA       := results/data
 
-.PHONY: all venv test test-fast reproduce bench_step lock clean distclean
+EXPERIMENTS := bench_step bench_freeze peer_agreement
+
+.PHONY: all venv test reproduce lock clean distclean $(EXPERIMENTS)
 
 all: test
 
@@ -26,14 +28,18 @@ venv: $(STAMP)
 test: $(STAMP)
 	$(PY) -m pytest -q
 
-# Everything the study produces. Later issues add figures, recordings and the paper here.
-reproduce: $(DATA)/bench_step.csv
+# Everything the study produces. Each results file is rebuilt when its script or the solver
+# changes; `make <name>` reruns one experiment unconditionally.
+reproduce: $(addprefix $(DATA)/,$(addsuffix .csv,$(EXPERIMENTS)))
 
-$(DATA)/bench_step.csv: $(STAMP) $(wildcard sim/*.py) experiments/bench_step.py
-	$(PY) -m experiments.bench_step $(QUICKFLAG)
+SIM_SOURCES := $(wildcard sim/*.py sim/freeze/*.py)
+PEER_SOURCES := $(wildcard experiments/peers/*.py) experiments/metadata.py experiments/paths.py
 
-bench_step: $(STAMP)
-	$(PY) -m experiments.bench_step $(QUICKFLAG)
+$(DATA)/%.csv: experiments/%.py $(SIM_SOURCES) $(PEER_SOURCES) | $(STAMP)
+	$(PY) -m experiments.$* $(QUICKFLAG)
+
+$(EXPERIMENTS): $(STAMP)
+	$(PY) -m experiments.$@ $(QUICKFLAG)
 
 # Print the currently installed versions, to refresh the `pinned` extra by hand.
 lock: $(STAMP)

@@ -119,17 +119,15 @@ def arch(n_blocks=9, radius=2.0, thickness=0.6, friction=0.8):
 
 # ---- the seed paper's figures -----------------------------------------------------------------
 def seed_fig1():
-    """Seed figure 1: A rests flat on the floor on two vertices (rotation-stable), B is a box tilted
-    onto one corner (vertical-stable while it tips), C is in the air (vertical-unstable).
-
-    B stands on its corner at 30 degrees, past its tipping angle of 45... no: a square's tipping
-    angle is 45 degrees, so at 30 degrees B falls back onto its face; the moment drawn is the
-    first few steps, while B still touches the floor with one vertex."""
+    """Seed figure 1: A rests flat on the floor on two vertices (rotation-stable), B is a box
+    standing on one corner, tilted 30 degrees (vertical-stable: short of a square's 45 degree
+    tipping angle, it turns back onto its face, touching with one vertex for the first ~40 steps,
+    the moment drawn), C is in the air (vertical-unstable)."""
     a = Body.box(1.0, 1.0, position=(-2.0, 0.5), name="A")
     tilt = math.radians(30.0)
-    # lowest corner on the floor: the corner (-0.5, -0.5) rotated by tilt is the lowest one
-    cx, cy = -0.5 * math.cos(tilt) + 0.5 * math.sin(tilt), -0.5 * math.sin(tilt) - 0.5 * math.cos(tilt)
-    b = Body.box(1.0, 1.0, position=(0.0, -cy), angle=tilt, name="B")
+    # the corner (-0.5, -0.5) rotated by the tilt is the lowest: put it on the floor
+    lowest = -0.5 * math.sin(tilt) - 0.5 * math.cos(tilt)
+    b = Body.box(1.0, 1.0, position=(0.0, -lowest), angle=tilt, name="B")
     c = Body.box(1.0, 1.0, position=(2.0, 2.5), angle=math.radians(15.0), name="C")
     return _scene("seed_fig1", [a, b, c], {"tilt_deg": 30.0})
 

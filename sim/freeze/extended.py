@@ -47,6 +47,7 @@ from ..jit import inline_kernel, kernel
 from ..layout import (DT, GRAVITY_X, GRAVITY_Y, IMPULSE_THRESHOLD, N_AWAKE, N_DYNAMIC, N_LINKS,
                       REST_ACCELERATION, REST_SPEED, REST_STEPS)
 from ..state import State
+from .contact_math import stopping_impulse
 
 NAME = "extended"
 PARAMETERS = {"impulse_threshold": 0.5, "rest_speed": 0.02, "rest_acceleration": 0.1,
@@ -128,20 +129,13 @@ def before_solve(count, settings, bodies, contacts, activity):
                     and _is_movable(mover, n_dyn, awake_slot)):
                 continue
             n_touched = _touch(frozen_body, touched, n_touched, body_real, body_int)
-            # n points from a to b: a push on the frozen body is along +n if it is b, -n if a;
-            # the mover's point approaches when its velocity is along that direction
+            # n points from a to b: a push on the frozen body is along +n if it is b, -n if a
             sign = 1.0 if frozen_body == b else -1.0
             for j in range(manifold_int[c, POINT_COUNT]):
-                wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
-                wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
-                rx = wx - position[mover, 0]
-                ry = wy - position[mover, 1]
-                vx = velocity[mover, 0] - angular_velocity[mover] * ry
-                vy = velocity[mover, 1] + angular_velocity[mover] * rx
-                vn = -sign * (vx * nx + vy * ny)    # < 0: the mover's point approaches
-                if vn < 0.0:
-                    rn = rx * ny - ry * nx
-                    p = -vn / (inv_mass[mover] + inv_inertia[mover] * rn * rn)
+                p, wx, wy = stopping_impulse(c, j, mover, position, velocity, angular_velocity,
+                                             inv_mass, inv_inertia, manifold_int, manifold_float,
+                                             point_float)
+                if p > 0.0:
                     px = sign * p * nx
                     py = sign * p * ny
                     body_real[frozen_body, PUSH_X] += px

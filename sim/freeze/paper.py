@@ -49,12 +49,12 @@ import numpy as np
 
 from ..activity import CAUSE, freeze, record, wake
 from ..contacts import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, INCIDENT, LOCAL_FACE_X,
-                        LOCAL_FACE_Y, LOCAL_X, LOCAL_Y, NORMAL_IMPULSE, NORMAL_X, NORMAL_Y,
+                        LOCAL_FACE_Y, LOCAL_X, LOCAL_Y, NORMAL_IMPULSE, NORMAL_Y,
                         POINT_COUNT, REFERENCE, SEPARATION)
 from ..jit import inline_kernel, kernel
-from ..layout import (DT, FLOOR_FRICTION, GRAVITY_Y, IMPULSE_THRESHOLD, N_AWAKE, N_DYNAMIC, SLOP,
-                      STEP_COUNT)
+from ..layout import DT, GRAVITY_Y, IMPULSE_THRESHOLD, N_AWAKE, N_DYNAMIC, SLOP
 from ..state import State
+from .contact_math import stopping_impulse
 
 NAME = "paper"
 PARAMETERS = {"impulse_threshold": 1.0}
@@ -106,29 +106,6 @@ def _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float):
     return states[other] == _RS
 
 
-@inline_kernel
-def _collision_impulse(c, mover, position, velocity, angular_velocity, inv_mass, inv_inertia,
-                       manifold_int, manifold_float, point_float):
-    """Normal impulse that would stop ``mover``'s approach in manifold c against an immovable
-    partner, from the current velocities, N s."""
-    a = manifold_int[c, BODY_A]
-    b = manifold_int[c, BODY_B]
-    nx = manifold_float[c, NORMAL_X]
-    ny = manifold_float[c, NORMAL_Y]
-    total = 0.0
-    for j in range(manifold_int[c, POINT_COUNT]):
-        rx = point_float[c, j, ANCHOR_BX] + position[b, 0] - position[mover, 0]
-        ry = point_float[c, j, ANCHOR_BY] + position[b, 1] - position[mover, 1]
-        vn = ((velocity[mover, 0] - angular_velocity[mover] * ry) * nx
-              + (velocity[mover, 1] + angular_velocity[mover] * rx) * ny)
-        if mover == a:
-            vn = -vn                        # n points from a to b: a approaches when vn > 0
-        if vn < 0.0:
-            rn = rx * ny - ry * nx
-            total += -vn / (inv_mass[mover] + inv_inertia[mover] * rn * rn)
-    return total
-
-
 @kernel
 def before_solve(count, settings, bodies, contacts, activity):
     """Section 3: a moving body colliding with a held body (frozen, or RS and sliding) anywhere
@@ -153,9 +130,12 @@ def before_solve(count, settings, bodies, contacts, activity):
             # a collision in the seed's sense (section 2): stopping the mover against the held
             # body would take more than the threshold impulse (estimated from the velocities
             # before gravity, so merely resting or sliding along it is not a collision)
-            if _collision_impulse(c, mover, position, velocity, angular_velocity, inv_mass,
-                                  inv_inertia, manifold_int, manifold_float, point_float) \
-                    <= fsettings[IMPULSE_THRESHOLD]:
+            impulse = 0.0
+            for j in range(manifold_int[c, POINT_COUNT]):
+                impulse += stopping_impulse(c, j, mover, position, velocity, angular_velocity,
+                                            inv_mass, inv_inertia, manifold_int, manifold_float,
+                                            point_float)[0]
+            if impulse <= fsettings[IMPULSE_THRESHOLD]:
                 continue
             # both bodies of the collision end their rest: the held one wakes, and a sliding RS
             # mover (itself immovable to the solver) is released too

@@ -58,12 +58,11 @@ def before_solve(count, settings, bodies, contacts, activity):
     """An awake body touching a sleeping one wakes that body's whole island, before the solve, so
     the touch is solved between moving bodies. Returns the number of bodies woken."""
     fsettings, isettings, counters = settings
-    velocity, angular_velocity, inv_mass, inv_inertia, extent = (bodies[2], bodies[3], bodies[4],
-                                                                 bodies[5], bodies[11])
+    inv_mass, inv_inertia = bodies[4], bodies[5]
     manifold_int = contacts[1]
-    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, _ = activity
+    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
+        _ = activity
     n_dyn = isettings[N_DYNAMIC]
-    dt = fsettings[DT]
     woken = 0
     for c in range(count):
         a = manifold_int[c, BODY_A]
@@ -94,7 +93,8 @@ def after_solve(count, settings, bodies, contacts, activity):
     fsettings, isettings, counters = settings
     velocity, angular_velocity, extent = bodies[2], bodies[3], bodies[11]
     manifold_int = contacts[1]
-    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, _ = activity
+    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
+        _ = activity
     n_dyn = isettings[N_DYNAMIC]
     dt = fsettings[DT]
     n_awake = counters[N_AWAKE]

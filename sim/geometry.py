@@ -71,7 +71,8 @@ def validate_polygon(vertices, name="polygon"):
 def signed_area(vertices):
     """Shoelace area (m^2), positive for counter-clockwise vertices."""
     v = np.asarray(vertices, dtype=np.float64)
-    x, y = v[:, 0], v[:, 1]
+    v = v - v.mean(axis=0)     # about the polygon's own centre: far from the origin, the
+    x, y = v[:, 0], v[:, 1]    # shoelace terms would cancel catastrophically
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
@@ -182,10 +183,29 @@ def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, out_points, out
         return 0, 0, 0
     # Prefer A's face unless B's is better by more than a small tolerance: coherent choice frame to
     # frame keeps feature ids, and so warm starting, stable.
-    if sep_b > sep_a + 1e-4 + 1e-3 * abs(sep_a):
-        r0, r1, i0, i1, edge, flip = b0, b1, a0, a1, edge_b, 1
-    else:
-        r0, r1, i0, i1, edge, flip = a0, a1, b0, b1, edge_a, 0
+    b_first = sep_b > sep_a + 1e-4 + 1e-3 * abs(sep_a)
+    for attempt in range(2):
+        if b_first == (attempt == 0):
+            kept = _clip_against_face(verts, normals, b0, b1, a0, a1, edge_b, 1, margin,
+                                      out_points, out_separations, out_ids, out_normal)
+            if kept > 0:
+                return kept, 1, edge_b
+        else:
+            kept = _clip_against_face(verts, normals, a0, a1, b0, b1, edge_a, 0, margin,
+                                      out_points, out_separations, out_ids, out_normal)
+            if kept > 0:
+                return kept, 0, edge_a
+        # The preferred face may be short, with the other polygon's incident edge entirely past
+        # its end (a choice inside the bias band): the shapes still touch, so clip against the
+        # other polygon's face before concluding there is no contact.
+    return 0, 0, 0
+
+
+@inline_kernel
+def _clip_against_face(verts, normals, r0, r1, i0, i1, edge, flip, margin, out_points,
+                       out_separations, out_ids, out_normal):
+    """Clip the incident polygon (rows i0..i1-1) against reference edge ``edge`` of the polygon in
+    rows r0..r1-1; write the points within ``margin`` and return how many (0-2)."""
     nx = normals[r0 + edge, 0]
     ny = normals[r0 + edge, 1]
     # incident edge: the one whose normal is most anti-parallel to the reference normal
@@ -214,11 +234,11 @@ def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, out_points, out
     inside, p0x, p0y, p1x, p1y = _clip(p0x, p0y, p1x, p1y, lo - (tx * p0x + ty * p0y),
                                        lo - (tx * p1x + ty * p1y))     # > 0: before the start
     if not inside:
-        return 0, 0, 0
+        return 0
     inside, p0x, p0y, p1x, p1y = _clip(p0x, p0y, p1x, p1y, tx * p0x + ty * p0y - hi,
                                        tx * p1x + ty * p1y - hi)       # > 0: past the end
     if not inside:
-        return 0, 0, 0
+        return 0
     face = nx * v1x + ny * v1y
     s0 = nx * p0x + ny * p0y - face
     s1 = nx * p1x + ny * p1y - face
@@ -242,7 +262,7 @@ def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, out_points, out
     else:
         out_normal[0] = nx
         out_normal[1] = ny
-    return kept, flip, edge
+    return kept
 
 
 @inline_kernel

@@ -1,4 +1,4 @@
-"""Slow, obviously-correct references for ``sim/geometry.py``, written without looking at its math.
+"""Slow, obviously-correct references for ``sim/geometry.py``, written independently of its code.
 
 Everything here is plain Python/numpy and favours the most direct formulation over speed, so that a
 disagreement with the Numba kernels points at the kernels. Where the kernels make a choice that is a
@@ -161,7 +161,9 @@ def polygons_intersect(verts_a, verts_b):
     """
     va = np.asarray(verts_a, dtype=np.float64)
     vb = np.asarray(verts_b, dtype=np.float64)
-    if np.any(np.all(_left_of(va, vb) >= 0, axis=1)) or np.any(np.all(_left_of(vb, va) >= 0, axis=1)):
+    a_in_b = np.any(np.all(_left_of(va, vb) >= 0, axis=1))
+    b_in_a = np.any(np.all(_left_of(vb, va) >= 0, axis=1))
+    if a_in_b or b_in_a:
         return True
     # sides of A's edge ends relative to B's edges, and of B's edge ends relative to A's edges
     a_start = np.sign(_left_of(va, vb))                     # (edge/vertex of A, edge of B)
@@ -235,7 +237,7 @@ def collide_polygons(verts_a, verts_b, margin):
     vb = np.asarray(verts_b, dtype=np.float64)
     choice = choose_reference(va, vb)
     empty = {"count": 0, "flip": 0, "edge": 0, "normal": None, "points": [], "separations": [],
-             "ids": [], "choice": choice}
+             "ids": [], "inc_edge": None, "choice": choice}
     if choice["sep_a"] > margin or choice["sep_b"] > margin:
         return empty
     flip, ref_edge = choice["flip"], choice["edge"]
@@ -263,8 +265,8 @@ def floor_contacts(vertices, floor_y, margin):
     """Contacts with the half-plane y <= floor_y, as documented for the kernel.
 
     The incident edge is the one running most nearly left-to-right (for a CCW polygon that is the
-    bottom-facing edge); its ends within ``margin`` of the floor are the contacts, id = vertex index.
-    Returns (list of (vertex index, point, separation), incident edge, per-edge alignment scores).
+    bottom-facing edge); its ends within ``margin`` of the floor are the contacts, id = vertex
+    index. Returns (list of (vertex index, point, separation), incident edge, per-edge scores).
     """
     v = np.asarray(vertices, dtype=np.float64)
     scores = np.array([(b - a)[0] / math.hypot(*(b - a)) for a, b in edges(v)])

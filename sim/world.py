@@ -326,6 +326,18 @@ class World:
         return self._states.copy()
 
     @property
+    def frozen(self):
+        """(N,) bool: bodies out of the awake list this step: not integrated, not solved, not
+        collided against each other (what "frozen" costs nothing means). Under ``paper`` a body
+        can be VERTICAL_STABLE or a sliding ROTATION_STABLE and still be awake."""
+        return self._activity[2][:self.n_bodies] < 0
+
+    @property
+    def n_awake(self):
+        """Number of bodies in the awake list."""
+        return int(self._counters[L.N_AWAKE])
+
+    @property
     def step_count(self):
         return int(self._counters[L.STEP_COUNT])
 

@@ -3,12 +3,12 @@ runner, so that experiments loop over systems without special cases.
 
 The runner adds nothing to the physics: it passes dt, iterations, the freeze policy and every
 other ``sim.World`` setting (slop, restitution_threshold, the policy's own parameters...) through,
-and reads the World's observables. ``asleep`` is ``world.states != sim.State.FREE``: under a
-freeze policy a body that is not FREE is not solved (SLEEPING under ``sleep``, VERTICAL_STABLE or
-ROTATION_STABLE under ``paper`` and ``extended``).
+and reads the World's observables. ``asleep`` is ``world.frozen``: the body is out of the awake
+list, so nothing is computed for it (SLEEPING under ``sleep``, frozen ROTATION_STABLE under
+``extended`` and ``paper``, held VERTICAL_STABLE under ``paper``). A ``paper`` body that is
+VERTICAL_STABLE and pivoting, or ROTATION_STABLE and still sliding, is awake: ``states`` says
+which.
 """
-import numpy as np
-
 import sim
 
 #: sim.World's keyword settings recorded in ``settings`` (besides dt, iterations, freeze).
@@ -75,8 +75,8 @@ class SimRunner:
 
     @property
     def asleep(self):
-        """(N,) bool: the freeze policy does not solve the body (state other than FREE)."""
-        return np.asarray(self.world.states != sim.State.FREE, dtype=bool)
+        """(N,) bool: the body is frozen (out of sim's awake list: no work is done for it)."""
+        return self.world.frozen
 
     def close(self):
         """Nothing to release; here so every runner can be closed alike."""

@@ -8,11 +8,13 @@ Floor-like surfaces (sections 2, 5.2): the floor; an upward, floor-parallel face
 floor-parallel top edge of an RS body. A contact counts as floor-like when its normal on the body
 is within 1 degree of straight up.
 
-Section 2, the impulse threshold: when a FREE body's floor-like contact pushes with a normal
-impulse larger than ``impulse_threshold`` (N s) the body bounces by its impulse (the ordinary
-solve stands); otherwise it *stays in contact*. CHOICE: in an impulse solver a resting body
-receives its weight m g dt every step; that part is not collision, so the impulse compared with
-the threshold is the normal impulse minus the body's weight impulse.
+Section 2, the impulse threshold: when a FREE body hits a floor-like surface with a normal
+impulse larger than ``impulse_threshold`` (N s) it bounces by its impulse (the ordinary solve
+stands); otherwise it *stays in contact*. CHOICE: the collision impulse is the one that stops the
+body's approach against the (immovable) surface, from its velocity before gravity acts in the
+step. In an impulse solver a resting body also receives, every step, its weight and the weight
+of everything it carries; that is not collision (judging the solved impulse instead froze no box
+in a pyramid's bottom row: they carry more than the threshold).
 
 Section 4, staying in contact:
   - one vertex touching -> VS: that vertex no longer moves vertically (it is held on the
@@ -61,8 +63,8 @@ PARAMETERS = {"impulse_threshold": 1.0}
 FLOAT_SETTINGS = {"impulse_threshold": IMPULSE_THRESHOLD}
 INT_SETTINGS = {}
 # body_real columns
-HELD_Y, HELD_ANGLE, PIVOT_LX, PIVOT_LY, PIVOT_Y, SLIDE_MU = range(6)
-REAL_COLUMNS = 6
+HELD_Y, HELD_ANGLE, PIVOT_LX, PIVOT_LY, PIVOT_Y, SLIDE_MU, FLOOR_IMPACT = range(7)
+REAL_COLUMNS = 7
 # body_int columns: the body's floor-like support (-1 floor, -2 none), the floor-like manifold of
 # this step (scratch), consecutive steps a VS body has touched an RS body, and that body
 # (section 5.1), and the support a body slid off (figure 3; -2 none)
@@ -117,6 +119,20 @@ def before_solve(count, settings, bodies, contacts, activity):
     states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
         _ = activity
     n_dyn = isettings[N_DYNAMIC]
+    # Section 2's collision impulse of each moving body against its floor-like surfaces, judged
+    # by after_solve: the impulse that stops its approach, from the velocities before gravity
+    for k in range(counters[N_AWAKE]):
+        body_real[awake[k], FLOOR_IMPACT] = 0.0
+    for c in range(count):
+        a = manifold_int[c, BODY_A]
+        b = manifold_int[c, BODY_B]
+        for i, other in ((b, a), (a, b)):
+            if 0 <= i < n_dyn and awake_slot[i] >= 0 \
+                    and _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float):
+                for j in range(manifold_int[c, POINT_COUNT]):
+                    body_real[i, FLOOR_IMPACT] += stopping_impulse(
+                        c, j, i, position, velocity, angular_velocity, inv_mass, inv_inertia,
+                        manifold_int, manifold_float, point_float)[0]
     woken = 0
     for c in range(count):
         a = manifold_int[c, BODY_A]
@@ -216,10 +232,8 @@ def after_solve(count, settings, bodies, contacts, activity):
         lo = np.inf
         hi = -np.inf
         n_touch = 0
-        normal = 0.0
         b = manifold_int[c, BODY_B]
         for j in range(manifold_int[c, POINT_COUNT]):
-            normal += point_float[c, j, NORMAL_IMPULSE]
             if point_float[c, j, SEPARATION] <= fsettings[SLOP] \
                     and point_float[c, j, NORMAL_IMPULSE] > 0.0:
                 x = point_float[c, j, ANCHOR_BX] + position[b, 0]
@@ -228,7 +242,7 @@ def after_solve(count, settings, bodies, contacts, activity):
                 n_touch += 1
         support = manifold_int[c, BODY_A] if b == i else b
         if state == _FREE:
-            if n_touch == 0 or normal - g * dt / inv_mass[i] > fsettings[IMPULSE_THRESHOLD]:
+            if n_touch == 0 or body_real[i, FLOOR_IMPACT] > fsettings[IMPULSE_THRESHOLD]:
                 continue                    # bouncing by its impulse: stays FREE
         com_x = position[i, 0]
         if n_touch >= 2 and lo <= com_x <= hi:

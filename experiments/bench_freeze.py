@@ -1,0 +1,680 @@
+"""Table "bench_freeze": what freezing resting bodies buys in step time, and what it costs.
+
+Question: once bodies rest, how cheap does a step become under each freeze policy (and under the
+big engines' sleeping), what does a frozen body still cost next to an awake one, how soon does each
+system stop solving a resting scene, and does freezing slow down scenes where nothing can rest?
+Four parts, one long-form table (column ``part``), each answering one of the issue's targets:
+
+1. ``frozen_cost`` — rest_row(5000) once fully frozen: ms/step under sim-off (the reference,
+   nothing frozen), sim-sleep, sim-paper, sim-extended and pymunk-sleep; and rest_row(500) with
+   the same systems plus pybullet-sleep (Bullet steps ~25 ms per awake 500-box row, and needs its
+   fixed 2 s of deactivation time before any body sleeps, so it is timed on the smaller row). Each
+   freezing system is stepped one step at a time until no body is solved (counted, see "frozen"
+   below), then 10 more untimed steps; the awake count is recorded before and after the timing.
+   Target: sim under 0.02 ms/step fully frozen (pymunk asleep: ~0.013).
+2. ``per_body_cost`` — ms/step = a * N_awake + b * N_frozen + c, fitted by least squares. Each mix
+   is rest_row(N_frozen) plus N_awake unit boxes in a block (pitch 2 m, so they never touch) that
+   start at rest 3000 m up and fall for ~25 s: they are awake and in flight through the whole
+   timing (checked: their lowest point stays far above the floor, and under sim-extended the awake
+   count equals N_awake before and after). N_frozen x N_awake = {0, 1000, 2000, 4000} x
+   {100, 200, 400}, under sim-extended (the row frozen) and under sim-off (every body solved; there
+   the fit's b is the cost of a resting body that is solved). Every world of the sweep is built
+   first and the repeats run round-robin over all of them, so slow drifts in machine load spread
+   over every mix instead of biasing some. Reported: a, b, c with standard errors, b/a (target
+   <= 0.02), the RMS and largest residual and R^2, and b(extended)/b(off). The awake bodies here
+   are the cheapest kind (no contacts), so b/a is a conservative ratio.
+3. ``time_to_freeze`` — steps until every body is frozen/asleep, for sim-sleep, sim-paper,
+   sim-extended, pymunk-sleep and pybullet-sleep on rest_row(50), drop(30, seed 0..2), pyramid(10),
+   pyramid(20) and stack(5), capped at 30 s of simulated time: a system that does not get there is
+   reported as NaN with flag "never", with the number still awake at the cap. Also recorded: how
+   many bodies are awake 1 s after all froze (a freeze that does not hold), and the largest
+   distance any body moved. Target: rest_row frozen within 3 steps under paper and extended
+   (pymunk needs 31 steps, pybullet ~125).
+4. ``in_flight_overhead`` — scenes where nothing can rest: "fall" (1000 boxes falling from 3000 m,
+   never touching) and "drift" (1000 boxes in zero gravity without a floor, all moving at about
+   3 m/s with random spread and spin, so some collide but none is ever slow): ms/step under
+   sim-off and sim-extended, 3x the usual repeats, and the ratio extended/off (of medians; also
+   the median of per-repeat paired ratios). Target: extended no more than 5 % slower than off.
+
+"Frozen" means *no work is done for the body*: every runner's ``asleep`` (for sim,
+``World.frozen``: out of the awake list). Under ``paper`` a VERTICAL_STABLE body that pivots, or a
+ROTATION_STABLE body that still slides, is awake; part 3 also reports, for sim, the step at which
+every body had left FREE (``steps_to_all_not_free``), beside the frozen one.
+
+Method (DESIGN.md section 6): one throwaway tiny World per freeze policy compiles the Numba kernels
+first; every runner is built, then stepped (untimed) through warm-up; timed repeats call
+``runner.step(K)`` with the garbage collector paused, interleaved round-robin over all systems
+compared (order reversed on every other repeat); reported per step are the median and min over
+repeats (default 7), in ms. All systems use dt 1/60 s; sim and pymunk 10 iterations and slop
+0.005 m, pybullet its default 50 iterations. In part 1, K is chosen per system so that a repeat
+lasts about 0.1 s (a frozen sim step costs microseconds: a short repeat would time the call).
+
+Columns: part, scene, system, bodies, n_awake, n_frozen, metric, value, unit, flag. n_awake and
+n_frozen are measured counts (part 1: before timing; part 3: when all froze, or at the cap), except
+in part 2, where they are the mix's design (N_awake in flight, N_frozen the row; under sim-off the
+row is solved, not frozen). The fit rows of part 2 have scene "fit". ``<name>.json`` holds the
+metadata, the fits and every target's verdict.
+
+    python -m experiments.bench_freeze [--quick] [--repeats R]
+writes results/data/bench_freeze.csv and bench_freeze.json.
+"""
+import argparse
+import gc
+import math
+import statistics
+import time
+
+import numpy as np
+import pandas as pd
+from tqdm import tqdm
+
+import sim
+from experiments.metadata import collect, write_results
+from experiments.peers import engine_of, make_runner
+
+NAME = "bench_freeze"
+DT = 1 / 60                 # s
+SLOP = 0.005                # m, sim's slop and pymunk's collision_slop
+WARMUP_STEPS = 10           # untimed steps after build (and after freezing) before any timing
+FALL_HEIGHT = 3000.0        # m, bottom of the falling block (parts 2 and 4)
+FLY_PITCH = 2.0             # m between falling/drifting boxes (unit boxes: never touching at rest)
+DRIFT_SPEED = 3.0           # m/s, the drifting block's common velocity along x (part 4)
+DRIFT_SPREAD = 0.5          # m/s, +- uniform spread per velocity component; spin +- 1 rad/s
+SEED = 0                    # the drift scene's random velocities
+FREEZE_HOLD_S = 1.0         # s stepped after all froze, to see whether the freeze holds
+
+#: settings that make the systems comparable (iterations: each engine's default, see peers)
+SYSTEM_SETTINGS = {"sim": {"slop": SLOP}, "pymunk": {"collision_slop": SLOP}, "pybullet": {}}
+FREEZING = ("sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep", "pybullet-sleep")
+FROZEN_SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep")
+FROZEN_SYSTEMS_PB = FROZEN_SYSTEMS + ("pybullet-sleep",)
+MIX_SYSTEMS = ("sim-extended", "sim-off")
+FLIGHT_SYSTEMS = ("sim-off", "sim-extended")
+
+#: the issue's targets
+TARGET_FROZEN_MS = 0.02       # ms/step, sim fully frozen on rest_row(5000)
+TARGET_B_OVER_A = 0.02        # frozen body-step vs awake body-step
+TARGET_FREEZE_STEPS = 3       # rest_row frozen within this many steps under paper/extended
+TARGET_OVERHEAD = 1.05        # extended / off on a scene where nothing rests
+
+FULL = {
+    "frozen_cost": (("rest_row", 5000, FROZEN_SYSTEMS), ("rest_row", 500, FROZEN_SYSTEMS_PB)),
+    "frozen_repeat_s": 0.1,           # aim of one timed repeat in part 1, s
+    "freeze_cap_s": 10.0,             # part 1: most simulated time spent waiting for the freeze
+    "mix_frozen": (0, 1000, 2000, 4000), "mix_awake": (100, 200, 400), "mix_steps": 50,
+    "ttf_scenes": (("rest_row", {"n": 50}), ("drop", {"n": 30, "seed": 0}),
+                   ("drop", {"n": 30, "seed": 1}), ("drop", {"n": 30, "seed": 2}),
+                   ("pyramid", {"base": 10}), ("pyramid", {"base": 20}),
+                   ("stack", {"height": 5})),
+    "ttf_cap_s": 30.0,
+    "flight_n": 1000, "flight_steps": 50, "flight_repeat_factor": 3,
+    "repeats": 7,
+}
+QUICK = {
+    "frozen_cost": (("rest_row", 200, FROZEN_SYSTEMS_PB),),
+    "frozen_repeat_s": 0.01,
+    "freeze_cap_s": 5.0,
+    "mix_frozen": (0, 200, 400), "mix_awake": (20, 50), "mix_steps": 10,
+    "ttf_scenes": (("rest_row", {"n": 50}), ("drop", {"n": 10, "seed": 0}),
+                   ("pyramid", {"base": 5}), ("stack", {"height": 5})),
+    "ttf_cap_s": 5.0,
+    "flight_n": 200, "flight_steps": 10, "flight_repeat_factor": 2,
+    "repeats": 3,
+}
+
+
+# ---- scenes ------------------------------------------------------------------------------------
+def label(scene):
+    """A short readable name of a scene: rest_row(50), drop(30,seed=1), mix(frozen=..,awake=..)."""
+    p = scene.params
+    if scene.name == "drop":
+        return f"drop({p['n']},seed={p['seed']})"
+    if scene.name in ("rest_row", "pyramid", "stack"):
+        key = {"rest_row": "n", "pyramid": "base", "stack": "height"}[scene.name]
+        return f"{scene.name}({p[key]})"
+    if scene.name == "mix":
+        return f"mix(frozen={p['n_frozen']},awake={p['n_awake']})"
+    if scene.name in ("fall", "drift"):
+        return f"{scene.name}({p['n']})"
+    return scene.name
+
+
+def _block(n, y0, velocity=None, angular_velocity=None, x0=0.0):
+    """``n`` unit boxes in a block ~sqrt(n) columns wide, FLY_PITCH apart, bottom row at y0."""
+    cols = max(1, math.ceil(math.sqrt(n)))
+    bodies = []
+    for i in range(n):
+        row, col = divmod(i, cols)
+        v = (0.0, 0.0) if velocity is None else tuple(float(x) for x in velocity[i])
+        w = 0.0 if angular_velocity is None else float(angular_velocity[i])
+        bodies.append(sim.Body.box(1.0, 1.0, position=(x0 + col * FLY_PITCH, y0 + row * FLY_PITCH),
+                                   velocity=v, angular_velocity=w, friction=0.6))
+    return bodies
+
+
+def mix_scene(n_frozen, n_awake, height=FALL_HEIGHT):
+    """rest_row(n_frozen) (bodies 0..n_frozen-1) plus n_awake boxes falling from ``height`` m."""
+    bodies = list(sim.scenes.rest_row(n_frozen).bodies) if n_frozen else []
+    bodies += _block(n_awake, height)
+    return sim.Scene(bodies=bodies, name="mix",
+                     params={"n_frozen": n_frozen, "n_awake": n_awake, "height": height,
+                             "pitch": FLY_PITCH, "row": "rest_row(n_frozen)"})
+
+
+def fall_scene(n, height=FALL_HEIGHT):
+    """n boxes falling from ``height`` m, never touching each other before the floor."""
+    return sim.Scene(bodies=_block(n, height), name="fall",
+                     params={"n": n, "height": height, "pitch": FLY_PITCH})
+
+
+def drift_scene(n, seed=SEED):
+    """n boxes in zero gravity, no floor, moving at DRIFT_SPEED m/s along x with a random spread
+    and spin: neighbours close in and collide, but no body is ever slow."""
+    rng = np.random.default_rng(seed)
+    v = np.column_stack([DRIFT_SPEED + rng.uniform(-DRIFT_SPREAD, DRIFT_SPREAD, n),
+                         rng.uniform(-DRIFT_SPREAD, DRIFT_SPREAD, n)])
+    w = rng.uniform(-1.0, 1.0, n)
+    return sim.Scene(bodies=_block(n, 0.0, v, w), name="drift", floor_y=None, gravity=(0.0, 0.0),
+                     params={"n": n, "seed": seed, "speed": DRIFT_SPEED, "spread": DRIFT_SPREAD,
+                             "pitch": FLY_PITCH})
+
+
+def flight_budget(height=FALL_HEIGHT, clearance=10.0):
+    """Steps a box starting at rest ``height`` m up stays more than ``clearance`` m above the
+    floor under semi-implicit Euler at DT (it has fallen g dt^2 n (n+1) / 2 after n steps)."""
+    g = 9.81
+    n = int(math.sqrt(2.0 * (height - clearance) / (g * DT * DT)))
+    while g * DT * DT * n * (n + 1) / 2 > height - clearance:
+        n -= 1
+    return n
+
+
+# ---- running -----------------------------------------------------------------------------------
+def compile_kernels():
+    """Compile (or load from Numba's cache) every kernel, for every policy, on a tiny World."""
+    for policy in sim.POLICY_NAMES:
+        sim.World(sim.scenes.rest_row(2), dt=DT, freeze=policy).step(3)
+
+
+def build(system, scene):
+    """The runner of ``system`` on ``scene`` with the comparable settings (SYSTEM_SETTINGS)."""
+    return make_runner(system, scene, dt=DT, **SYSTEM_SETTINGS[engine_of(system)])
+
+
+def awake_mask(runner):
+    """(N,) bool: the bodies the system still works on: not ``asleep`` (for sim, ``asleep`` is
+    ``World.frozen``, out of the awake list; under ``paper`` a pivoting VERTICAL_STABLE or a sliding
+    ROTATION_STABLE body is still awake)."""
+    return ~np.asarray(runner.asleep, dtype=bool)
+
+
+def n_awake(runner):
+    return int(awake_mask(runner).sum())
+
+
+def step_until_frozen(runner, cap_steps):
+    """Step one step at a time until no body is solved; returns the step count reached then
+    (the runner's step_count), or None at the cap."""
+    while runner.step_count < cap_steps:
+        runner.step(1)
+        if not awake_mask(runner).any():
+            return runner.step_count
+    return None
+
+
+def _timed(runner, steps):
+    """Wall time of ``steps`` steps, s, with the garbage collector paused."""
+    gc_was_on = gc.isenabled()
+    gc.disable()
+    try:
+        t0 = time.perf_counter()
+        runner.step(steps)
+        return time.perf_counter() - t0
+    finally:
+        if gc_was_on:
+            gc.enable()
+
+
+def interleaved(runners, steps, repeats, progress=None):
+    """Per-step times (ms) of each runner over ``repeats`` repeats of ``steps[k]`` steps,
+    round-robin over the runners (order reversed every other repeat). Returns a list of lists."""
+    times = [[] for _ in runners]
+    order = list(range(len(runners)))
+    for r in range(repeats):
+        for k in (order if r % 2 == 0 else order[::-1]):
+            times[k].append(1e3 * _timed(runners[k], steps[k]) / steps[k])
+            if progress is not None:
+                progress.update()
+    return times
+
+
+def calibrate(runner, target_s, probe=10, lo=10, hi=5000):
+    """Steps per repeat so that one repeat lasts about ``target_s`` (from ``probe`` untimed-ish
+    steps, which also serve as warm-up)."""
+    t = _timed(runner, probe) / probe
+    return int(min(hi, max(lo, round(target_s / max(t, 1e-9)))))
+
+
+def _row(part, scene, system, bodies, n_aw, n_fr, metric, value, unit, flag=""):
+    return {"part": part, "scene": scene, "system": system, "bodies": bodies, "n_awake": n_aw,
+            "n_frozen": n_fr, "metric": metric, "value": value, "unit": unit, "flag": flag}
+
+
+def _moved(runner, start):
+    return float(np.hypot(*(runner.positions - start).T).max())
+
+
+# ---- part 1: a fully frozen scene --------------------------------------------------------------
+def frozen_cost(config, repeats, progress):
+    rows = []
+    for name, n, systems in config["frozen_cost"]:
+        scene = sim.scenes.BUILDERS[name](n)
+        tag = label(scene)
+        cap = int(round(config["freeze_cap_s"] / DT))
+        runners, froze_at, steps, starts = [], [], [], []
+        for system in systems:
+            progress.set_postfix_str(f"{tag} {system}: build, freeze")
+            runner = build(system, scene)
+            starts.append(runner.positions)
+            froze_at.append(step_until_frozen(runner, cap) if system in FREEZING else None)
+            runner.step(WARMUP_STEPS)
+            steps.append(calibrate(runner, config["frozen_repeat_s"]))
+            runners.append(runner)
+        before = [n_awake(r) for r in runners]
+        progress.set_postfix_str(f"{tag}: timing")
+        times = interleaved(runners, steps, repeats, progress)
+        after = [n_awake(r) for r in runners]
+        off_median = (statistics.median(times[systems.index("sim-off")])
+                      if "sim-off" in systems else math.nan)
+        for k, system in enumerate(systems):
+            med, low = statistics.median(times[k]), min(times[k])
+            if system not in FREEZING:
+                flag = "reference: nothing frozen"
+            elif before[k] == 0 and after[k] == 0:
+                flag = "all frozen"
+            else:
+                flag = "NOT all frozen"
+            common = dict(part="frozen_cost", scene=tag, system=system, bodies=n,
+                          n_aw=before[k], n_fr=n - before[k], flag=flag)
+            rows += [
+                _row(**common, metric="ms_per_step_median", value=med, unit="ms"),
+                _row(**common, metric="ms_per_step_min", value=low, unit="ms"),
+                _row(**common, metric="speedup_vs_off", value=off_median / med, unit="ratio"),
+                _row(**common, metric="n_awake_before", value=before[k], unit="bodies"),
+                _row(**common, metric="n_awake_after", value=after[k], unit="bodies"),
+                _row(**common, metric="steps_to_all_frozen",
+                     value=math.nan if froze_at[k] is None else froze_at[k], unit="steps"),
+                _row(**common, metric="steps_per_repeat", value=steps[k], unit="steps"),
+                _row(**common, metric="repeats", value=repeats, unit="count"),
+                _row(**common, metric="max_displacement", value=_moved(runners[k], starts[k]),
+                     unit="m"),
+            ]
+        for r in runners:
+            r.close()
+    return rows
+
+
+# ---- part 2: cost of a frozen body-step vs an awake body-step ----------------------------------
+def fit_cost(n_aw, n_fr, ms):
+    """Least squares ms = a n_aw + b n_fr + c: dict of a, b, c, their standard errors, b/a,
+    RMS and largest residual (ms), R^2 and the number of points."""
+    x = np.column_stack([n_aw, n_fr, np.ones(len(ms))]).astype(float)
+    y = np.asarray(ms, dtype=float)
+    coef, _, rank, _ = np.linalg.lstsq(x, y, rcond=None)
+    resid = y - x @ coef
+    dof = len(y) - 3
+    sigma2 = float(resid @ resid) / dof if dof > 0 else math.nan
+    try:
+        stderr = np.sqrt(np.diag(sigma2 * np.linalg.inv(x.T @ x)))
+    except np.linalg.LinAlgError:
+        stderr = np.full(3, math.nan)
+    total = float(((y - y.mean()) ** 2).sum())
+    a, b, c = (float(v) for v in coef)
+    return {"a": a, "b": b, "c": c, "a_stderr": float(stderr[0]), "b_stderr": float(stderr[1]),
+            "c_stderr": float(stderr[2]), "b_over_a": b / a if a else math.nan,
+            "rms_residual": float(np.sqrt(np.mean(resid ** 2))),
+            "max_abs_residual": float(np.abs(resid).max()),
+            "r2": 1.0 - float(resid @ resid) / total if total > 0 else math.nan,
+            "points": len(y), "rank": int(rank)}
+
+
+FIT_UNITS = {"a": "ms/(step*body)", "b": "ms/(step*body)", "c": "ms/step",
+             "a_stderr": "ms/(step*body)", "b_stderr": "ms/(step*body)", "c_stderr": "ms/step",
+             "b_over_a": "ratio", "rms_residual": "ms/step", "max_abs_residual": "ms/step",
+             "r2": "ratio", "points": "count", "rank": "count"}
+
+
+def per_body_cost(config, repeats, progress):
+    mixes = [(nf, na) for nf in config["mix_frozen"] for na in config["mix_awake"]]
+    budget = flight_budget()
+    steps = max(1, min(config["mix_steps"], (budget - WARMUP_STEPS) // repeats))
+    runners, keys = [], []
+    for nf, na in mixes:
+        scene = mix_scene(nf, na)
+        for system in MIX_SYSTEMS:
+            progress.set_postfix_str(f"{label(scene)} {system}: build")
+            runner = build(system, scene)
+            runner.step(WARMUP_STEPS)
+            runners.append(runner)
+            keys.append((label(scene), system, nf, na))
+    before = [n_awake(r) for r in runners]
+    progress.set_postfix_str(f"{len(runners)} worlds: timing")
+    times = interleaved(runners, [steps] * len(runners), repeats, progress)
+    after = [n_awake(r) for r in runners]
+    rows, fits = [], {}
+    for k, (tag, system, nf, na) in enumerate(keys):
+        lowest = float(runners[k].positions[nf:, 1].min()) if na else math.nan
+        expected = na if system != "sim-off" else na + nf
+        ok = before[k] == expected and after[k] == expected and (not na or lowest > 5.0)
+        common = dict(part="per_body_cost", scene=tag, system=system, bodies=nf + na, n_aw=na,
+                      n_fr=nf, flag="" if ok else "awake count or flight check failed")
+        rows += [
+            _row(**common, metric="ms_per_step_median", value=statistics.median(times[k]),
+                 unit="ms"),
+            _row(**common, metric="ms_per_step_min", value=min(times[k]), unit="ms"),
+            _row(**common, metric="n_awake_before", value=before[k], unit="bodies"),
+            _row(**common, metric="n_awake_after", value=after[k], unit="bodies"),
+            _row(**common, metric="lowest_flying_y", value=lowest, unit="m"),
+            _row(**common, metric="steps_per_repeat", value=steps, unit="steps"),
+            _row(**common, metric="repeats", value=repeats, unit="count"),
+        ]
+    for system in MIX_SYSTEMS:
+        ks = [k for k, key in enumerate(keys) if key[1] == system]
+        fit = fit_cost([keys[k][3] for k in ks], [keys[k][2] for k in ks],
+                       [statistics.median(times[k]) for k in ks])
+        fits[system] = fit
+    ext, off = fits["sim-extended"], fits["sim-off"]
+    ext["b_over_b_off"] = ext["b"] / off["b"] if off["b"] else math.nan
+    ext["a_over_a_off"] = ext["a"] / off["a"] if off["a"] else math.nan
+    units = {**FIT_UNITS, "b_over_b_off": "ratio", "a_over_a_off": "ratio"}
+    for system, fit in fits.items():
+        for key, value in fit.items():
+            rows.append(_row("per_body_cost", "fit", system, math.nan, math.nan, math.nan,
+                             f"fit_{key}", value, units[key]))
+    for r in runners:
+        r.close()
+    return rows, fits
+
+
+# ---- part 3: steps until everything is frozen --------------------------------------------------
+def time_to_freeze(config, progress):
+    rows = []
+    cap = int(round(config["ttf_cap_s"] / DT))
+    hold = int(round(FREEZE_HOLD_S / DT))
+    for name, params in config["ttf_scenes"]:
+        scene = sim.scenes.BUILDERS[name](**params)
+        tag = label(scene)
+        n = len(scene.bodies)
+        for system in FREEZING:
+            progress.set_postfix_str(f"{tag} {system}")
+            runner = build(system, scene)
+            start = runner.positions
+            is_sim = engine_of(system) == "sim"
+            frozen_at = observable_at = None
+            while runner.step_count < cap:
+                runner.step(1)
+                if is_sim and observable_at is None and \
+                        (runner.world.states != sim.State.FREE).all():
+                    observable_at = runner.step_count
+                if not awake_mask(runner).any():
+                    frozen_at = runner.step_count
+                    break
+            end_awake = n_awake(runner)
+            end_not_free = (int((runner.world.states != sim.State.FREE).sum()) if is_sim
+                            else math.nan)
+            moved = _moved(runner, start)
+            held = math.nan
+            if frozen_at is not None:
+                runner.step(hold)
+                held = n_awake(runner)
+            runner.close()
+            never = frozen_at is None
+            flag = "never" if never else ""
+            common = dict(part="time_to_freeze", scene=tag, system=system, bodies=n,
+                          n_aw=end_awake, n_fr=n - end_awake, flag=flag)
+            rows += [
+                _row(**common, metric="steps_to_all_frozen",
+                     value=math.nan if never else frozen_at, unit="steps"),
+                _row(**common, metric="time_to_all_frozen",
+                     value=math.nan if never else frozen_at * DT, unit="s"),
+                _row(**common, metric="n_awake_at_end", value=end_awake, unit="bodies"),
+                _row(**common, metric="n_awake_1s_after", value=held, unit="bodies"),
+                _row(**common, metric="max_displacement", value=moved, unit="m"),
+                _row(**common, metric="cap_steps", value=cap, unit="steps"),
+            ]
+            if is_sim:
+                rows += [
+                    _row(**common, metric="steps_to_all_not_free",
+                         value=math.nan if observable_at is None else observable_at,
+                         unit="steps"),
+                    _row(**common, metric="n_not_free_at_end", value=end_not_free,
+                         unit="bodies"),
+                ]
+            progress.update()
+    return rows
+
+
+# ---- part 4: overhead where nothing can rest ---------------------------------------------------
+def in_flight_overhead(config, repeats, progress):
+    rows = []
+    n = config["flight_n"]
+    for scene in (fall_scene(n), drift_scene(n)):
+        tag = label(scene)
+        budget = flight_budget() if scene.name == "fall" else 10 ** 9
+        steps = max(1, min(config["flight_steps"], (budget - WARMUP_STEPS) // repeats))
+        runners = []
+        for system in FLIGHT_SYSTEMS:
+            progress.set_postfix_str(f"{tag} {system}: build")
+            runner = build(system, scene)
+            runner.step(WARMUP_STEPS)
+            runners.append(runner)
+        before = [n_awake(r) for r in runners]
+        progress.set_postfix_str(f"{tag}: timing")
+        times = interleaved(runners, [steps] * len(runners), repeats, progress)
+        after = [n_awake(r) for r in runners]
+        i_off, i_ext = FLIGHT_SYSTEMS.index("sim-off"), FLIGHT_SYSTEMS.index("sim-extended")
+        # per repeat, the two systems ran back to back: their ratio cancels slow load drifts
+        paired = statistics.median(e / o for e, o in zip(times[i_ext], times[i_off]))
+        ratio_med = statistics.median(times[i_ext]) / statistics.median(times[i_off])
+        ratio_min = min(times[i_ext]) / min(times[i_off])
+        speed = np.hypot(*runners[i_ext].velocities.T)
+        for k, system in enumerate(FLIGHT_SYSTEMS):
+            ok = before[k] == n and after[k] == n
+            common = dict(part="in_flight_overhead", scene=tag, system=system, bodies=n,
+                          n_aw=before[k], n_fr=n - before[k],
+                          flag="" if ok else "a body froze: not an in-flight scene")
+            rows += [
+                _row(**common, metric="ms_per_step_median", value=statistics.median(times[k]),
+                     unit="ms"),
+                _row(**common, metric="ms_per_step_min", value=min(times[k]), unit="ms"),
+                _row(**common, metric="n_awake_before", value=before[k], unit="bodies"),
+                _row(**common, metric="n_awake_after", value=after[k], unit="bodies"),
+                _row(**common, metric="steps_per_repeat", value=steps, unit="steps"),
+                _row(**common, metric="repeats", value=repeats, unit="count"),
+            ]
+            if system == "sim-extended":
+                rows += [
+                    _row(**common, metric="ratio_to_off_median", value=ratio_med, unit="ratio"),
+                    _row(**common, metric="ratio_to_off_min", value=ratio_min, unit="ratio"),
+                    _row(**common, metric="ratio_to_off_paired", value=paired, unit="ratio"),
+                    _row(**common, metric="min_speed_after", value=float(speed.min()),
+                         unit="m/s"),
+                ]
+        for r in runners:
+            r.close()
+    return rows
+
+
+# ---- verdicts ----------------------------------------------------------------------------------
+def _value(table, part, metric, scene=None, system=None):
+    sel = (table["part"] == part) & (table["metric"] == metric)
+    if scene is not None:
+        sel &= table["scene"] == scene
+    if system is not None:
+        sel &= table["system"] == system
+    values = table.loc[sel, "value"]
+    return float(values.iloc[0]) if len(values) else math.nan
+
+
+def verdicts(table, config, fits):
+    """Every target of the issue: (name, measured, target text, PASS/MISS) as dicts."""
+    out = []
+
+    def add(target, measured, goal, ok, note=""):
+        out.append({"target": target, "measured": measured, "goal": goal,
+                    "verdict": "PASS" if ok else "MISS", "note": note})
+
+    name, n, systems = config["frozen_cost"][0]
+    tag = f"{name}({n})"
+    for system in ("sim-sleep", "sim-paper", "sim-extended"):
+        ms = _value(table, "frozen_cost", "ms_per_step_median", tag, system)
+        before = _value(table, "frozen_cost", "n_awake_before", tag, system)
+        after = _value(table, "frozen_cost", "n_awake_after", tag, system)
+        add(f"1. {tag} fully frozen, {system}", f"{ms:.4f} ms/step (awake {before:.0f} -> "
+            f"{after:.0f})", f"< {TARGET_FROZEN_MS} ms/step, all frozen",
+            ms < TARGET_FROZEN_MS and before == 0 and after == 0)
+    ext = fits["sim-extended"]
+    add("2. frozen vs awake body-step, sim-extended", f"b/a = {ext['b_over_a']:.4g} "
+        f"(a {ext['a']:.3g}, b {ext['b']:.3g} +- {ext['b_stderr']:.2g} ms)",
+        f"b/a <= {TARGET_B_OVER_A}", ext["b_over_a"] <= TARGET_B_OVER_A,
+        f"fit RMS residual {ext['rms_residual']:.3g} ms/step, R^2 {ext['r2']:.4f}")
+    for system in ("sim-paper", "sim-extended"):
+        steps = _value(table, "time_to_freeze", "steps_to_all_frozen", "rest_row(50)", system)
+        add(f"3. rest_row(50) frozen, {system}", f"{steps:.0f} steps",
+            f"<= {TARGET_FREEZE_STEPS} steps", steps <= TARGET_FREEZE_STEPS)
+    for scene in (f"fall({config['flight_n']})", f"drift({config['flight_n']})"):
+        ratio = _value(table, "in_flight_overhead", "ratio_to_off_median", scene, "sim-extended")
+        paired = _value(table, "in_flight_overhead", "ratio_to_off_paired", scene,
+                        "sim-extended")
+        add(f"4. {scene} extended / off", f"{ratio:.3f} (paired {paired:.3f})",
+            f"<= {TARGET_OVERHEAD}", ratio <= TARGET_OVERHEAD)
+    return out
+
+
+def summary(table, config, fits, targets, quick):
+    """A readable account of every part and every target."""
+    lines = []
+    fmt = lambda x: "nan" if not np.isfinite(x) else f"{x:.4g}"
+    t = table[table["part"] == "frozen_cost"]
+    lines.append("== 1. frozen_cost: ms/step once fully frozen "
+                 "(median [min]; awake before -> after)")
+    for scene in dict.fromkeys(t["scene"]):
+        for system in dict.fromkeys(t.loc[t["scene"] == scene, "system"]):
+            g = lambda m: _value(table, "frozen_cost", m, scene, system)
+            lines.append(f"  {scene:14s} {system:15s} {fmt(g('ms_per_step_median')):>9s} "
+                         f"[{fmt(g('ms_per_step_min'))}] ms  x{fmt(g('speedup_vs_off'))} vs off  "
+                         f"awake {g('n_awake_before'):.0f} -> {g('n_awake_after'):.0f}  "
+                         f"froze at step {fmt(g('steps_to_all_frozen'))}")
+    lines.append("== 2. per_body_cost: ms/step = a N_awake + b N_frozen + c")
+    t = table[(table["part"] == "per_body_cost") & (table["metric"] == "ms_per_step_median")]
+    piv = t.pivot_table(index=["n_frozen", "n_awake"], columns="system", values="value")
+    lines += ["  " + s for s in piv.to_string(float_format=lambda x: f"{x:.4f}").splitlines()]
+    for system, f in fits.items():
+        lines.append(f"  fit {system:13s} a={f['a']:.4g}+-{f['a_stderr']:.2g}  "
+                     f"b={f['b']:.4g}+-{f['b_stderr']:.2g}  c={f['c']:.4g}+-{f['c_stderr']:.2g} "
+                     f"ms  b/a={f['b_over_a']:.4g}  RMS resid {f['rms_residual']:.3g} ms  "
+                     f"R^2 {f['r2']:.4f}")
+    f = fits["sim-extended"]
+    lines.append(f"  a frozen body costs {f['b_over_b_off']:.3g} of a resting body solved under "
+                 f"off (b_ext / b_off)")
+    lines.append("== 3. time_to_freeze: steps until every body is frozen/asleep "
+                 f"(cap {config['ttf_cap_s']:g} s; 'never' = not within the cap, awake left)")
+    t = table[table["part"] == "time_to_freeze"]
+    for scene in dict.fromkeys(t["scene"]):
+        cells = []
+        for system in FREEZING:
+            steps = _value(table, "time_to_freeze", "steps_to_all_frozen", scene, system)
+            left = _value(table, "time_to_freeze", "n_awake_at_end", scene, system)
+            held = _value(table, "time_to_freeze", "n_awake_1s_after", scene, system)
+            cell = (f"never({left:.0f} awake)" if not np.isfinite(steps) else
+                    f"{steps:.0f}" + (f"(+{held:.0f} woke)" if held > 0 else ""))
+            cells.append(f"{system}={cell}")
+        lines.append(f"  {scene:17s} " + "  ".join(cells))
+    lines.append("== 4. in_flight_overhead: nothing can rest")
+    t = table[table["part"] == "in_flight_overhead"]
+    for scene in dict.fromkeys(t["scene"]):
+        g = lambda m, s: _value(table, "in_flight_overhead", m, scene, s)
+        lines.append(f"  {scene:11s} off {g('ms_per_step_median', 'sim-off'):.4f} ms  extended "
+                     f"{g('ms_per_step_median', 'sim-extended'):.4f} ms  ratio "
+                     f"{g('ratio_to_off_median', 'sim-extended'):.3f} (min "
+                     f"{g('ratio_to_off_min', 'sim-extended'):.3f}, paired "
+                     f"{g('ratio_to_off_paired', 'sim-extended'):.3f})  awake "
+                     f"{g('n_awake_after', 'sim-extended'):.0f}/"
+                     f"{g('n_awake_before', 'sim-extended'):.0f}")
+    lines.append("== targets" + (" (QUICK sizes: indicative only)" if quick else ""))
+    for v in targets:
+        lines.append(f"  {v['verdict']:4s}  {v['target']}: {v['measured']}  (goal {v['goal']})"
+                     + (f"  [{v['note']}]" if v["note"] else ""))
+    return "\n".join(lines)
+
+
+# ---- entry -------------------------------------------------------------------------------------
+def run(config, repeats):
+    """Every part; returns (table, fits)."""
+    compile_kernels()
+    n_mix = len(config["mix_frozen"]) * len(config["mix_awake"]) * len(MIX_SYSTEMS)
+    flight_repeats = config["flight_repeat_factor"] * repeats
+    rows = []
+    with tqdm(total=sum(len(s) for _, _, s in config["frozen_cost"]) * repeats,
+              desc=f"{NAME} 1/4 frozen_cost", unit="repeat") as bar:
+        rows += frozen_cost(config, repeats, bar)
+    with tqdm(total=n_mix * repeats, desc=f"{NAME} 2/4 per_body_cost", unit="repeat") as bar:
+        part, fits = per_body_cost(config, repeats, bar)
+        rows += part
+    with tqdm(total=len(config["ttf_scenes"]) * len(FREEZING),
+              desc=f"{NAME} 3/4 time_to_freeze", unit="run") as bar:
+        rows += time_to_freeze(config, bar)
+    with tqdm(total=2 * len(FLIGHT_SYSTEMS) * flight_repeats,
+              desc=f"{NAME} 4/4 in_flight_overhead", unit="repeat") as bar:
+        rows += in_flight_overhead(config, flight_repeats, bar)
+    return pd.DataFrame(rows), fits
+
+
+def scenes_of(config):
+    """Every scene the run uses (for the metadata)."""
+    scenes = [sim.scenes.BUILDERS[name](n) for name, n, _ in config["frozen_cost"]]
+    scenes += [mix_scene(nf, na) for nf in config["mix_frozen"] for na in config["mix_awake"]]
+    scenes += [sim.scenes.BUILDERS[name](**p) for name, p in config["ttf_scenes"]]
+    scenes += [fall_scene(config["flight_n"]), drift_scene(config["flight_n"])]
+    return scenes
+
+
+def main(argv=None, data_dir=None):
+    """Command line entry; ``data_dir`` overrides results/data (tests)."""
+    parser = argparse.ArgumentParser(prog=f"python -m experiments.{NAME}",
+                                     description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
+    parser.add_argument("--repeats", type=int, default=None,
+                        help="timed repeats (default 7, quick 3; part 4 uses 3x, quick 2x)")
+    args = parser.parse_args(argv)
+    config = QUICK if args.quick else FULL
+    repeats = args.repeats or config["repeats"]
+    if repeats < 1:
+        parser.error("--repeats must be >= 1")
+
+    table, fits = run(config, repeats)
+    targets = verdicts(table, config, fits)
+    settings = {}
+    probe = sim.scenes.single_box()
+    for system in dict.fromkeys(FROZEN_SYSTEMS_PB + MIX_SYSTEMS + FREEZING):
+        with build(system, probe) as r:
+            settings[system] = r.settings
+    parameters = {"dt": DT, "slop": SLOP, "warmup_steps": WARMUP_STEPS, "repeats": repeats,
+                  "flight_repeats": config["flight_repeat_factor"] * repeats,
+                  "quick": args.quick, "sizes": config, "fall_height_m": FALL_HEIGHT,
+                  "fly_pitch_m": FLY_PITCH, "flight_budget_steps": flight_budget(),
+                  "drift": {"speed": DRIFT_SPEED, "spread": DRIFT_SPREAD, "seed": SEED},
+                  "freeze_hold_s": FREEZE_HOLD_S, "frozen_means": (
+                      "sim: World awake_slot < 0 (out of the awake list); pymunk/pybullet: asleep"),
+                  "system_settings": settings}
+    metadata = collect(scenes_of(config), parameters, script=NAME, seed=SEED)
+    metadata["fits"] = fits
+    metadata["targets"] = targets
+    csv_path, _ = write_results(NAME, table, metadata, folder=data_dir)
+    print(summary(table, config, fits, targets, args.quick))
+    print(f"wrote {csv_path}")
+    return table
+
+
+if __name__ == "__main__":
+    main()

@@ -8,13 +8,13 @@ A pair is encoded as one int64 key, ``(a + 1) * (M + 1) + b`` with a < b, and ``
 floor, so that sorting keys orders pairs deterministically and the floor pairs come first.
 """
 import numpy as np
-from .jit import inline_kernel, kernel
+from .jit import inline_kernel, kernel, lean_kernel
 
 # aabb columns
 MIN_X, MIN_Y, MAX_X, MAX_Y = 0, 1, 2, 3
 
 
-@kernel
+@lean_kernel
 def update_geometry(which, count, position, angle, vert_start, local_verts, local_normals,
                     rotation, world_verts, world_normals, aabb, margin):
     """World vertices, normals, rotation (cos, sin) and margin-fattened AABBs of bodies
@@ -141,26 +141,24 @@ def build_grid(which, count, aabb, cell_size):
 
 
 @inline_kernel
-def _report(i, j, cx, cy, aabb, inv_cell, stride, pair_keys, count):
-    """Append pair (i, j) if their boxes overlap and (cx, cy) is the cell of the lower-left corner
-    of the overlap, so that a pair found in several shared cells is reported once."""
-    lo_x = max(aabb[i, MIN_X], aabb[j, MIN_X])
-    lo_y = max(aabb[i, MIN_Y], aabb[j, MIN_Y])
-    if lo_x > min(aabb[i, MAX_X], aabb[j, MAX_X]) or lo_y > min(aabb[i, MAX_Y], aabb[j, MAX_Y]):
-        return count
-    if _cell(lo_x, inv_cell) != cx or _cell(lo_y, inv_cell) != cy:
-        return count
-    if count < pair_keys.shape[0]:
-        pair_keys[count] = (min(i, j) + 1) * stride + max(i, j)
-    return count + 1
+def _reported_here(ax0, ay0, ax1, ay1, bx0, by0, bx1, by1, cx, cy, inv_cell):
+    """Do boxes a and b overlap, with (cx, cy) the cell of the lower-left corner of their overlap?
+    Then this cell reports the pair, and a pair found in several shared cells is reported once.
+    On scalars: an inlined helper taking the arrays costs a reference-count round trip per call,
+    which tripled the sweep."""
+    lo_x = max(ax0, bx0)
+    lo_y = max(ay0, by0)
+    if lo_x > min(ax1, bx1) or lo_y > min(ay1, by1):
+        return False
+    return _cell(lo_x, inv_cell) == cx and _cell(lo_y, inv_cell) == cy
 
 
 @kernel
-def find_pairs(awake, n_awake, aabb, has_floor, floor_y, cell_size, resting_grid, pair_keys):
+def find_pairs(awake, n_awake, aabb, has_floor, floor_y, cell_size, resting, pair_keys):
     """Candidate pairs of the awake bodies, written sorted into ``pair_keys`` (P,).
 
     Awake-awake pairs come from a grid of the awake boxes built here; awake-resting pairs from
-    querying ``resting_grid`` (see ``build_grid``) with each awake box; resting-resting pairs are
+    querying the ``resting`` grid (see ``build_grid``) with each awake box; resting-resting pairs are
     never looked at. An awake body whose box reaches below the floor plane pairs with the floor.
     Returns the pair count, or ``-needed`` when ``pair_keys`` is too small (nothing else changes,
     so the caller can grow the buffer and call again).
@@ -176,24 +174,37 @@ def find_pairs(awake, n_awake, aabb, has_floor, floor_y, cell_size, resting_grid
                 if count < pair_keys.shape[0]:
                     pair_keys[count] = i          # (a + 1) * stride + b with a = -1
                 count += 1
+    cap = pair_keys.shape[0]
     start, entry_body, entry_cx, entry_cy, info = build_grid(awake, n_awake, aabb, cell_size)
     for h in range(start.shape[0] - 1):
         for e1 in range(start[h], start[h + 1]):
             i = entry_body[e1]
             cx = entry_cx[e1]
             cy = entry_cy[e1]
+            ax0 = aabb[i, MIN_X]
+            ay0 = aabb[i, MIN_Y]
+            ax1 = aabb[i, MAX_X]
+            ay1 = aabb[i, MAX_Y]
             for e2 in range(e1 + 1, start[h + 1]):
-                if entry_cx[e2] == cx and entry_cy[e2] == cy:   # not another cell in the bucket
-                    count = _report(i, entry_body[e2], cx, cy, aabb, inv_cell, stride, pair_keys,
-                                    count)
-    r_start, r_body, r_cx, r_cy, r_info = resting_grid
+                if entry_cx[e2] != cx or entry_cy[e2] != cy:
+                    continue                 # another cell that hashed to the same bucket
+                j = entry_body[e2]
+                if _reported_here(ax0, ay0, ax1, ay1, aabb[j, MIN_X], aabb[j, MIN_Y],
+                                  aabb[j, MAX_X], aabb[j, MAX_Y], cx, cy, inv_cell):
+                    if count < cap:
+                        pair_keys[count] = (min(i, j) + 1) * stride + max(i, j)
+                    count += 1
+    r_start, r_body, r_cx, r_cy, r_info = resting
     if r_body.shape[0] > 0:
         n_buckets = r_start.shape[0] - 1
         for k in range(n_awake):
             i = awake[k]
-            for cx in range(_cell(aabb[i, MIN_X], inv_cell), _cell(aabb[i, MAX_X], inv_cell) + 1):
-                for cy in range(_cell(aabb[i, MIN_Y], inv_cell),
-                                _cell(aabb[i, MAX_Y], inv_cell) + 1):
+            ax0 = aabb[i, MIN_X]
+            ay0 = aabb[i, MIN_Y]
+            ax1 = aabb[i, MAX_X]
+            ay1 = aabb[i, MAX_Y]
+            for cx in range(_cell(ax0, inv_cell), _cell(ax1, inv_cell) + 1):
+                for cy in range(_cell(ay0, inv_cell), _cell(ay1, inv_cell) + 1):
                     if r_info[DENSE] == 1:
                         if (cx < r_info[LO_CX] or cx >= r_info[LO_CX] + r_info[WIDTH]
                                 or cy < r_info[LO_CY]):
@@ -204,9 +215,14 @@ def find_pairs(awake, n_awake, aabb, has_floor, floor_y, cell_size, resting_grid
                     else:
                         h = _bucket(cx, cy, r_info)
                     for e in range(r_start[h], r_start[h + 1]):
-                        if r_cx[e] == cx and r_cy[e] == cy:
-                            count = _report(i, r_body[e], cx, cy, aabb, inv_cell, stride,
-                                            pair_keys, count)
+                        if r_cx[e] != cx or r_cy[e] != cy:
+                            continue
+                        j = r_body[e]
+                        if _reported_here(ax0, ay0, ax1, ay1, aabb[j, MIN_X], aabb[j, MIN_Y],
+                                          aabb[j, MAX_X], aabb[j, MAX_Y], cx, cy, inv_cell):
+                            if count < cap:
+                                pair_keys[count] = (min(i, j) + 1) * stride + max(i, j)
+                            count += 1
     if count > pair_keys.shape[0]:
         return -count
     pair_keys[:count].sort()

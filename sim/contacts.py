@@ -25,7 +25,7 @@ Manifolds are stored in increasing KEY order, so last step's manifolds can be ma
 step's by a merge walk, and impulses copied where the feature ids agree.
 """
 import numpy as np
-from .jit import kernel
+from .jit import kernel, lean_kernel
 
 from .geometry import collide_floor_rows, collide_polygon_rows
 
@@ -39,6 +39,11 @@ MANIFOLD_FLOAT_COLUMNS = 12
 POINT_FLOAT_COLUMNS = 12
 
 
+def scratch():
+    """Scratch arrays for ``collide_pairs``: points (2,2), separations (2,), ids (2,), normal (2,)."""
+    return np.empty((2, 2)), np.empty(2), np.empty(2, np.int64), np.empty(2)
+
+
 def allocate(capacity):
     """Empty contact storage for ``capacity`` manifolds: (manifold_int, manifold_float, point_float,
     point_id)."""
@@ -48,7 +53,7 @@ def allocate(capacity):
             np.zeros((capacity, 2), np.int64))
 
 
-@kernel
+@lean_kernel
 def save_for_warm_start(count, manifold_int, point_float, point_id, prev_key, prev_count,
                         prev_id, prev_impulse):
     """Copy what warm starting needs of the current manifolds: keys, ids, impulses (C,2,2)."""
@@ -62,23 +67,20 @@ def save_for_warm_start(count, manifold_int, point_float, point_id, prev_key, pr
             prev_impulse[c, j, 1] = point_float[c, j, TANGENT_IMPULSE]
 
 
-@kernel
+@lean_kernel
 def collide_pairs(n_pairs, pair_keys, n_bodies, position, rotation, vert_start, local_verts,
                   local_normals, world_verts, world_normals, friction, restitution, floor_y,
                   floor_friction, floor_restitution, margin, manifold_int, manifold_float,
                   point_float, point_id, n_prev, prev_key, prev_count, prev_id, prev_impulse,
-                  warm_start):
+                  warm_start, points, seps, ids, normal):
     """Narrowphase over sorted pair keys; returns the number of manifolds written.
 
     position (M,2) m, rotation (M,2) cos/sin, world_verts/world_normals (V,2) already updated.
     Impulses are copied from the previous step's manifold with the same key and feature id when
-    ``warm_start`` is true, and zeroed otherwise.
+    ``warm_start`` is true, and zeroed otherwise. points (2,2), seps (2,), ids (2,) int64 and
+    normal (2,) are scratch (``scratch()``), passed in because this kernel allocates nothing.
     """
     stride = n_bodies + 1
-    points = np.empty((2, 2))
-    seps = np.empty(2)
-    ids = np.empty(2, np.int64)
-    normal = np.empty(2)
     count = 0
     p = 0        # merge cursor into the previous step's manifolds
     for k in range(n_pairs):

@@ -14,3 +14,8 @@ kernel = njit(cache=True, error_model="numpy")
 #: argument through a reference-count increment and decrement (atomic operations), which made the
 #: block solver's call cost more than its arithmetic. Numba-level inlining removes the call.
 inline_kernel = njit(cache=True, error_model="numpy", inline="always")
+
+#: For kernels that allocate nothing: compiled without Numba's reference counting (a private but
+#: long-standing Numba flag; the version is pinned). With it, every array an inlined helper takes
+#: costs an atomic increment and decrement per call: half of the narrowphase's time.
+lean_kernel = njit(cache=True, error_model="numpy", _nrt=False)

@@ -90,7 +90,8 @@ def _detect(settings, bodies, geometry, contacts, activity, resting):
                           restitution, fsettings[FLOOR_Y], fsettings[FLOOR_FRICTION],
                           fsettings[FLOOR_RESTITUTION], margin, manifold_int, manifold_float,
                           point_float, point_id, n_prev, prev_key, prev_count, prev_id,
-                          prev_impulse, isettings[WARM_START] == 1)
+                          prev_impulse, isettings[WARM_START] == 1, np.empty((2, 2)), np.empty(2),
+                          np.empty(2, np.int64), np.empty(2))
     counters[N_MANIFOLDS] = count
     return count
 

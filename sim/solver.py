@@ -15,7 +15,7 @@ Two-point manifolds are solved as a 2x2 linear complementarity problem (block so
 keeps boxes resting on two corners from rocking.
 """
 import numpy as np
-from .jit import inline_kernel, kernel
+from .jit import inline_kernel, lean_kernel
 
 from .contacts import (ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, BLOCK, BODY_A, BODY_B,
                        FRICTION, INCIDENT, K11, K12, K22, LOCAL_FACE_X, LOCAL_FACE_Y,
@@ -27,7 +27,7 @@ from .contacts import (ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, BLOCK, BODY_A
 MAX_CONDITION = 1000.0
 
 
-@kernel
+@lean_kernel
 def integrate_velocities(which, count, velocity, gravity_x, gravity_y, dt):
     """v += g dt for the bodies which[0..count-1] (the awake dynamic bodies)."""
     for k in range(count):
@@ -36,7 +36,7 @@ def integrate_velocities(which, count, velocity, gravity_x, gravity_y, dt):
         velocity[i, 1] += gravity_y * dt
 
 
-@kernel
+@lean_kernel
 def integrate_positions(which, count, position, angle, velocity, angular_velocity, dt):
     """Semi-implicit Euler: positions from the new velocities, bodies which[0..count-1]."""
     for k in range(count):
@@ -46,7 +46,7 @@ def integrate_positions(which, count, position, angle, velocity, angular_velocit
         angle[i] += angular_velocity[i] * dt
 
 
-@kernel
+@lean_kernel
 def prepare(count, manifold_int, manifold_float, point_float, velocity, angular_velocity,
             inv_mass, inv_inertia, dt, restitution_threshold):
     """Effective masses, block matrices and velocity targets of every contact row."""
@@ -124,7 +124,7 @@ def _apply(a, b, px, py, rax, ray, rbx, rby, velocity, angular_velocity, inv_mas
     angular_velocity[b] += inv_inertia[b] * (rbx * py - rby * px)
 
 
-@kernel
+@lean_kernel
 def warm_start(count, manifold_int, manifold_float, point_float, velocity, angular_velocity,
                inv_mass, inv_inertia):
     """Apply last step's accumulated impulses, so a resting stack starts near its solution."""
@@ -141,7 +141,7 @@ def warm_start(count, manifold_int, manifold_float, point_float, velocity, angul
                    inv_inertia)
 
 
-@kernel
+@lean_kernel
 def solve_velocities(count, manifold_int, manifold_float, point_float, velocity,
                      angular_velocity, inv_mass, inv_inertia):
     """One Gauss-Seidel sweep over all contact rows: friction first (bounded by the current normal
@@ -282,7 +282,7 @@ def solve_velocities(count, manifold_int, manifold_float, point_float, velocity,
         angular_velocity[b] = wb
 
 
-@kernel
+@lean_kernel
 def update_rotation(which, count, angle, rotation):
     """rotation[i] = (cos, sin) of angle[i], for bodies which[0..count-1]."""
     for k in range(count):
@@ -301,7 +301,7 @@ def _turn(c, s, d_angle):
     return c2 * inv, s2 * inv
 
 
-@kernel
+@lean_kernel
 def correct_positions(count, manifold_int, manifold_float, point_float, position, angle, rotation,
                       inv_mass, inv_inertia, slop, baumgarte, max_correction):
     """One non-linear Gauss-Seidel sweep that pushes penetrating points apart in position only

@@ -247,7 +247,7 @@ class World:
                                 self._world_verts, self._world_normals, self._friction,
                                 self._restitution, self._fsettings[L.FLOOR_Y], 0.0, 0.0, 0.0,
                                 *scratch, 0, empty, empty, np.empty((0, 2), np.int64),
-                                np.empty((0, 2, 2)), False)
+                                np.empty((0, 2, 2)), False, *C.scratch())
         manifold_int, _, point_float, _ = scratch
         for c in range(count):
             k = manifold_int[c, C.POINT_COUNT]

@@ -59,16 +59,15 @@ metadata, the fits and every target's verdict.
 writes results/data/bench_freeze.csv and bench_freeze.json.
 """
 import argparse
-import gc
 import math
 import statistics
-import time
 
 import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
 import sim
+from experiments.timing import interleaved, timed
 from experiments.metadata import collect, write_results
 from experiments.peers import engine_of, make_runner
 
@@ -222,36 +221,10 @@ def step_until_frozen(runner, cap_steps):
     return None
 
 
-def _timed(runner, steps):
-    """Wall time of ``steps`` steps, s, with the garbage collector paused."""
-    gc_was_on = gc.isenabled()
-    gc.disable()
-    try:
-        t0 = time.perf_counter()
-        runner.step(steps)
-        return time.perf_counter() - t0
-    finally:
-        if gc_was_on:
-            gc.enable()
-
-
-def interleaved(runners, steps, repeats, progress=None):
-    """Per-step times (ms) of each runner over ``repeats`` repeats of ``steps[k]`` steps,
-    round-robin over the runners (order reversed every other repeat). Returns a list of lists."""
-    times = [[] for _ in runners]
-    order = list(range(len(runners)))
-    for r in range(repeats):
-        for k in (order if r % 2 == 0 else order[::-1]):
-            times[k].append(1e3 * _timed(runners[k], steps[k]) / steps[k])
-            if progress is not None:
-                progress.update()
-    return times
-
-
 def calibrate(runner, target_s, probe=10, lo=10, hi=5000):
     """Steps per repeat so that one repeat lasts about ``target_s`` (from ``probe`` untimed-ish
     steps, which also serve as warm-up)."""
-    t = _timed(runner, probe) / probe
+    t = timed(runner, probe) / probe
     return int(min(hi, max(lo, round(target_s / max(t, 1e-9)))))
 
 

@@ -20,7 +20,6 @@ guards against a scene that blew up, or collapsed, looking fast.
 writes results/data/bench_step.csv and bench_step.json.
 """
 import argparse
-import gc
 import statistics
 import time
 
@@ -29,6 +28,7 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
+from experiments.timing import timed
 from experiments.metadata import collect, write_results
 from experiments.peers import make_runner
 
@@ -53,20 +53,6 @@ def _make(system, scene):
     return make_runner(system, scene, dt=DT, iterations=ITERATIONS, **SYSTEM_SETTINGS[system])
 
 
-def _timed(system, steps):
-    """Wall time of ``steps`` steps, s. GC paused, as timeit does: a collection landing inside
-    one system's repeat would be charged to that system."""
-    gc_was_on = gc.isenabled()
-    gc.disable()
-    try:
-        t0 = time.perf_counter()
-        system.step(steps)
-        return time.perf_counter() - t0
-    finally:
-        if gc_was_on:
-            gc.enable()
-
-
 def bench_scene(scene, repeats, steps, progress=None):
     """Time every system on ``scene``; one result row per system."""
     systems, starts, build_s = [], [], []
@@ -81,7 +67,7 @@ def bench_scene(scene, repeats, steps, progress=None):
     moved = [0.0 for _ in systems]
     for _ in range(repeats):
         for k, system in enumerate(systems):        # interleaved: sim, pymunk, sim, pymunk ...
-            times[k].append(_timed(system, steps))
+            times[k].append(timed(system, steps))
             d = np.hypot(*(system.positions - starts[k]).T).max()
             moved[k] = max(moved[k], float(d))
             if progress is not None:

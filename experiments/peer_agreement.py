@@ -28,16 +28,15 @@ measurements that have no tolerance).
 writes results/data/peer_agreement.csv and peer_agreement.json.
 """
 import argparse
-import gc
 import math
 import statistics
-import time
 
 import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
 import sim
+from experiments.timing import timed
 from experiments.metadata import collect, write_results
 from experiments.peers import PybulletRunner, make_runner
 
@@ -235,19 +234,6 @@ def agreement_rows(sizes, progress=None):
 
 
 # ---- cost ----------------------------------------------------------------------------------------
-def _timed(runner, steps):
-    """Wall time of ``steps`` steps, s, garbage collector paused (as timeit does)."""
-    gc_was_on = gc.isenabled()
-    gc.disable()
-    try:
-        t0 = time.perf_counter()
-        runner.step(steps)
-        return time.perf_counter() - t0
-    finally:
-        if gc_was_on:
-            gc.enable()
-
-
 def cost_rows(base, repeats, steps, progress=None):
     """ms per step of every system on pyramid(base), interleaved repeat by repeat."""
     scene = sim.scenes.pyramid(base)
@@ -258,7 +244,7 @@ def cost_rows(base, repeats, steps, progress=None):
         times = [[] for _ in runners]
         for _ in range(repeats):
             for k, r in enumerate(runners):
-                times[k].append(1e3 * _timed(r, steps) / steps)
+                times[k].append(1e3 * timed(r, steps) / steps)
                 if progress is not None:
                     progress.update()
         moved = [float(np.hypot(*(r.positions - runners[0].positions).T).max())

@@ -1,0 +1,31 @@
+"""Wall-clock timing shared by every benchmark (DESIGN section 6): the garbage collector paused,
+compared systems interleaved repeat by repeat so that machine noise hits them alike."""
+import gc
+import time
+
+
+def timed(runner, steps):
+    """Wall time of ``runner.step(steps)``, s, with the garbage collector paused (as timeit does:
+    a collection landing inside one system's repeat would be charged to that system)."""
+    gc_was_on = gc.isenabled()
+    gc.disable()
+    try:
+        t0 = time.perf_counter()
+        runner.step(steps)
+        return time.perf_counter() - t0
+    finally:
+        if gc_was_on:
+            gc.enable()
+
+
+def interleaved(runners, steps, repeats, progress=None):
+    """Per-step times (ms) of each runner over ``repeats`` repeats of ``steps[k]`` steps,
+    round-robin over the runners (order reversed every other repeat). Returns a list of lists."""
+    times = [[] for _ in runners]
+    order = list(range(len(runners)))
+    for r in range(repeats):
+        for k in (order if r % 2 == 0 else order[::-1]):
+            times[k].append(1e3 * timed(runners[k], steps[k]) / steps[k])
+            if progress is not None:
+                progress.update()
+    return times

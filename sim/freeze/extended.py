@@ -344,7 +344,7 @@ def after_solve(count, settings, bodies, contacts, activity):
                     if awake_slot[other] < 0:
                         # resting on an already frozen body: that body now carries this push
                         # (the impulse on it is the opposite of the support impulse on i)
-                        _add_load(other, -sx, -sy, c, i, manifold_int, point_float, position,
+                        _add_load(other, -sx, -sy, c, manifold_int, point_float, position,
                                   body_real)
     # support extent along the tangent of the dominant support normal
     for k in range(n_awake):
@@ -399,7 +399,7 @@ def after_solve(count, settings, bodies, contacts, activity):
 
 
 @inline_kernel
-def _add_load(i, fx, fy, c, other, manifold_int, point_float, position, body_real):
+def _add_load(i, fx, fy, c, manifold_int, point_float, position, body_real):
     """Add impulse (fx, fy), applied at manifold c's first point, to frozen body i's load."""
     b = manifold_int[c, BODY_B]
     wx = point_float[c, 0, ANCHOR_BX] + position[b, 0]

@@ -14,7 +14,8 @@ Arguments travel as tuples grouped by use (see ``World._kernel_state``):
 
 Status codes returned by ``run``: OK; GROW (the pair buffer is too small; nothing of the current
 step has been changed: grow and call again); FLUSH (the event buffer needs emptying before the next
-step); NON_FINITE (a body's state is NaN/inf: the run stops, counters[BAD_BODY] names the body).
+step); NON_FINITE (a body's state is NaN/inf or beyond MAX_COORDINATE: the run stops,
+counters[BAD_BODY] names the body).
 """
 import numpy as np
 
@@ -34,11 +35,17 @@ from .solver import (correct_positions, integrate_positions, integrate_velocitie
 OK, GROW, NON_FINITE, FLUSH = 0, 1, 2, 3
 
 
+#: A body farther than this from the origin (m) has diverged: beyond it the broadphase's cell
+#: indices would overflow int64 long before the state turns NaN.
+MAX_COORDINATE = 1e12
+
+
 @kernel
-def _first_non_finite(which, count, position, angle, velocity, angular_velocity):
+def _first_diverged(which, count, position, angle, velocity, angular_velocity):
+    """The first of bodies which[0..count-1] whose state is NaN/inf or out of range, else -1."""
     for k in range(count):
         i = which[k]
-        if not (np.isfinite(position[i, 0]) and np.isfinite(position[i, 1])
+        if not (abs(position[i, 0]) <= MAX_COORDINATE and abs(position[i, 1]) <= MAX_COORDINATE
                 and np.isfinite(angle[i]) and np.isfinite(velocity[i, 0])
                 and np.isfinite(velocity[i, 1]) and np.isfinite(angular_velocity[i])):
             return i
@@ -167,6 +174,9 @@ def run(n_steps, settings, bodies, geometry, contacts, activity, resting, min_se
         count = _detect(settings, bodies, geometry, contacts, activity, resting)
         if count < 0:
             return GROW, step, resting
+        # From here on the counter is this step's number (1-based), which every event of the
+        # step carries, whichever hook records it.
+        counters[STEP_COUNT] += 1
         # Bodies woken by this step's contacts join it: detect again with them awake, until no
         # more wake (the woken bodies' own contacts were not generated while they were frozen).
         while freeze_before_solve(isettings[POLICY], count, settings, bodies, contacts,
@@ -174,6 +184,7 @@ def run(n_steps, settings, bodies, geometry, contacts, activity, resting, min_se
             resting = rebuild_resting(settings, bodies, geometry, activity)
             count = _detect(settings, bodies, geometry, contacts, activity, resting)
             if count < 0:
+                counters[STEP_COUNT] -= 1        # the step is redone after the buffers grow
                 return GROW, step, resting
         n_awake = counters[N_AWAKE]
         integrate_velocities(awake, n_awake, velocity, fsettings[GRAVITY_X], fsettings[GRAVITY_Y],
@@ -196,8 +207,7 @@ def run(n_steps, settings, bodies, geometry, contacts, activity, resting, min_se
             if deepest >= -fsettings[SLOP]:
                 break         # nothing was corrected, so further sweeps would change nothing
         min_separation[step] = deepest
-        bad = _first_non_finite(awake, n_awake, position, angle, velocity, angular_velocity)
-        counters[STEP_COUNT] += 1
+        bad = _first_diverged(awake, n_awake, position, angle, velocity, angular_velocity)
         if bad >= 0:
             counters[BAD_BODY] = bad
             return NON_FINITE, step + 1, resting

@@ -22,7 +22,7 @@ INITIAL_TOLERANCE = 1e-6
 
 
 class SimulationError(RuntimeError):
-    """A run that cannot go on: a body's state became NaN or infinite."""
+    """A run that cannot go on: a body's state became NaN or infinite, or flew out of range."""
 
 
 def _positive(value, what, allow_zero=False):
@@ -283,7 +283,8 @@ class World:
                 self._record_penetration(min_sep[:done])
                 i = int(self._counters[L.BAD_BODY])
                 raise SimulationError(
-                    f"step {self.step_count}: {self._describe(i)} became non-finite "
+                    f"step {self.step_count}: {self._describe(i)} diverged (non-finite, or "
+                    f"farther than {K.MAX_COORDINATE:g} m) "
                     f"(position {self._position[i].tolist()}, angle {self._angle[i]}, velocity "
                     f"{self._velocity[i].tolist()}, angular velocity {self._angular_velocity[i]}); "
                     f"try a smaller dt or check the scene")

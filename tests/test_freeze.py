@@ -329,3 +329,35 @@ def test_paper_impulse_threshold_decides_bounce_or_stay(threshold, bounces):
     else:
         assert apex < 0.01                                         # stays in contact
         assert world.states[0] == State.ROTATION_STABLE
+
+
+def test_extended_a_centred_load_does_not_tip_what_carries_it():
+    # a plank balanced on a narrow pedestal; a centred top plank lands and freezes on it; then a
+    # light pebble lands near the plank's end. `off` never moves. The top plank's support impulse
+    # must enter the frozen plank's load where it acts (at both ends of the contact), not all at
+    # one point: a false moment would make the pebble's touch tip the balanced stack.
+    pedestal = sim.Body.box(0.4, 1.0, position=(0.0, 0.5))
+    plank = sim.Body.box(4.0, 0.2, position=(0.0, 1.1))
+    top = sim.Body.box(2.0, 0.2, position=(0.0, 1.35), density=0.5)
+    pebble = sim.Body.box(0.1, 0.1, position=(-1.5, 1.4), density=0.2)
+    scene = sim.Scene(bodies=[pedestal, plank, top, pebble])
+    ref = sim.World(scene).step(120)
+    world = sim.World(scene, freeze="extended").step(120)
+    assert np.abs(ref.angles[:3]).max() < 1e-3
+    assert not [e for e in world.events if e[3] == State.FREE]   # nothing woke
+    np.testing.assert_allclose(world.positions, ref.positions, atol=0.01)
+
+
+def test_events_carry_the_number_of_the_step_that_made_them():
+    # the impact wake (recorded before the solve) and the projectile's first change of velocity
+    # (the collision) happen in the same step
+    world = sim.World(knocked_stack(), freeze="extended")
+    hit = None
+    while hit is None:
+        before = world.velocities[2, 0]
+        world.step()
+        if world.velocities[2, 0] < before - 1.0:
+            hit = world.step_count
+    impact = [step for step, b, f, t, c in world.events if c == "impact"]
+    assert impact == [hit]
+    assert all(1 <= e[0] <= world.step_count for e in world.events)

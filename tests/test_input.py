@@ -145,9 +145,17 @@ def test_non_finite_run_names_step_and_body():
     fast = sim.Body.box(1, 1, position=(0.0, 5.0), velocity=(1.7e308, 0.0), name="bullet")
     world = sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(-10, 0.5)), fast],
                                 gravity=(0, 0)), dt=10.0)
-    with pytest.raises(sim.SimulationError, match=r"step 1: bullet became non-finite"):
+    with pytest.raises(sim.SimulationError, match=r"step 1: bullet diverged"):
         world.step(5)
     assert world.step_count == 1          # stopped at the bad step, not run on
+
+
+def test_body_flung_out_of_range_names_step_and_body():
+    # finite, but far beyond any scene: the broadphase's cell indices would overflow first
+    rocket = sim.Body.box(1, 1, position=(0.0, 0.5), velocity=(1e21, 0.0), name="rocket")
+    world = sim.World(sim.Scene(bodies=[rocket]))
+    with pytest.raises(sim.SimulationError, match=r"step 1: rocket diverged"):
+        world.step(3)
 
 
 def test_step_count_must_be_a_non_negative_integer():

@@ -315,11 +315,17 @@ def after_solve(count, settings, bodies, contacts, activity):
                 continue
             sx = 0.0
             sy = 0.0
+            onto_frozen = 0 <= other < n_dyn and awake_slot[other] < 0
             for j in range(manifold_int[c, POINT_COUNT]):
                 px, py = _impulse_on(i, c, j, manifold_int, manifold_float, point_float)
                 if px * up_x + py * up_y > 0.1 * np.hypot(px, py):       # a support
                     sx += px
                     sy += py
+                    if onto_frozen:
+                        # resting on an already frozen body: that body now carries this push,
+                        # the opposite of the support impulse, at this very point
+                        _add_load(other, -px, -py, c, j, manifold_int, point_float, position,
+                                  body_real)
                 else:                                                    # a load
                     wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
                     wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
@@ -341,11 +347,6 @@ def after_solve(count, settings, bodies, contacts, activity):
                         links[n_links, 0] = other
                         links[n_links, 1] = i
                         counters[N_LINKS] = n_links + 1
-                    if awake_slot[other] < 0:
-                        # resting on an already frozen body: that body now carries this push
-                        # (the impulse on it is the opposite of the support impulse on i)
-                        _add_load(other, -sx, -sy, c, manifold_int, point_float, position,
-                                  body_real)
     # support extent along the tangent of the dominant support normal
     for k in range(n_awake):
         i = awake[k]
@@ -399,11 +400,11 @@ def after_solve(count, settings, bodies, contacts, activity):
 
 
 @inline_kernel
-def _add_load(i, fx, fy, c, manifold_int, point_float, position, body_real):
-    """Add impulse (fx, fy), applied at manifold c's first point, to frozen body i's load."""
+def _add_load(i, fx, fy, c, j, manifold_int, point_float, position, body_real):
+    """Add impulse (fx, fy), applied at point j of manifold c, to frozen body i's load."""
     b = manifold_int[c, BODY_B]
-    wx = point_float[c, 0, ANCHOR_BX] + position[b, 0]
-    wy = point_float[c, 0, ANCHOR_BY] + position[b, 1]
+    wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
+    wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
     body_real[i, LOAD_X] += fx
     body_real[i, LOAD_Y] += fy
     body_real[i, LOAD_M] += (wx - position[i, 0]) * fy - (wy - position[i, 1]) * fx

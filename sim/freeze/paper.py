@@ -37,6 +37,10 @@ Section 5.2: a FREE body landing on an RS body's floor-parallel top edge treats 
 (frozen bodies are never paired). An RS body resting on another RS body whose centre of mass is no
 longer over any of their contact points becomes FREE (seed figure 3).
 
+Events: besides state changes, ``paper`` logs the moment a body is frozen outright without a
+change of state, as an event whose from and to states are equal (RS -> RS "stopped_sliding",
+VS -> VS or RS -> RS "held_by_contact"): counting state changes means skipping those.
+
 Waking (section 3: "until a collision with another body is detected"): a moving body (FREE or VS)
 colliding with a held or RS body anywhere but its floor-parallel top edge makes that body FREE,
 before the step is solved. CHOICE: a collision is what section 2 calls one, an impact whose

@@ -11,7 +11,10 @@ DATA       := results/data
 
 EXPERIMENTS := bench_step bench_freeze peer_agreement
 
-.PHONY: all venv test reproduce lock clean distclean $(EXPERIMENTS)
+SCENE ?= seed_fig3
+FREEZE ?= paper
+
+.PHONY: all venv test reproduce trace lock clean distclean $(EXPERIMENTS)
 
 all: test
 
@@ -40,6 +43,10 @@ $(DATA)/%.csv: experiments/%.py $(SIM_SOURCES) $(PEER_SOURCES) | $(STAMP)
 
 $(EXPERIMENTS): $(STAMP)
 	$(PY) -m experiments.$@ $(QUICKFLAG)
+
+# A rerun recording of one run: make trace SCENE=pyramid FREEZE=extended; open with `rerun <file>`
+trace: $(STAMP)
+	$(PY) -m analysis.trace $(SCENE) $(FREEZE)
 
 # Print the currently installed versions, to refresh the `pinned` extra by hand.
 lock: $(STAMP)

@@ -240,25 +240,27 @@ def collide_polygons(verts_a, verts_b, margin):
              "ids": [], "inc_edge": None, "choice": choice}
     if choice["sep_a"] > margin or choice["sep_b"] > margin:
         return empty
-    flip, ref_edge = choice["flip"], choice["edge"]
-    ref_v, inc_v = (vb, va) if flip else (va, vb)
-    r0, r1 = edges(ref_v)[ref_edge]
-    n = outward_normal(r0, r1)
-    inc_edge, _ = incident_edge(n, inc_v)
-    clipped = clip_incident_edge(ref_v, ref_edge, inc_v, inc_edge)
-    if not clipped:
-        return empty
-    base = (flip * ID_BASE + ref_edge) * ID_BASE + inc_edge
-    points, seps, ids = [], [], []
-    for p, end in clipped:
-        s = float(n @ (p - r0))          # signed distance to the reference face's line
-        if s <= margin:
-            points.append(p)
-            seps.append(s)
-            ids.append(base * 2 + end)
-    return {"count": len(points), "flip": flip, "edge": ref_edge, "normal": -n if flip else n,
-            "points": points, "separations": seps, "ids": ids, "inc_edge": inc_edge,
-            "choice": choice}
+    # The preferred face first; if clipping against it keeps no point (a short face the incident
+    # edge misses entirely, possible inside the bias band), the other polygon's best face.
+    for flip in (choice["flip"], 1 - choice["flip"]):
+        ref_edge = choice["edge_b"] if flip else choice["edge_a"]
+        ref_v, inc_v = (vb, va) if flip else (va, vb)
+        r0, r1 = edges(ref_v)[ref_edge]
+        n = outward_normal(r0, r1)
+        inc_edge, _ = incident_edge(n, inc_v)
+        base = (flip * ID_BASE + ref_edge) * ID_BASE + inc_edge
+        points, seps, ids = [], [], []
+        for p, end in clip_incident_edge(ref_v, ref_edge, inc_v, inc_edge):
+            s = float(n @ (p - r0))          # signed distance to the reference face's line
+            if s <= margin:
+                points.append(p)
+                seps.append(s)
+                ids.append(base * 2 + end)
+        if points:
+            return {"count": len(points), "flip": flip, "edge": ref_edge,
+                    "normal": -n if flip else n, "points": points, "separations": seps,
+                    "ids": ids, "inc_edge": inc_edge, "choice": choice}
+    return empty
 
 
 def floor_contacts(vertices, floor_y, margin):

@@ -1,6 +1,7 @@
 """A rerun recording (``.rrd``) of one run, to inspect it frame by frame.
 
-    python -m analysis.trace SCENE FREEZE [--steps N] [--out PATH]      (or: make trace SCENE=... FREEZE=...)
+    python -m analysis.trace SCENE FREEZE [--size N] [--steps N] [--out PATH]
+    make trace SCENE=... FREEZE=...
     rerun results/recordings/<scene>__<policy>.rrd                      (opens it)
 
 Per step, on the timeline ``step``:
@@ -73,6 +74,9 @@ def main(argv=None):
                                      description=__doc__.splitlines()[0])
     parser.add_argument("scene", choices=sorted(sim.scenes.BUILDERS), help="a sim.scenes builder")
     parser.add_argument("freeze", choices=sim.POLICY_NAMES, help="freeze policy")
+    parser.add_argument("--size", type=int, default=None,
+                        help="the builder's size argument (rest_row n, stack height, pyramid "
+                             "base, drop n); default the builder's own")
     parser.add_argument("--steps", type=int, default=300, help="steps to record (default 300)")
     parser.add_argument("--out", default=None, help="output .rrd (default results/recordings/)")
     parser.add_argument("--arrow-scale", type=float, default=0.5, help="m per N s of impulse")
@@ -80,8 +84,9 @@ def main(argv=None):
     if args.steps < 1:
         parser.error("--steps must be >= 1")
     path = args.out or ensure(RECORDINGS) / f"{args.scene}__{args.freeze}.rrd"
-    record(sim.scenes.BUILDERS[args.scene](), args.freeze, args.steps, path,
-           arrow_scale=args.arrow_scale)
+    build = sim.scenes.BUILDERS[args.scene]
+    scene = build() if args.size is None else build(args.size)
+    record(scene, args.freeze, args.steps, path, arrow_scale=args.arrow_scale)
     print(f"wrote {path}   (open it with: rerun {path})")
     return path
 

@@ -22,7 +22,7 @@ def single_box(size=1.0, friction=0.6, density=1.0):
                                           density=density)], {"size": size, "friction": friction})
 
 
-def rest_row(n, size=1.0, gap=0.5, friction=0.6):
+def rest_row(n=10, size=1.0, gap=0.5, friction=0.6):
     """``n`` square boxes resting on the floor in a row, ``gap`` apart (no box touches another)."""
     pitch = size + gap
     bodies = [Body.box(size, size, position=(i * pitch, size / 2), friction=friction)
@@ -30,14 +30,14 @@ def rest_row(n, size=1.0, gap=0.5, friction=0.6):
     return _scene("rest_row", bodies, {"n": n, "size": size, "gap": gap, "friction": friction})
 
 
-def stack(height, size=1.0, friction=0.6):
+def stack(height=5, size=1.0, friction=0.6):
     """A column of ``height`` square boxes on the floor."""
     bodies = [Body.box(size, size, position=(0.0, size / 2 + i * size), friction=friction)
               for i in range(height)]
     return _scene("stack", bodies, {"height": height, "size": size, "friction": friction})
 
 
-def pyramid(base, size=1.0, gap=0.125, friction=0.6):
+def pyramid(base=10, size=1.0, gap=0.125, friction=0.6):
     """A pyramid of square boxes: ``base`` on the floor, one fewer in each row above, each box
     centred over the gap between the two below; ``gap`` (m) separates neighbours in a row, as in
     Box2D's pyramid benchmark, so every box is carried only by the two below it.
@@ -66,7 +66,7 @@ def random_convex(rng, radius, n_min=3, n_max=8):
         return v - body.centroid
 
 
-def drop(n, seed=0, radius=0.4, width=None, friction=0.6):
+def drop(n=30, seed=0, radius=0.4, width=None, friction=0.6):
     """``n`` random convex polygons (3-8 vertices) dropped from a grid into a walled bin.
 
     Walls are static polygons. Bodies start 1.2*2*radius apart in a grid ``width`` wide (default

@@ -25,7 +25,7 @@ Manifolds are stored in increasing KEY order, so last step's manifolds can be ma
 step's by a merge walk, and impulses copied where the feature ids agree.
 """
 import numpy as np
-from .jit import kernel, lean_kernel
+from .jit import lean_kernel
 
 from .geometry import collide_floor_rows, collide_polygon_rows
 

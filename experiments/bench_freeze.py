@@ -233,6 +233,18 @@ def _row(part, scene, system, bodies, n_aw, n_fr, metric, value, unit, flag=""):
             "n_frozen": n_fr, "metric": metric, "value": value, "unit": unit, "flag": flag}
 
 
+def _timing_rows(common, times, before, after, steps, repeats):
+    """The rows every timed run reports: median and min ms/step, awake counts around the timing,
+    and how it was timed."""
+    return [_row(**common, metric="ms_per_step_median", value=statistics.median(times),
+                 unit="ms"),
+            _row(**common, metric="ms_per_step_min", value=min(times), unit="ms"),
+            _row(**common, metric="n_awake_before", value=before, unit="bodies"),
+            _row(**common, metric="n_awake_after", value=after, unit="bodies"),
+            _row(**common, metric="steps_per_repeat", value=steps, unit="steps"),
+            _row(**common, metric="repeats", value=repeats, unit="count")]
+
+
 def _moved(runner, start):
     return float(np.hypot(*(runner.positions - start).T).max())
 
@@ -341,16 +353,8 @@ def per_body_cost(config, repeats, progress):
         ok = before[k] == expected and after[k] == expected and (not na or lowest > 5.0)
         common = dict(part="per_body_cost", scene=tag, system=system, bodies=nf + na, n_aw=na,
                       n_fr=nf, flag="" if ok else "awake count or flight check failed")
-        rows += [
-            _row(**common, metric="ms_per_step_median", value=statistics.median(times[k]),
-                 unit="ms"),
-            _row(**common, metric="ms_per_step_min", value=min(times[k]), unit="ms"),
-            _row(**common, metric="n_awake_before", value=before[k], unit="bodies"),
-            _row(**common, metric="n_awake_after", value=after[k], unit="bodies"),
-            _row(**common, metric="lowest_flying_y", value=lowest, unit="m"),
-            _row(**common, metric="steps_per_repeat", value=steps, unit="steps"),
-            _row(**common, metric="repeats", value=repeats, unit="count"),
-        ]
+        rows += _timing_rows(common, times[k], before[k], after[k], steps, repeats)
+        rows.append(_row(**common, metric="lowest_flying_y", value=lowest, unit="m"))
     for system in MIX_SYSTEMS:
         ks = [k for k, key in enumerate(keys) if key[1] == system]
         fit = fit_cost([keys[k][3] for k in ks], [keys[k][2] for k in ks],
@@ -456,15 +460,7 @@ def in_flight_overhead(config, repeats, progress):
             common = dict(part="in_flight_overhead", scene=tag, system=system, bodies=n,
                           n_aw=before[k], n_fr=n - before[k],
                           flag="" if ok else "a body froze: not an in-flight scene")
-            rows += [
-                _row(**common, metric="ms_per_step_median", value=statistics.median(times[k]),
-                     unit="ms"),
-                _row(**common, metric="ms_per_step_min", value=min(times[k]), unit="ms"),
-                _row(**common, metric="n_awake_before", value=before[k], unit="bodies"),
-                _row(**common, metric="n_awake_after", value=after[k], unit="bodies"),
-                _row(**common, metric="steps_per_repeat", value=steps, unit="steps"),
-                _row(**common, metric="repeats", value=repeats, unit="count"),
-            ]
+            rows += _timing_rows(common, times[k], before[k], after[k], steps, repeats)
             if system == "sim-extended":
                 rows += [
                     _row(**common, metric="ratio_to_off_median", value=ratio_med, unit="ratio"),

@@ -1,20 +1,48 @@
 # freeze2d: every target runs inside .venv, which is built from the pins in pyproject.toml.
 # Fresh clone, only python3 (>= 3.11) and make needed:  make test  |  make reproduce
+#
+#   make reproduce            every experiment, figure, table, recording and paper/paper.pdf
+#   make reproduce QUICK=1    the same pipeline on small sizes, into results/quick/ (never mixes
+#                             with the full results)
+#   make <name>               rerun one experiment and redraw its figure (names: $(ALL))
+#   make figures              redraw every figure/table from existing data (never simulates)
+#   make trace SCENE=pyramid FREEZE=extended     one rerun recording; open with `rerun <file>`
 
 PYTHON_SYS ?= python3
 VENV       := .venv
-PY         := $(VENV)/bin/python
+PY         ?= $(VENV)/bin/python
 STAMP      := $(VENV)/.installed
 QUICK      ?=
 QUICKFLAG  := $(if $(QUICK),--quick,)
-DATA       := results/data
 
-EXPERIMENTS := bench_step bench_freeze peer_agreement
+# Where outputs go. Quick runs get their own tree, so a quick result is never taken for a full one.
+ifneq ($(QUICK),)
+RESULTS_DIR ?= results/quick
+PAPER_OUT   ?= results/quick/paper
+else
+RESULTS_DIR ?= results
+PAPER_OUT   ?= paper
+endif
+export FREEZE2D_RESULTS   := $(abspath $(RESULTS_DIR))
+export FREEZE2D_PAPER_OUT := $(abspath $(PAPER_OUT))
+DATA := $(RESULTS_DIR)/data
+GEN  := $(PAPER_OUT)/generated
+RECS := $(RESULTS_DIR)/recordings
+
+# One experiment script (experiments/<name>.py) and one analysis script (analysis/<name>.py) each.
+TABLES  := bench_step bench_freeze peer_agreement
+STUDY   := fig_states fig_edge_as_floor fig_overhang fig_speedup fig_scaling fig_time_to_rest \
+           fig_tradeoff table_failures
+ALL     := $(TABLES) $(STUDY)
+# One recording per figure scene: <builder>__<policy>
+RECORDINGS := seed_fig1__paper seed_fig2__paper seed_fig3__paper seed_fig3__extended \
+              pyramid__extended drop__sleep drop__extended
+RECORD_STEPS := $(if $(QUICK),60,300)
 
 SCENE ?= seed_fig3
 FREEZE ?= paper
 
-.PHONY: all venv test reproduce trace lock clean distclean $(EXPERIMENTS)
+.PHONY: all venv test reproduce figures paper glance recordings trace lock clean distclean $(ALL)
 
 all: test
 
@@ -22,8 +50,8 @@ all: test
 $(STAMP): pyproject.toml
 	$(PYTHON_SYS) -c 'import sys; assert sys.version_info >= (3, 11), "freeze2d needs Python >= 3.11, found " + sys.version'
 	$(PYTHON_SYS) -m venv $(VENV)
-	$(PY) -m pip install --quiet --upgrade pip==25.3
-	$(PY) -m pip install --quiet -e '.[dev,pinned]'
+	$(VENV)/bin/python -m pip install --quiet --upgrade pip==25.3
+	$(VENV)/bin/python -m pip install --quiet -e '.[dev,pinned]'
 	touch $@
 
 venv: $(STAMP)
@@ -31,18 +59,42 @@ venv: $(STAMP)
 test: $(STAMP)
 	$(PY) -m pytest -q
 
-# Everything the study produces. Each results file is rebuilt when its script or the solver
-# changes; `make <name>` reruns one experiment unconditionally.
-reproduce: $(addprefix $(DATA)/,$(addsuffix .csv,$(EXPERIMENTS)))
+SIM_SOURCES  := $(wildcard sim/*.py sim/freeze/*.py)
+EXP_SOURCES  := $(wildcard experiments/peers/*.py) experiments/common.py experiments/metadata.py \
+                experiments/paths.py experiments/timing.py experiments/executor.py \
+                experiments/filmstrip.py experiments/scenarios.py
+ANA_SOURCES  := analysis/style.py
 
-SIM_SOURCES := $(wildcard sim/*.py sim/freeze/*.py)
-PEER_SOURCES := $(wildcard experiments/peers/*.py) experiments/metadata.py experiments/paths.py
+reproduce: paper recordings glance
 
-$(DATA)/%.csv: experiments/%.py $(SIM_SOURCES) $(PEER_SOURCES) | $(STAMP)
+# Simulation: results/data/<name>.csv (+ .json) is rebuilt when its script or the solver changes.
+$(DATA)/%.csv: experiments/%.py $(SIM_SOURCES) $(EXP_SOURCES) | $(STAMP)
 	$(PY) -m experiments.$* $(QUICKFLAG)
 
-$(EXPERIMENTS): $(STAMP)
+# Analysis: figures, tables and the numbers the paper quotes; never simulates.
+$(GEN)/%.json: $(DATA)/%.csv analysis/%.py $(ANA_SOURCES) | $(STAMP)
+	$(PY) -m analysis.$*
+
+figures: $(foreach n,$(ALL),$(GEN)/$(n).json)
+
+paper: $(PAPER_OUT)/paper.pdf
+$(PAPER_OUT)/paper.pdf: paper/paper.typ analysis/paper.py $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
+	$(PY) -m analysis.paper
+
+# Results at a glance (and, for full runs, the README block between its markers).
+glance: $(GEN)/glance.md
+$(GEN)/glance.md: analysis/glance.py $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
+	$(PY) -m analysis.glance $(if $(QUICK),,--readme README.md)
+
+recordings: $(foreach r,$(RECORDINGS),$(RECS)/$(r).rrd)
+$(RECS)/%.rrd: analysis/trace.py $(SIM_SOURCES) | $(STAMP)
+	$(PY) -m analysis.trace $(word 1,$(subst __, ,$*)) $(word 2,$(subst __, ,$*)) \
+	    --steps $(RECORD_STEPS) --out $@
+
+# `make <name>`: rerun one experiment unconditionally, then redraw what it feeds.
+$(ALL): $(STAMP)
 	$(PY) -m experiments.$@ $(QUICKFLAG)
+	$(PY) -m analysis.$@
 
 # A rerun recording of one run: make trace SCENE=pyramid FREEZE=extended; open with `rerun <file>`
 trace: $(STAMP)
@@ -53,7 +105,7 @@ lock: $(STAMP)
 	$(PY) -m pip freeze --exclude-editable
 
 clean:
-	rm -rf results
+	rm -rf results paper/figures paper/generated paper/paper.pdf
 
 distclean: clean
 	rm -rf $(VENV)

@@ -16,6 +16,7 @@ Per step, on the timeline ``step``:
 """
 import argparse
 import time
+from pathlib import Path
 
 import numpy as np
 import rerun as rr
@@ -83,7 +84,8 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.steps < 1:
         parser.error("--steps must be >= 1")
-    path = args.out or ensure(RECORDINGS) / f"{args.scene}__{args.freeze}.rrd"
+    path = Path(args.out) if args.out else RECORDINGS / f"{args.scene}__{args.freeze}.rrd"
+    ensure(path.parent)
     build = sim.scenes.BUILDERS[args.scene]
     scene = build() if args.size is None else build(args.size)
     record(scene, args.freeze, args.steps, path, arrow_scale=args.arrow_scale)

@@ -67,13 +67,13 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from experiments.timing import interleaved, timed
+from experiments.timing import interleaved
 from experiments.metadata import collect, write_results
-from experiments.peers import engine_of, make_runner
+from experiments.common import (DT, SLOP, awake_mask, build, calibrate, compile_kernels, label,
+                                n_awake, step_until_frozen)
+from experiments.peers import engine_of
 
 NAME = "bench_freeze"
-DT = 1 / 60                 # s
-SLOP = 0.005                # m, sim's slop and pymunk's collision_slop
 WARMUP_STEPS = 10           # untimed steps after build (and after freezing) before any timing
 FALL_HEIGHT = 3000.0        # m, bottom of the falling block (parts 2 and 4)
 FLY_PITCH = 2.0             # m between falling/drifting boxes (unit boxes: never touching at rest)
@@ -82,8 +82,6 @@ DRIFT_SPREAD = 0.5          # m/s, +- uniform spread per velocity component; spi
 SEED = 0                    # the drift scene's random velocities
 FREEZE_HOLD_S = 1.0         # s stepped after all froze, to see whether the freeze holds
 
-#: settings that make the systems comparable (iterations: each engine's default, see peers)
-SYSTEM_SETTINGS = {"sim": {"slop": SLOP}, "pymunk": {"collision_slop": SLOP}, "pybullet": {}}
 FREEZING = ("sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep", "pybullet-sleep")
 FROZEN_SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep")
 FROZEN_SYSTEMS_PB = FROZEN_SYSTEMS + ("pybullet-sleep",)
@@ -123,19 +121,6 @@ QUICK = {
 
 
 # ---- scenes ------------------------------------------------------------------------------------
-def label(scene):
-    """A short readable name of a scene: rest_row(50), drop(30,seed=1), mix(frozen=..,awake=..)."""
-    p = scene.params
-    if scene.name == "drop":
-        return f"drop({p['n']},seed={p['seed']})"
-    if scene.name in ("rest_row", "pyramid", "stack"):
-        key = {"rest_row": "n", "pyramid": "base", "stack": "height"}[scene.name]
-        return f"{scene.name}({p[key]})"
-    if scene.name == "mix":
-        return f"mix(frozen={p['n_frozen']},awake={p['n_awake']})"
-    if scene.name in ("fall", "drift"):
-        return f"{scene.name}({p['n']})"
-    return scene.name
 
 
 def _block(n, y0, velocity=None, angular_velocity=None, x0=0.0):
@@ -189,45 +174,6 @@ def flight_budget(height=FALL_HEIGHT, clearance=10.0):
 
 
 # ---- running -----------------------------------------------------------------------------------
-def compile_kernels():
-    """Compile (or load from Numba's cache) every kernel, for every policy, on a tiny World."""
-    for policy in sim.POLICY_NAMES:
-        sim.World(sim.scenes.rest_row(2), dt=DT, freeze=policy).step(3)
-
-
-def build(system, scene):
-    """The runner of ``system`` on ``scene`` with the comparable settings (SYSTEM_SETTINGS)."""
-    return make_runner(system, scene, dt=DT, **SYSTEM_SETTINGS[engine_of(system)])
-
-
-def awake_mask(runner):
-    """(N,) bool: the bodies the system still works on: not ``asleep`` (for sim, ``asleep`` is
-    ``World.frozen``, out of the awake list; under ``paper`` a pivoting VERTICAL_STABLE or a sliding
-    ROTATION_STABLE body is still awake)."""
-    return ~np.asarray(runner.asleep, dtype=bool)
-
-
-def n_awake(runner):
-    return int(awake_mask(runner).sum())
-
-
-def step_until_frozen(runner, cap_steps):
-    """Step one step at a time until no body is solved; returns the step count reached then
-    (the runner's step_count), or None at the cap."""
-    while runner.step_count < cap_steps:
-        runner.step(1)
-        if not awake_mask(runner).any():
-            return runner.step_count
-    return None
-
-
-def calibrate(runner, target_s, probe=10, lo=10, hi=5000):
-    """Steps per repeat so that one repeat lasts about ``target_s`` (from ``probe`` untimed-ish
-    steps, which also serve as warm-up)."""
-    t = timed(runner, probe) / probe
-    return int(min(hi, max(lo, round(target_s / max(t, 1e-9)))))
-
-
 def _row(part, scene, system, bodies, n_aw, n_fr, metric, value, unit, flag=""):
     return {"part": part, "scene": scene, "system": system, "bodies": bodies, "n_awake": n_aw,
             "n_frozen": n_fr, "metric": metric, "value": value, "unit": unit, "flag": flag}

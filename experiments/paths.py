@@ -1,7 +1,12 @@
 """Every path the study uses, derived from the repository root in this one place.
 
-``FREEZE2D_RESULTS`` (environment variable) moves the whole results tree, e.g. into a temporary
-folder for tests or onto a scratch disk; it is read once, at import.
+Two environment variables move the outputs, read once, at import (the Makefile sets both for
+``make reproduce QUICK=1`` so that quick results never overwrite full ones; tests point them into
+temporary folders):
+
+    FREEZE2D_RESULTS    the results tree: data/, recordings/         (default <root>/results)
+    FREEZE2D_PAPER_OUT  what analysis writes for the paper: figures/, generated/, paper.pdf
+                        (default <root>/paper, beside paper.typ)
 """
 import os
 from pathlib import Path
@@ -11,9 +16,11 @@ RESULTS = Path(os.environ.get("FREEZE2D_RESULTS") or ROOT / "results").resolve()
 DATA = RESULTS / "data"                  # experiments -> <name>.csv + <name>.json
 RECORDINGS = RESULTS / "recordings"      # <scene>__<policy>.rrd
 BENCH = RESULTS / "bench"                # raw timing logs
-PAPER = ROOT / "paper"
-FIGURES = PAPER / "figures"              # analysis -> <name>.svg
-GENERATED = PAPER / "generated"          # analysis -> <name>.csv tables read by the paper
+PAPER = ROOT / "paper"                   # paper.typ, the source
+PAPER_OUT = Path(os.environ.get("FREEZE2D_PAPER_OUT") or PAPER).resolve()
+FIGURES = PAPER_OUT / "figures"          # analysis -> <name>.svg
+GENERATED = PAPER_OUT / "generated"      # analysis -> <name>.csv tables, <name>.json numbers
+PDF = PAPER_OUT / "paper.pdf"
 
 
 def ensure(folder):

@@ -1,0 +1,70 @@
+"""Compile the write-up: paper/paper.typ -> paper/paper.pdf with the ``typst`` Python package.
+
+Before compiling, writes ``generated/setup.json`` (machine, versions, commit, date, sizes: read
+from the experiments' own metadata, so the set-up section is generated too). The paper reads only
+``figures/`` and ``generated/`` beside it. When the outputs live elsewhere (``FREEZE2D_PAPER_OUT``,
+e.g. the quick pipeline), the source is copied there first, so that both resolve the same way.
+
+    python -m analysis.paper [--png DIR]     (--png: also render every page to DIR/page-N.png)
+"""
+import argparse
+import json
+import shutil
+
+import typst
+
+from analysis.style import write_numbers
+from experiments import paths
+
+SOURCES = ("paper.typ",)
+#: the experiments whose metadata describes the set-up (the first one present is used)
+SETUP_FROM = ("fig_speedup", "bench_step", "bench_freeze")
+
+
+def setup_numbers():
+    """Machine, versions and provenance from the experiments' metadata."""
+    commits, quick, meta = set(), set(), None
+    for path in sorted(paths.DATA.glob("*.json")):
+        m = json.loads(path.read_text())
+        commits.add(m.get("git", {}).get("commit", "unknown"))
+        quick.add(bool(m.get("parameters", {}).get("quick", False)))
+    for name in SETUP_FROM:
+        path = paths.DATA / f"{name}.json"
+        if path.exists():
+            meta = json.loads(path.read_text())
+            break
+    if meta is None:
+        raise FileNotFoundError(f"no experiment metadata in {paths.DATA}: run make reproduce")
+    return meta, {"cpu": meta["cpu"], "cpu_count": meta["cpu_count"],
+                  "platform": meta["platform"], "python": meta["python"],
+                  "packages": meta["packages"], "commits": sorted(commits),
+                  "quick": any(quick), "date_utc": meta["date_utc"]}
+
+
+def compile_paper(png_dir=None):
+    out = paths.ensure(paths.PAPER_OUT)
+    if out != paths.PAPER:
+        for name in SOURCES:
+            shutil.copyfile(paths.PAPER / name, out / name)
+    meta, numbers = setup_numbers()
+    write_numbers("setup", numbers, meta)
+    typst.compile(str(out / "paper.typ"), output=str(paths.PDF), root=str(out))
+    print(f"wrote {paths.PDF}")
+    if png_dir is not None:
+        png_dir = paths.ensure(png_dir)
+        typst.compile(str(out / "paper.typ"), output=str(png_dir / "page-{p}.png"),
+                      root=str(out), format="png", ppi=110)
+        print(f"wrote {png_dir}/page-*.png")
+    return paths.PDF
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python -m analysis.paper",
+                                     description=__doc__.splitlines()[0])
+    parser.add_argument("--png", default=None, help="also render each page to DIR/page-N.png")
+    args = parser.parse_args(argv)
+    return compile_paper(args.png)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,120 @@
+"""One look for every figure, and the few ways analysis reads data and writes paper inputs.
+
+Every ``analysis/<name>.py`` turns ``results/data/<name>.csv`` (+ ``.json``) into some of:
+
+    paper/figures/<name>.svg        matplotlib, Agg backend, this module's style
+    paper/generated/<name>.csv      tables the Typst paper reads with csv(...)
+    paper/generated/<name>.json     every number the paper's text quotes, read with json(...)
+
+and never runs a simulation (re-plotting is cheap; Make rules on files keep it so).
+``main = style.entry(NAME, draw)`` gives each module its command line; ``draw(table, meta)``
+returns the dict of numbers written to ``<name>.json`` (always written: it is the Make target).
+"""
+import json
+import math
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
+import pandas as pd  # noqa: E402
+
+from experiments import paths  # noqa: E402
+from experiments.metadata import _atomic_write, _jsonable  # noqa: E402
+
+#: one colour, marker and line per system, everywhere (colour-blind-safe Okabe-Ito palette; sleeping
+#: variants of the peers dashed)
+SYSTEM_STYLE = {
+    "sim-off":        {"color": "#000000", "marker": "o", "linestyle": "-"},
+    "sim-sleep":      {"color": "#56B4E9", "marker": "s", "linestyle": "-"},
+    "sim-paper":      {"color": "#E69F00", "marker": "^", "linestyle": "-"},
+    "sim-extended":   {"color": "#009E73", "marker": "D", "linestyle": "-"},
+    "pymunk":         {"color": "#CC79A7", "marker": "v", "linestyle": ":"},
+    "pymunk-sleep":   {"color": "#CC79A7", "marker": "v", "linestyle": "--"},
+    "pybullet":       {"color": "#D55E00", "marker": "P", "linestyle": ":"},
+    "pybullet-sleep": {"color": "#D55E00", "marker": "P", "linestyle": "--"},
+}
+#: body state -> RGB 0..255 (FREE, VERTICAL_STABLE, ROTATION_STABLE, SLEEPING); the recordings use
+#: the same colours, frozen bodies drawn darker
+STATE_RGB = ((66, 135, 245), (245, 166, 35), (80, 190, 90), (150, 150, 150))
+STATE_LABEL = ("free (vertical-unstable)", "vertical-stable", "rotation-stable", "sleeping")
+WIDTH = 6.3        # in, the paper's text width
+RC = {
+    "figure.figsize": (WIDTH, 3.0), "figure.dpi": 100, "font.size": 8, "axes.titlesize": 9,
+    "axes.labelsize": 8, "legend.fontsize": 7, "xtick.labelsize": 7, "ytick.labelsize": 7,
+    "axes.grid": True, "grid.alpha": 0.3, "grid.linewidth": 0.5, "lines.linewidth": 1.2,
+    "lines.markersize": 4, "axes.spines.top": False, "axes.spines.right": False,
+    "svg.hashsalt": "freeze2d",        # stable ids: an unchanged figure is an unchanged file
+    "savefig.bbox": "tight",
+}
+plt.rcParams.update(RC)
+
+
+def state_color(state, frozen=False):
+    """Matplotlib colour of a body state (int), darker when frozen."""
+    rgb = STATE_RGB[int(state)]
+    scale = 0.5 if frozen else 1.0
+    return tuple(scale * c / 255 for c in rgb)
+
+
+def system_style(system):
+    return SYSTEM_STYLE.get(system, {"color": "#777777", "marker": ".", "linestyle": "-"})
+
+
+def load(name):
+    """(table, metadata) of ``results/data/<name>.{csv,json}``; a clear error when missing."""
+    csv_path, json_path = paths.DATA / f"{name}.csv", paths.DATA / f"{name}.json"
+    if not csv_path.exists() or not json_path.exists():
+        raise FileNotFoundError(f"{csv_path} (and .json) missing: run `make {name}` or "
+                                f"`python -m experiments.{name}` first")
+    return pd.read_csv(csv_path), json.loads(json_path.read_text())
+
+
+def save_figure(fig, name):
+    """Write ``paper/figures/<name>.svg`` (no date in the file, so reruns compare equal)."""
+    path = paths.ensure(paths.FIGURES) / f"{name}.svg"
+    fig.savefig(path, format="svg", metadata={"Date": None})
+    plt.close(fig)
+    return path
+
+
+def write_table(table, name):
+    """Write ``paper/generated/<name>.csv`` (a table the paper shows as is)."""
+    path = paths.ensure(paths.GENERATED) / f"{name}.csv"
+    _atomic_write(path, table.to_csv(index=False))
+    return path
+
+
+def write_numbers(name, numbers, meta):
+    """Write ``paper/generated/<name>.json``: the numbers the paper quotes, plus where they came
+    from (commit, quick or full sizes). Non-finite numbers become strings ("nan")."""
+    out = {"numbers": numbers, "source": f"results/data/{name}.csv",
+           "commit": meta.get("git", {}).get("commit", "unknown"),
+           "quick": bool(meta.get("parameters", {}).get("quick", False)),
+           "date_utc": meta.get("date_utc", "unknown")}
+    path = paths.ensure(paths.GENERATED) / f"{name}.json"
+    _atomic_write(path, json.dumps(_jsonable(out), indent=2) + "\n")
+    return path
+
+
+def fmt(x, digits=3):
+    """A number as the paper prints it: ``digits`` significant figures, "n/a" when not finite."""
+    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+        return "n/a"
+    return f"{x:.{digits}g}"
+
+
+def entry(name, draw):
+    """The command line ``python -m analysis.<name>``: load, draw, write the numbers."""
+    def main(argv=None):
+        if argv is None:
+            argv = sys.argv[1:]
+        if argv:
+            raise SystemExit(f"usage: python -m analysis.{name}   (reads results/data/{name}.csv)")
+        table, meta = load(name)
+        numbers = draw(table, meta) or {}
+        path = write_numbers(name, numbers, meta)
+        print(f"wrote {path}")
+        return numbers
+    return main

@@ -1,0 +1,128 @@
+"""What every study experiment shares: the comparable settings of the systems, building a runner,
+compiling the kernels before any timing, short scene labels, the standard command line and writing
+the results with their provenance.
+
+An experiment script (one per figure or table, DESIGN section 6) looks like::
+
+    def run(config, args) -> (pandas.DataFrame, scenes, parameters)
+    main = common.entry(NAME, __doc__, FULL, QUICK, run)
+"""
+import argparse
+import math
+
+import numpy as np
+import pandas as pd
+
+import sim
+from experiments.metadata import collect, write_results
+from experiments.peers import engine_of, make_runner
+from experiments.timing import timed
+
+DT = 1 / 60                 # s, every system's step unless an experiment sweeps it
+SLOP = 0.005                # m, sim's slop and pymunk's collision_slop
+#: settings that make the systems comparable (iterations: each engine's default, see peers)
+SYSTEM_SETTINGS = {"sim": {"slop": SLOP}, "pymunk": {"collision_slop": SLOP}, "pybullet": {}}
+#: every system of the study, and each one's sleeping-off reference
+SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk", "pymunk-sleep",
+           "pybullet", "pybullet-sleep")
+REFERENCE = {"sim-off": "sim-off", "sim-sleep": "sim-off", "sim-paper": "sim-off",
+             "sim-extended": "sim-off", "pymunk": "pymunk", "pymunk-sleep": "pymunk",
+             "pybullet": "pybullet", "pybullet-sleep": "pybullet"}
+
+
+def compile_kernels():
+    """Compile (or load from Numba's cache) every kernel, for every policy, on a tiny World, so
+    that no timing includes JIT compilation."""
+    for policy in sim.POLICY_NAMES:
+        sim.World(sim.scenes.rest_row(2), dt=DT, freeze=policy).step(3)
+
+
+def build(system, scene, dt=DT, **settings):
+    """The runner of ``system`` on ``scene`` with the comparable settings (SYSTEM_SETTINGS),
+    overridden by ``settings``."""
+    return make_runner(system, scene, dt=dt, **{**SYSTEM_SETTINGS[engine_of(system)], **settings})
+
+
+def label(scene):
+    """A short readable name of a scene: rest_row(50), drop(30,seed=1), mix(frozen=..,awake=..)."""
+    p = scene.params
+    if scene.name == "drop":
+        return f"drop({p['n']},seed={p['seed']})"
+    if scene.name in ("rest_row", "pyramid", "stack"):
+        key = {"rest_row": "n", "pyramid": "base", "stack": "height"}[scene.name]
+        return f"{scene.name}({p[key]})"
+    if scene.name == "mix":
+        return f"mix(frozen={p['n_frozen']},awake={p['n_awake']})"
+    if scene.name in ("fall", "drift"):
+        return f"{scene.name}({p['n']})"
+    return scene.name
+
+
+def awake_mask(runner):
+    """(N,) bool: the bodies the system still works on: not ``asleep`` (for sim, ``asleep`` is
+    ``World.frozen``, out of the awake list; under ``paper`` a pivoting VERTICAL_STABLE or a sliding
+    ROTATION_STABLE body is still awake)."""
+    return ~np.asarray(runner.asleep, dtype=bool)
+
+
+def n_awake(runner):
+    return int(awake_mask(runner).sum())
+
+
+def step_until_frozen(runner, cap_steps):
+    """Step one step at a time until no body is solved; returns the step count reached then
+    (the runner's step_count), or None at the cap."""
+    while runner.step_count < cap_steps:
+        runner.step(1)
+        if not awake_mask(runner).any():
+            return runner.step_count
+    return None
+
+
+def calibrate(runner, target_s, probe=10, lo=10, hi=5000):
+    """Steps per repeat so that one repeat lasts about ``target_s`` (from ``probe`` untimed-ish
+    steps, which also serve as warm-up)."""
+    t = timed(runner, probe) / probe
+    return int(min(hi, max(lo, round(target_s / max(t, 1e-9)))))
+
+
+def pose_error(positions, angles, ref_positions, ref_angles):
+    """(largest centre distance m, largest angle difference rad) between two poses of the same
+    bodies; angles compared modulo 2 pi."""
+    d = np.hypot(*(np.asarray(positions) - np.asarray(ref_positions)).T)
+    a = np.abs(np.angle(np.exp(1j * (np.asarray(angles) - np.asarray(ref_angles)))))
+    return float(d.max()), float(a.max())
+
+
+def entry(name, doc, full, quick, run, extra_args=None):
+    """The standard command line of an experiment: ``python -m experiments.<name> [--quick]``.
+
+    run(config, args) -> (table DataFrame, scenes, parameters dict); the returned ``main(argv=None,
+    data_dir=None)`` parses, runs, writes ``<data_dir>/<name>.csv`` + ``.json`` (data_dir defaults
+    to results/data) and prints the table. ``extra_args(parser)`` may add options."""
+    def main(argv=None, data_dir=None):
+        parser = argparse.ArgumentParser(prog=f"python -m experiments.{name}",
+                                         description=doc.splitlines()[0])
+        parser.add_argument("--quick", action="store_true",
+                            help="the same code on small sizes (CI, `make reproduce QUICK=1`)")
+        if extra_args is not None:
+            extra_args(parser)
+        args = parser.parse_args(argv)
+        config = quick if args.quick else full
+        table, scenes, parameters = run(config, args)
+        if not isinstance(table, pd.DataFrame) or table.empty:
+            raise RuntimeError(f"{name}: the experiment produced no rows")
+        parameters = {"quick": args.quick, "config": config, **parameters}
+        metadata = collect(scenes, parameters, script=name, seed=parameters.get("seed"))
+        csv_path, _ = write_results(name, table, metadata, folder=data_dir)
+        with pd.option_context("display.width", 200, "display.max_columns", 30,
+                               "display.max_rows", 60):
+            print(table.to_string(index=False, float_format=lambda x: f"{x:.4g}"))
+        print(f"wrote {csv_path}")
+        return table
+    return main
+
+
+def finite_or_nan(x):
+    x = float(x)
+    return x if math.isfinite(x) else math.nan

@@ -22,11 +22,11 @@ import numpy as np
 import rerun as rr
 
 import sim
+from analysis.style import STATE_RGB
 from experiments.paths import RECORDINGS, ensure
 
-#: state -> RGB (FREE, VERTICAL_STABLE, ROTATION_STABLE, SLEEPING)
-STATE_COLORS = np.array([[66, 135, 245], [245, 166, 35], [80, 190, 90], [150, 150, 150]],
-                        np.uint8)
+#: state -> RGB (FREE, VERTICAL_STABLE, ROTATION_STABLE, SLEEPING): the figures' colours
+STATE_COLORS = np.array(STATE_RGB, np.uint8)
 
 
 def record(scene, freeze, steps, path, dt=1 / 60, arrow_scale=0.5, **world_settings):

@@ -9,11 +9,13 @@ An experiment script (one per figure or table, DESIGN section 6) looks like::
 """
 import argparse
 import math
+import os
 
 import numpy as np
 import pandas as pd
 
 import sim
+from experiments import executor
 from experiments.metadata import collect, write_results
 from experiments.peers import engine_of, make_runner
 from experiments.timing import timed
@@ -105,14 +107,22 @@ def entry(name, doc, full, quick, run, extra_args=None):
                                          description=doc.splitlines()[0])
         parser.add_argument("--quick", action="store_true",
                             help="the same code on small sizes (CI, `make reproduce QUICK=1`)")
+        parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                            help="run the sweep's untimed runs on this Dask scheduler (default: "
+                                 f"${executor.SCHEDULER_ENV}, else a local process pool); timed "
+                                 "runs always stay serial on this machine")
         if extra_args is not None:
             extra_args(parser)
         args = parser.parse_args(argv)
+        if args.scheduler:
+            os.environ[executor.SCHEDULER_ENV] = args.scheduler
         config = quick if args.quick else full
         table, scenes, parameters = run(config, args)
         if not isinstance(table, pd.DataFrame) or table.empty:
             raise RuntimeError(f"{name}: the experiment produced no rows")
-        parameters = {"quick": args.quick, "config": config, **parameters}
+        parameters = {"quick": args.quick, "config": config,
+                      "executor": os.environ.get(executor.SCHEDULER_ENV) or "local process pool",
+                      **parameters}
         metadata = collect(scenes, parameters, script=name, seed=parameters.get("seed"))
         csv_path, _ = write_results(name, table, metadata, folder=data_dir)
         with pd.option_context("display.width", 200, "display.max_columns", 30,

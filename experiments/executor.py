@@ -1,47 +1,137 @@
 """One executor for the independent runs of a sweep (DESIGN section 6).
 
 ``run_tasks(fn, tasks)`` calls ``fn(task)`` for every task and returns the results in task order,
-with a tqdm bar. By default the runs go to a local process pool (one worker per core); with
-``workers=1`` they run in this process (what timing runs need: they stay serial, on one machine).
+with a tqdm bar. Where the runs go:
 
-``fn`` must be a module-level function and every task and result picklable; each task should carry
+    default                      a local process pool, one worker per core
+    workers=1                    serially in this process (what timing runs need: they stay serial,
+                                 on one machine, and never go through a pool)
+    scheduler=ADDRESS, or the    a Dask distributed cluster (``distributed.Client(ADDRESS)``), e.g.
+    FREEZE2D_SCHEDULER env var   tcp://10.0.0.5:8786 from `dask scheduler` + `dask worker` on each host
+
+Incremental results: with ``store=PATH`` every finished run is appended to a JSON-lines file as
+soon as it arrives (flushed and fsynced), keyed by ``key(task)``. A sweep that is interrupted and
+started again reads the file and runs only what is missing; nothing finished is lost or redone.
+The file's first line records what the runs were made by (``header``, e.g. the commit and the
+sweep's configuration); a file with a different header is set aside (renamed ``*.stale``), not
+mixed in. Results must then be JSON-ready (dicts of numbers and strings).
+
+``fn`` must be a module-level function and every task picklable; each task should carry
 everything its run needs (scene parameters, system, settings), so a run is reproducible alone.
 """
+import json
 import os
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
 
 from tqdm import tqdm
+
+SCHEDULER_ENV = "FREEZE2D_SCHEDULER"
 
 
 def default_workers():
     return max(1, os.cpu_count() or 1)
 
 
-def run_tasks(fn, tasks, desc="runs", workers=None):
-    """[fn(t) for t in tasks], in order, on ``workers`` local processes (default: one per core;
-    1 = serially in this process). An exception in any run is raised here, naming the task."""
+class ResultStore:
+    """Finished runs of one sweep in a JSON-lines file: line 1 the header, then one
+    ``{"key": ..., "result": ...}`` per run. A torn last line (a run killed mid-write) is ignored."""
+
+    def __init__(self, path, header):
+        self.path = Path(path)
+        self.header = json.loads(json.dumps(header))      # compare as JSON would store it
+        self.done = {}
+        if self.path.exists():
+            self._load()
+        if not self.path.exists():
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self._append({"header": self.header})
+
+    def _load(self):
+        lines = self.path.read_text().splitlines()
+        try:
+            first = json.loads(lines[0]) if lines else {}
+        except json.JSONDecodeError:
+            first = {}
+        if first.get("header") != self.header:
+            stale = self.path.with_suffix(self.path.suffix + ".stale")
+            os.replace(self.path, stale)
+            print(f"{self.path}: made by a different commit or configuration; moved to {stale}, "
+                  f"starting afresh")
+            return
+        for line in lines[1:]:
+            try:
+                entry = json.loads(line)
+            except json.JSONDecodeError:
+                continue                                  # torn write: that run is redone
+            self.done[entry["key"]] = entry["result"]
+
+    def _append(self, entry):
+        with open(self.path, "a") as f:
+            f.write(json.dumps(entry) + "\n")
+            f.flush()
+            os.fsync(f.fileno())
+
+    def add(self, key, result):
+        self.done[key] = result
+        self._append({"key": key, "result": result})
+
+
+def run_tasks(fn, tasks, desc="runs", workers=None, scheduler=None, store=None, header=None,
+              key=repr):
+    """[fn(t) for t in tasks], in task order.
+
+    workers    local processes (default one per core; 1 = serially in this process)
+    scheduler  a Dask scheduler address; default the FREEZE2D_SCHEDULER environment variable.
+               Given a scheduler, ``workers`` is ignored: the cluster's workers run the tasks.
+    store      a JSON-lines file for incremental results (see the module docstring), with
+               ``header`` (what made the runs) and ``key(task)`` -> str naming a run
+    An exception in any run is raised here naming the task (finished runs stay in the store)."""
     tasks = list(tasks)
+    keys = [key(t) for t in tasks]
+    if len(set(keys)) != len(keys):
+        raise ValueError("two tasks of the sweep have the same key; keys must name runs uniquely")
+    scheduler = scheduler if scheduler is not None else os.environ.get(SCHEDULER_ENV) or None
     workers = default_workers() if workers is None else int(workers)
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
-    results = [None] * len(tasks)
-    with tqdm(total=len(tasks), desc=desc, unit="run") as bar:
-        if workers == 1 or len(tasks) <= 1:
-            for i, task in enumerate(tasks):
-                results[i] = _call(fn, task)
-                bar.update()
-            return results
-        with ProcessPoolExecutor(max_workers=min(workers, len(tasks))) as pool:
-            futures = {pool.submit(_call, fn, task): i for i, task in enumerate(tasks)}
-            for future in _as_completed(futures):
-                results[futures[future]] = future.result()
-                bar.update()
-    return results
+    results = {}
+    saved = ResultStore(store, header or {}) if store is not None else None
+    if saved is not None:
+        results.update({k: saved.done[k] for k in keys if k in saved.done})
+    todo = [i for i, k in enumerate(keys) if k not in results]
+
+    def finish(i, result):
+        results[keys[i]] = result
+        if saved is not None:
+            saved.add(keys[i], result)
+        bar.update()
+
+    with tqdm(total=len(tasks), initial=len(tasks) - len(todo), desc=desc, unit="run") as bar:
+        if scheduler:
+            _run_dask(fn, tasks, todo, scheduler, finish)
+        elif workers == 1 or len(todo) <= 1:
+            for i in todo:
+                finish(i, _call(fn, tasks[i]))
+        else:
+            with ProcessPoolExecutor(max_workers=min(workers, len(todo))) as pool:
+                futures = {pool.submit(_call, fn, tasks[i]): i for i in todo}
+                for future in as_completed(futures):
+                    finish(futures[future], future.result())
+    return [results[k] for k in keys]
 
 
-def _as_completed(futures):
-    from concurrent.futures import as_completed
-    return as_completed(futures)
+def _run_dask(fn, tasks, todo, address, finish):
+    try:
+        from distributed import Client, as_completed as dask_completed
+    except ImportError as exc:        # pinned, so only a broken environment gets here
+        raise RuntimeError("a Dask scheduler was given but `distributed` is not installed") from exc
+    with Client(address) as client:
+        futures = {}
+        for i in todo:
+            futures[client.submit(_call, fn, tasks[i], pure=False)] = i
+        for future in dask_completed(list(futures)):
+            finish(futures[future], future.result())
 
 
 def _call(fn, task):

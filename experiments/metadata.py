@@ -19,7 +19,7 @@ from . import paths
 
 #: Distributions whose versions can change a result or a timing (pip names).
 PACKAGES = ("numpy", "numba", "pymunk", "pybullet", "pandas", "matplotlib", "rerun-sdk", "typst",
-            "tqdm")
+            "tqdm", "dask", "distributed")
 
 
 def collect(scene_or_scenes, parameters, script, seed=None):

@@ -25,7 +25,7 @@ from .contacts import NORMAL_IMPULSE, POINT_COUNT, collide_pairs, save_for_warm_
 from .freeze.dispatch import freeze_after_solve, freeze_before_solve
 from .jit import kernel
 from .layout import (BAD_BODY, BAUMGARTE, CELL_SIZE, DT, FLOOR_FRICTION, FLOOR_RESTITUTION,
-                     FLOOR_Y, GRAVITY_X, GRAVITY_Y, HAS_FLOOR, ITERATIONS, MARGIN, MAX_CORRECTION,
+                     FAST_FRICTION, FAST_PATHS, FLOOR_Y, GRAVITY_X, GRAVITY_Y, HAS_FLOOR, ITERATIONS, MARGIN, MAX_CORRECTION,
                      N_AWAKE, N_DYNAMIC, N_EVENTS, N_MANIFOLDS, POLICY, POSITION_ITERATIONS,
                      PRESOLVE_SWEEPS, RESTING_DIRTY, RESTITUTION_THRESHOLD, SLOP, STEP_COUNT,
                      WARM_START)
@@ -134,7 +134,8 @@ def presolve(n_iterations, tolerance, settings, bodies, geometry, contacts, acti
                 before[c] += point_float[c, j, NORMAL_IMPULSE]
         for _ in range(min(10, n_iterations - done)):
             solve_velocities(count, manifold_int, manifold_float, point_float, velocity,
-                             angular_velocity, solver_inv_mass, solver_inv_inertia)
+                             angular_velocity, solver_inv_mass, solver_inv_inertia,
+                             (isettings[FAST_PATHS] & FAST_FRICTION) != 0)
         done += 10
         change = 0.0
         largest = 0.0
@@ -195,7 +196,8 @@ def run(n_steps, settings, bodies, geometry, contacts, activity, resting, min_se
                    solver_inv_mass, solver_inv_inertia)
         for _ in range(isettings[ITERATIONS]):
             solve_velocities(count, manifold_int, manifold_float, point_float, velocity,
-                             angular_velocity, solver_inv_mass, solver_inv_inertia)
+                             angular_velocity, solver_inv_mass, solver_inv_inertia,
+                             (isettings[FAST_PATHS] & FAST_FRICTION) != 0)
         integrate_positions(awake, n_awake, position, angle, velocity, angular_velocity, dt)
         update_rotation(awake, n_awake, angle, rotation)
         deepest = 0.0

@@ -11,8 +11,11 @@ N_FLOAT_SETTINGS = 17
 
 # int settings
 (ITERATIONS, POSITION_ITERATIONS, HAS_FLOOR, WARM_START, N_DYNAMIC, POLICY,
- REST_STEPS) = range(7)
-N_INT_SETTINGS = 7
+ REST_STEPS, FAST_PATHS) = range(8)
+N_INT_SETTINGS = 8
+
+# FAST_PATHS bits: work the solver skips when the scene does not need it (World(fast_paths=...))
+FAST_FRICTION = 1          # no friction rows for a contact whose friction coefficient is zero
 
 # counters
 (STEP_COUNT, N_MANIFOLDS, BAD_BODY, PRESOLVE_SWEEPS, N_AWAKE, N_EVENTS, RESTING_DIRTY,

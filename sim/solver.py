@@ -143,7 +143,7 @@ def warm_start(count, manifold_int, manifold_float, point_float, velocity, angul
 
 @lean_kernel
 def solve_velocities(count, manifold_int, manifold_float, point_float, velocity,
-                     angular_velocity, inv_mass, inv_inertia):
+                     angular_velocity, inv_mass, inv_inertia, skip_frictionless):
     """One Gauss-Seidel sweep over all contact rows: friction first (bounded by the current normal
     impulse), then the normal constraint (as a 2x2 block for two-point manifolds).
 
@@ -152,7 +152,10 @@ def solve_velocities(count, manifold_int, manifold_float, point_float, velocity,
     place would force a reload after every impulse. The sweep is bound by the latency of its
     dependent arithmetic (~70 ns per two-point manifold here); solving in graph-colour order, so that
     consecutive manifolds share no body, gained only ~12% and weakened tall stacks, so key order
-    (bottom rows first) is kept."""
+    (bottom rows first) is kept.
+
+    ``skip_frictionless``: a contact with friction coefficient 0 gets no friction rows (their
+    impulse would be clamped to zero anyway: the rows are pure cost)."""
     for c in range(count):
         a = manifold_int[c, BODY_A]
         b = manifold_int[c, BODY_B]
@@ -179,7 +182,7 @@ def solve_velocities(count, manifold_int, manifold_float, point_float, velocity,
         tx = ny
         ty = -nx
         mu = manifold_float[c, FRICTION]
-        for j in range(n):
+        for j in range(0 if skip_frictionless and mu == 0.0 else n):
             rax = point_float[c, j, ANCHOR_AX]
             ray = point_float[c, j, ANCHOR_AY]
             rbx = point_float[c, j, ANCHOR_BX]

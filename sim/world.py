@@ -25,6 +25,25 @@ class SimulationError(RuntimeError):
     """A run that cannot go on: a body's state became NaN or infinite, or flew out of range."""
 
 
+#: the solver's fast paths (see World's ``fast_paths``): name -> bit of the FAST_PATHS setting
+FAST_PATHS = {"friction": L.FAST_FRICTION}
+
+
+def _fast_paths(value):
+    """The fast paths switched on, as a sorted tuple of names; ValueError for unknown names."""
+    if value is True:
+        return tuple(sorted(FAST_PATHS))
+    if value is False or value is None:
+        return ()
+    if isinstance(value, str):
+        value = (value,)
+    names = tuple(sorted(set(value)))
+    unknown = [n for n in names if n not in FAST_PATHS]
+    if unknown:
+        raise ValueError(f"unknown fast path(s) {unknown}; choose from {sorted(FAST_PATHS)}")
+    return names
+
+
 def _positive(value, what, allow_zero=False):
     try:
         x = float(value)
@@ -61,6 +80,11 @@ class World:
                             default 5000, 0 disables): a
                             scene placed at rest starts in equilibrium instead of sagging while the
                             solver builds up pressure over the first steps. Needs warm_starting.
+      fast_paths            True (default), False, or a collection of names from FAST_PATHS:
+                            work skipped when the scene does not need it ("friction": no
+                            friction rows for contacts whose friction coefficient is 0). The
+                            results are identical either way; False exists to measure the saving
+                            (experiments/bench_fast_paths.py).
       **policy_parameters   the freeze policy's own parameters (e.g. impulse_threshold)
 
     Arrays read from a World are copies: positions (N,2) m (centres of mass), angles (N,) rad,
@@ -70,7 +94,7 @@ class World:
     def __init__(self, scene, dt=1 / 60, iterations=10, freeze="off", *, position_iterations=3,
                  slop=0.005, speculative_distance=0.02, baumgarte=0.2, max_correction=0.2,
                  restitution_threshold=1.0, warm_starting=True, overlap_tolerance=0.01,
-                 initial_iterations=5000, **policy_parameters):
+                 initial_iterations=5000, fast_paths=True, **policy_parameters):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
         scene.validate()
@@ -88,6 +112,7 @@ class World:
         self.restitution_threshold = _positive(restitution_threshold, "restitution_threshold",
                                                allow_zero=True)
         self.warm_starting = bool(warm_starting)
+        self.fast_paths = _fast_paths(fast_paths)
         self.overlap_tolerance = _positive(overlap_tolerance, "overlap_tolerance", allow_zero=True)
         self.initial_iterations = _count(initial_iterations, "initial_iterations", 0)
         self.freeze = freeze
@@ -178,9 +203,10 @@ class World:
             self._fsettings[column] = self.policy_parameters[name]
         self._isettings = np.zeros(L.N_INT_SETTINGS, np.int64)
         self._isettings[[L.ITERATIONS, L.POSITION_ITERATIONS, L.HAS_FLOOR, L.WARM_START,
-                         L.N_DYNAMIC, L.POLICY]] = (self.iterations, self.position_iterations,
-                                                   int(has_floor), int(self.warm_starting), n,
-                                                   POLICY_NAMES.index(self.freeze))
+                         L.N_DYNAMIC, L.POLICY, L.FAST_PATHS]] = (
+            self.iterations, self.position_iterations, int(has_floor), int(self.warm_starting), n,
+            POLICY_NAMES.index(self.freeze),
+            sum(FAST_PATHS[name] for name in self.fast_paths))
         for name, column in self.policy.INT_SETTINGS.items():
             self._isettings[column] = self.policy_parameters[name]
         self._counters = np.zeros(L.N_COUNTERS, np.int64)

@@ -196,59 +196,85 @@ def _moved(runner, start):
 
 
 # ---- part 1: a fully frozen scene --------------------------------------------------------------
+def settle_and_time(scene, systems, cap_steps, repeat_s, repeats, progress, age_steps=None):
+    """Build every system on ``scene``, bring it to rest, and time its steps, interleaved.
+
+    Each freezing system (FREEZING) is stepped one step at a time until no body is solved, or
+    ``cap_steps``. With ``age_steps``, every system is then stepped on to that many steps, so that
+    all are timed at the same simulated age (without it, systems that do not freeze are timed
+    right after build: bench_freeze's part 1). Then WARMUP_STEPS untimed steps, a repeat length
+    calibrated to ``repeat_s`` s, and ``repeats`` repeats interleaved over all systems.
+    Returns one dict per system: ``froze_at`` (step count when none was solved, or None),
+    ``before``/``after`` (awake counts around the timing), ``times`` (ms/step of each repeat),
+    ``steps`` (steps per repeat), ``age`` (steps taken before the warm-up), ``moved`` (m, largest
+    distance a body moved from its start, measured after the timing). Runners are closed."""
+    tag = label(scene)
+    runners, froze_at, steps, starts, ages = [], [], [], [], []
+    try:
+        for system in systems:
+            progress.set_postfix_str(f"{tag} {system}: build, freeze")
+            runner = build(system, scene)
+            runners.append(runner)
+            starts.append(runner.positions)
+            froze_at.append(step_until_frozen(runner, cap_steps) if system in FREEZING else None)
+            if age_steps is not None and runner.step_count < age_steps:
+                runner.step(age_steps - runner.step_count)
+            ages.append(runner.step_count)
+            runner.step(WARMUP_STEPS)
+            steps.append(calibrate(runner, repeat_s))
+        before = [n_awake(r) for r in runners]
+        progress.set_postfix_str(f"{tag}: timing")
+        times = interleaved(runners, steps, repeats, progress)
+        after = [n_awake(r) for r in runners]
+        return [{"froze_at": froze_at[k], "before": before[k], "after": after[k],
+                 "times": times[k], "steps": steps[k], "age": ages[k],
+                 "moved": _moved(runners[k], starts[k])} for k in range(len(systems))]
+    finally:
+        for r in runners:
+            r.close()
+
+
 def frozen_cost(config, repeats, progress):
     rows = []
     for name, n, systems in config["frozen_cost"]:
         scene = sim.scenes.BUILDERS[name](n)
         tag = label(scene)
         cap = int(round(config["freeze_cap_s"] / DT))
-        runners, froze_at, steps, starts = [], [], [], []
-        for system in systems:
-            progress.set_postfix_str(f"{tag} {system}: build, freeze")
-            runner = build(system, scene)
-            starts.append(runner.positions)
-            froze_at.append(step_until_frozen(runner, cap) if system in FREEZING else None)
-            runner.step(WARMUP_STEPS)
-            steps.append(calibrate(runner, config["frozen_repeat_s"]))
-            runners.append(runner)
-        before = [n_awake(r) for r in runners]
-        progress.set_postfix_str(f"{tag}: timing")
-        times = interleaved(runners, steps, repeats, progress)
-        after = [n_awake(r) for r in runners]
-        off_median = (statistics.median(times[systems.index("sim-off")])
+        runs = settle_and_time(scene, systems, cap, config["frozen_repeat_s"], repeats, progress)
+        off_median = (statistics.median(runs[systems.index("sim-off")]["times"])
                       if "sim-off" in systems else math.nan)
-        for k, system in enumerate(systems):
-            med, low = statistics.median(times[k]), min(times[k])
+        for system, run in zip(systems, runs):
+            times, before, after = run["times"], run["before"], run["after"]
+            med, low = statistics.median(times), min(times)
             if system not in FREEZING:
                 flag = "reference: nothing frozen"
-            elif before[k] == 0 and after[k] == 0:
+            elif before == 0 and after == 0:
                 flag = "all frozen"
             else:
                 flag = "NOT all frozen"
             common = dict(part="frozen_cost", scene=tag, system=system, bodies=n,
-                          n_aw=before[k], n_fr=n - before[k], flag=flag)
+                          n_aw=before, n_fr=n - before, flag=flag)
             rows += [
                 _row(**common, metric="ms_per_step_median", value=med, unit="ms"),
                 _row(**common, metric="ms_per_step_min", value=low, unit="ms"),
                 _row(**common, metric="speedup_vs_off", value=off_median / med, unit="ratio"),
-                _row(**common, metric="n_awake_before", value=before[k], unit="bodies"),
-                _row(**common, metric="n_awake_after", value=after[k], unit="bodies"),
+                _row(**common, metric="n_awake_before", value=before, unit="bodies"),
+                _row(**common, metric="n_awake_after", value=after, unit="bodies"),
                 _row(**common, metric="steps_to_all_frozen",
-                     value=math.nan if froze_at[k] is None else froze_at[k], unit="steps"),
-                _row(**common, metric="steps_per_repeat", value=steps[k], unit="steps"),
+                     value=math.nan if run["froze_at"] is None else run["froze_at"],
+                     unit="steps"),
+                _row(**common, metric="steps_per_repeat", value=run["steps"], unit="steps"),
                 _row(**common, metric="repeats", value=repeats, unit="count"),
-                _row(**common, metric="max_displacement", value=_moved(runners[k], starts[k]),
-                     unit="m"),
+                _row(**common, metric="max_displacement", value=run["moved"], unit="m"),
             ]
-        for r in runners:
-            r.close()
     return rows
 
 
 # ---- part 2: cost of a frozen body-step vs an awake body-step ----------------------------------
 def fit_cost(n_aw, n_fr, ms):
-    """Least squares ms = a n_aw + b n_fr + c: dict of a, b, c, their standard errors, b/a,
-    RMS and largest residual (ms), R^2 and the number of points."""
+    """Least squares ms = a n_aw + b n_fr + c: dict of a, b, c, their standard errors, b/a and
+    its standard error (delta method, with the a-b covariance), RMS and largest residual (ms),
+    R^2 and the number of points."""
     x = np.column_stack([n_aw, n_fr, np.ones(len(ms))]).astype(float)
     y = np.asarray(ms, dtype=float)
     coef, _, rank, _ = np.linalg.lstsq(x, y, rcond=None)
@@ -256,17 +282,22 @@ def fit_cost(n_aw, n_fr, ms):
     dof = len(y) - 3
     sigma2 = float(resid @ resid) / dof if dof > 0 else math.nan
     try:
-        stderr = np.sqrt(np.diag(sigma2 * np.linalg.inv(x.T @ x)))
+        cov = sigma2 * np.linalg.inv(x.T @ x)
     except np.linalg.LinAlgError:
-        stderr = np.full(3, math.nan)
+        cov = np.full((3, 3), math.nan)
+    stderr = np.sqrt(np.diag(cov))
     total = float(((y - y.mean()) ** 2).sum())
     a, b, c = (float(v) for v in coef)
+    # d(b/a) = (-b/a^2, 1/a, 0) . d(a, b, c)
+    grad = np.array([-b / (a * a), 1.0 / a, 0.0]) if a else np.full(3, math.nan)
     return {"a": a, "b": b, "c": c, "a_stderr": float(stderr[0]), "b_stderr": float(stderr[1]),
             "c_stderr": float(stderr[2]), "b_over_a": b / a if a else math.nan,
             "rms_residual": float(np.sqrt(np.mean(resid ** 2))),
             "max_abs_residual": float(np.abs(resid).max()),
             "r2": 1.0 - float(resid @ resid) / total if total > 0 else math.nan,
-            "points": len(y), "rank": int(rank)}
+            "points": len(y), "rank": int(rank),
+            "b_over_a_stderr": float(np.sqrt(max(0.0, grad @ cov @ grad)))
+            if np.isfinite(grad).all() and np.isfinite(cov).all() else math.nan}
 
 
 FIT_UNITS = {"a": "ms/(step*body)", "b": "ms/(step*body)", "c": "ms/step",
@@ -275,105 +306,138 @@ FIT_UNITS = {"a": "ms/(step*body)", "b": "ms/(step*body)", "c": "ms/step",
              "r2": "ratio", "points": "count", "rank": "count"}
 
 
-def per_body_cost(config, repeats, progress):
+def expected_awake(system, n_frozen, n_awake):
+    """Bodies a mix should have solved once settled: the flyers only, if the system freezes the
+    resting row; every body otherwise."""
+    return n_awake if system in FREEZING else n_awake + n_frozen
+
+
+def per_body_cost(config, repeats, progress, systems=MIX_SYSTEMS, extra_units=None):
+    """Part 2 on ``config``'s mixes for ``systems``: (rows, fits). A system that sleeps the row
+    only after a timer (sim-sleep, pymunk-sleep: 0.5 s) is stepped, after the warm-up, until only
+    the flyers are solved, for at most ``config["mix_settle_s"]`` s (default 0). Fit rows are
+    written for the keys of FIT_UNITS (+ ``extra_units``, key -> unit)."""
     mixes = [(nf, na) for nf in config["mix_frozen"] for na in config["mix_awake"]]
-    budget = flight_budget()
-    steps = max(1, min(config["mix_steps"], (budget - WARMUP_STEPS) // repeats))
+    settle_cap = WARMUP_STEPS + int(round(config.get("mix_settle_s", 0.0) / DT))
     runners, keys = [], []
-    for nf, na in mixes:
-        scene = mix_scene(nf, na)
-        for system in MIX_SYSTEMS:
-            progress.set_postfix_str(f"{label(scene)} {system}: build")
-            runner = build(system, scene)
-            runner.step(WARMUP_STEPS)
-            runners.append(runner)
-            keys.append((label(scene), system, nf, na))
-    before = [n_awake(r) for r in runners]
-    progress.set_postfix_str(f"{len(runners)} worlds: timing")
-    times = interleaved(runners, [steps] * len(runners), repeats, progress)
-    after = [n_awake(r) for r in runners]
+    try:
+        for nf, na in mixes:
+            scene = mix_scene(nf, na)
+            for system in systems:
+                progress.set_postfix_str(f"{label(scene)} {system}: build")
+                runner = build(system, scene)
+                runners.append(runner)
+                runner.step(WARMUP_STEPS)
+                while (runner.step_count < settle_cap
+                       and n_awake(runner) != expected_awake(system, nf, na)):
+                    runner.step(1)
+                keys.append((label(scene), system, nf, na))
+        # the flyers must still be in flight at the end of the timing
+        aged = max(r.step_count for r in runners)
+        steps = max(1, min(config["mix_steps"], (flight_budget() - aged) // repeats))
+        before = [n_awake(r) for r in runners]
+        progress.set_postfix_str(f"{len(runners)} worlds: timing")
+        times = interleaved(runners, [steps] * len(runners), repeats, progress)
+        after = [n_awake(r) for r in runners]
+        lowest = [float(runners[k].positions[nf:, 1].min()) if na else math.nan
+                  for k, (_, _, nf, na) in enumerate(keys)]
+    finally:
+        for r in runners:
+            r.close()
     rows, fits = [], {}
     for k, (tag, system, nf, na) in enumerate(keys):
-        lowest = float(runners[k].positions[nf:, 1].min()) if na else math.nan
-        expected = na if system != "sim-off" else na + nf
-        ok = before[k] == expected and after[k] == expected and (not na or lowest > 5.0)
+        expected = expected_awake(system, nf, na)
+        ok = before[k] == expected and after[k] == expected and (not na or lowest[k] > 5.0)
         common = dict(part="per_body_cost", scene=tag, system=system, bodies=nf + na, n_aw=na,
                       n_fr=nf, flag="" if ok else "awake count or flight check failed")
         rows += _timing_rows(common, times[k], before[k], after[k], steps, repeats)
-        rows.append(_row(**common, metric="lowest_flying_y", value=lowest, unit="m"))
-    for system in MIX_SYSTEMS:
+        rows.append(_row(**common, metric="lowest_flying_y", value=lowest[k], unit="m"))
+    for system in systems:
         ks = [k for k, key in enumerate(keys) if key[1] == system]
         fit = fit_cost([keys[k][3] for k in ks], [keys[k][2] for k in ks],
                        [statistics.median(times[k]) for k in ks])
         fits[system] = fit
-    ext, off = fits["sim-extended"], fits["sim-off"]
-    ext["b_over_b_off"] = ext["b"] / off["b"] if off["b"] else math.nan
-    ext["a_over_a_off"] = ext["a"] / off["a"] if off["a"] else math.nan
-    units = {**FIT_UNITS, "b_over_b_off": "ratio", "a_over_a_off": "ratio"}
+    if "sim-off" in fits:
+        off = fits["sim-off"]
+        for system, fit in fits.items():
+            if system != "sim-off":
+                fit["b_over_b_off"] = fit["b"] / off["b"] if off["b"] else math.nan
+                fit["a_over_a_off"] = fit["a"] / off["a"] if off["a"] else math.nan
+    units = {**FIT_UNITS, "b_over_b_off": "ratio", "a_over_a_off": "ratio", **(extra_units or {})}
     for system, fit in fits.items():
         for key, value in fit.items():
-            rows.append(_row("per_body_cost", "fit", system, math.nan, math.nan, math.nan,
-                             f"fit_{key}", value, units[key]))
-    for r in runners:
-        r.close()
+            if key in units:
+                rows.append(_row("per_body_cost", "fit", system, math.nan, math.nan, math.nan,
+                                 f"fit_{key}", value, units[key]))
     return rows, fits
 
 
 # ---- part 3: steps until everything is frozen --------------------------------------------------
+def freeze_run(task):
+    """One run of part 3: ``task`` = (builder name, builder params, system, cap s). Steps the
+    scene one step at a time until every body is frozen/asleep or the cap, then (if it froze)
+    FREEZE_HOLD_S more to see whether the freeze holds; returns the run's rows. Module-level and
+    self-contained, so sweeps can hand it to ``experiments.executor.run_tasks``."""
+    name, params, system, cap_s = task
+    scene = sim.scenes.BUILDERS[name](**params)
+    tag = label(scene)
+    n = len(scene.bodies)
+    cap = int(round(cap_s / DT))
+    hold = int(round(FREEZE_HOLD_S / DT))
+    with build(system, scene) as runner:
+        start = runner.positions
+        is_sim = engine_of(system) == "sim"
+        frozen_at = observable_at = None
+        while runner.step_count < cap:
+            runner.step(1)
+            if is_sim and observable_at is None and \
+                    (runner.world.states != sim.State.FREE).all():
+                observable_at = runner.step_count
+            if not awake_mask(runner).any():
+                frozen_at = runner.step_count
+                break
+        end_awake = n_awake(runner)
+        end_not_free = (int((runner.world.states != sim.State.FREE).sum()) if is_sim
+                        else math.nan)
+        moved = _moved(runner, start)
+        held = math.nan
+        if frozen_at is not None:
+            runner.step(hold)
+            held = n_awake(runner)
+    never = frozen_at is None
+    flag = "never" if never else ""
+    common = dict(part="time_to_freeze", scene=tag, system=system, bodies=n,
+                  n_aw=end_awake, n_fr=n - end_awake, flag=flag)
+    rows = [
+        _row(**common, metric="steps_to_all_frozen",
+             value=math.nan if never else frozen_at, unit="steps"),
+        _row(**common, metric="time_to_all_frozen",
+             value=math.nan if never else frozen_at * DT, unit="s"),
+        _row(**common, metric="n_awake_at_end", value=end_awake, unit="bodies"),
+        _row(**common, metric="n_awake_1s_after", value=held, unit="bodies"),
+        _row(**common, metric="max_displacement", value=moved, unit="m"),
+        _row(**common, metric="cap_steps", value=cap, unit="steps"),
+    ]
+    if is_sim:
+        rows += [
+            _row(**common, metric="steps_to_all_not_free",
+                 value=math.nan if observable_at is None else observable_at, unit="steps"),
+            _row(**common, metric="n_not_free_at_end", value=end_not_free, unit="bodies"),
+        ]
+    return rows
+
+
+def freeze_tasks(scenes, cap_s, systems=FREEZING):
+    """The tasks of part 3 for ``scenes`` ((builder name, params) pairs), scene-major."""
+    return [(name, dict(params), system, cap_s) for name, params in scenes for system in systems]
+
+
 def time_to_freeze(config, progress):
     rows = []
-    cap = int(round(config["ttf_cap_s"] / DT))
-    hold = int(round(FREEZE_HOLD_S / DT))
-    for name, params in config["ttf_scenes"]:
-        scene = sim.scenes.BUILDERS[name](**params)
-        tag = label(scene)
-        n = len(scene.bodies)
-        for system in FREEZING:
-            progress.set_postfix_str(f"{tag} {system}")
-            runner = build(system, scene)
-            start = runner.positions
-            is_sim = engine_of(system) == "sim"
-            frozen_at = observable_at = None
-            while runner.step_count < cap:
-                runner.step(1)
-                if is_sim and observable_at is None and \
-                        (runner.world.states != sim.State.FREE).all():
-                    observable_at = runner.step_count
-                if not awake_mask(runner).any():
-                    frozen_at = runner.step_count
-                    break
-            end_awake = n_awake(runner)
-            end_not_free = (int((runner.world.states != sim.State.FREE).sum()) if is_sim
-                            else math.nan)
-            moved = _moved(runner, start)
-            held = math.nan
-            if frozen_at is not None:
-                runner.step(hold)
-                held = n_awake(runner)
-            runner.close()
-            never = frozen_at is None
-            flag = "never" if never else ""
-            common = dict(part="time_to_freeze", scene=tag, system=system, bodies=n,
-                          n_aw=end_awake, n_fr=n - end_awake, flag=flag)
-            rows += [
-                _row(**common, metric="steps_to_all_frozen",
-                     value=math.nan if never else frozen_at, unit="steps"),
-                _row(**common, metric="time_to_all_frozen",
-                     value=math.nan if never else frozen_at * DT, unit="s"),
-                _row(**common, metric="n_awake_at_end", value=end_awake, unit="bodies"),
-                _row(**common, metric="n_awake_1s_after", value=held, unit="bodies"),
-                _row(**common, metric="max_displacement", value=moved, unit="m"),
-                _row(**common, metric="cap_steps", value=cap, unit="steps"),
-            ]
-            if is_sim:
-                rows += [
-                    _row(**common, metric="steps_to_all_not_free",
-                         value=math.nan if observable_at is None else observable_at,
-                         unit="steps"),
-                    _row(**common, metric="n_not_free_at_end", value=end_not_free,
-                         unit="bodies"),
-                ]
-            progress.update()
+    for task in freeze_tasks(config["ttf_scenes"], config["ttf_cap_s"]):
+        progress.set_postfix_str(f"{task[0]}{task[1]} {task[2]}")
+        rows += freeze_run(task)
+        progress.update()
     return rows
 
 

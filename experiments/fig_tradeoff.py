@@ -1,0 +1,474 @@
+"""Figure 7 "fig_tradeoff": the speed-accuracy trade of freezing, and its Pareto front per system.
+
+Question: how much faster does a whole run get under each freezing / sleeping system as its
+threshold is made more eager, and what does that cost in accuracy, on top of the error the time
+step already makes? x = speed-up over the same engine with sleeping off at the same dt, y = error
+against a fine-dt reference of that engine with sleeping off.
+
+Scenes (chosen so that freezing saves real time and the outcome is not chaotic: a pile of random
+polygons diverges between any two dt, its pose error would measure chaos, not freezing):
+- ``pyramid(10)``: 55 unit boxes placed at rest (sim.scenes.pyramid). Freezing can start at once;
+  what it can cost is a structure held where it stands while the reference settles or creeps.
+- ``landing``: a row of ``base`` unit boxes on the floor (gap 0.125 m as in the pyramid), above it
+  ``layers`` rows of one box fewer each, every box centred over a gap of the row below, each row's
+  bottom ``drop`` = 0.5 m above the top of the row below; beside them ``loners`` boxes that fall
+  flat onto the floor from 0.5, 1.0, 1.5 m. Everything starts at rest and falls flat (no spin), so
+  the contact sequence is the same at any dt: the rows land at 3.1 and 4.4 m/s, the loners at 3.1,
+  4.4 and 5.4 m/s (impact impulses 3-5 N s on 1 kg boxes, across the paper's default threshold of
+  1 N s). Full: base 8, 2 layers, 3 loners (24 bodies). Measured: sim-off at dt 1/60 ends within
+  2 cm of its dt/16 run (the symmetric landings break symmetry by a few mm in the sequential
+  solver's order), so errors of a few mm are the time step's own, not freezing's.
+Each run lasts ``duration_s`` = 5 s of simulated time (300 steps at dt 1/60): the landing is over
+by ~1 s and Bullet needs its fixed 2 s of rest before a body sleeps.
+
+Systems and sweeps (one table row per scene, system, parameter, value). Every grid is log-spaced
+around the parameter's default (the default itself included), from "freezes almost nothing" to
+"freezes too eagerly"; one parameter varies at a time, the others stay at their defaults:
+- sim-paper ``impulse_threshold`` (N s, default 1.0; sim/freeze/paper.py): a floor-like contact
+  whose collision impulse is below it "stays in contact" (the body is held, then frozen); above it
+  the body bounces. Small = nothing is ever held, large = every landing is held at impact.
+  Grid: default x 10^(k/2), k = -3..3 (0.032 .. 32 N s).
+- sim-extended ``impulse_threshold`` (N s, default 0.5; sim/freeze/extended.py): an awake body's
+  contact above it wakes a frozen body (impact). Large = impacts never wake. k = -3..3.
+- sim-extended ``rest_speed`` (m/s, default 0.02): the rest test's speed |v| + |w| extent. Not in
+  the issue's list, but it, not the impulse threshold, decides how eagerly extended freezes; without
+  it the sweep would show extended's eager end only through waking. k = -3..3 (0.6 mm/s .. 0.6 m/s).
+- sim-sleep ``sleep_speed`` (m/s, default 0.05) and ``sleep_time`` (s, default 0.5;
+  sim/freeze/sleep.py): a body is idle under the speed, an island sleeps when all its bodies were
+  idle for the time. sleep_speed k = -3..3; sleep_time k = -3..2 (0.016 s = one step .. 5 s = the
+  whole run, which freezes nothing).
+- pymunk-sleep ``sleep_time`` (s, default 0.5, the runner's; Chipmunk's own default is infinity)
+  and ``idle_speed`` (m/s; default |g| dt = 0.1635 m/s, Chipmunk's rule when left unset; the
+  default row leaves it unset, the others set it). Same grids as sim-sleep.
+- pybullet-sleep ``sleep_threshold`` ((m/s)^2 + (rad/s)^2, a sum of squared joint velocities;
+  default 0.05; experiments/peers/pybullet_runner.py; the 2 s deactivation time is fixed in
+  Bullet). A squared speed, so the grid steps by whole decades: default x 10^k, k = -3..2
+  (speeds 7 mm/s .. 2.2 m/s).
+- sim-off, pymunk, pybullet at dt 1/60: the baseline (speed-up 1 by definition; its error is the
+  time step's own).
+Iterations: each engine's default (sim and pymunk 10, pybullet 50); sim slop and pymunk
+collision_slop 0.005 m (experiments.common).
+
+Reference per engine: the same engine with sleeping off at dt / ``fine`` (fine = 8: dt 1/480 s,
+2400 steps), same iterations (more per simulated second, since there are more steps). Its own
+resolution is measured too: the same engine at dt / (fine / 2) against it (row role
+"resolution"); an error below that is within the reference's uncertainty.
+
+Errors (every system measured by the same code, never by an engine's own contact report):
+- pose error of the final state against the reference: largest and mean distance between centres
+  of mass (m) and largest angle difference (rad, modulo 2 pi) over all bodies;
+- penetration: the deepest overlap between two bodies, or between a body and the floor (or a static
+  body), from positions, angles and the scene's polygons (separating-axis test on the convex
+  polygons: the overlap is the smallest push along any edge normal of either polygon that
+  separates them; ``deepest_overlap``). Measured on the pose after every step at dt (the
+  reference: every ``fine`` steps, at the same times) and reported as the largest over the run and
+  at the end. A resting contact overlaps by about the slop (0.005 m) in sim and pymunk, ~1e-5 m in
+  Bullet; the reference's value is in its row. The largest over the run is set by the impacts
+  themselves, the same under every setting: a box landing at v sinks up to v dt into what it hits
+  before any of the engines sees the contact (3 cm for the loner dropped from 1.5 m, in all three
+  engines at dt 1/60). What freezing changes is the overlap left at the end: a body frozen before
+  the position correction has pushed it back out keeps its overlap (the figure draws that one).
+These accuracy runs are untimed and independent: they go through experiments.executor.run_tasks
+(a process pool). Each also records the mean fraction of bodies awake over the run, the awake
+count at the end and the first time every body was asleep.
+
+Speed-up: wall time of the whole run (build excluded; the first step excluded, as every timing of
+the study; steps 2..300 timed in one ``runner.step`` call with the garbage collector paused)
+under the setting, divided into that of the same engine with sleeping off at the same dt.
+Kernels are compiled first (common.compile_kernels). Each repeat builds a fresh runner per
+setting; within an engine the settings run round-robin in one process (order reversed every other
+repeat), repeats: sim 15, pymunk 15, pybullet 5 (a sim or pymunk run lasts 2-40 ms, so a single
+preemption by another process on this shared 2-core machine can triple one repeat: seen in a
+5-repeat trial, where settings doing identical work differed 3x in median; a pybullet run of
+pyramid(10) lasts ~1.5 s and averages such bursts out). Reported: median and min over repeats and
+every repeat's time (``wall_s_all``), speed-up of medians (and of minima). Timed runs are serial,
+after every untimed run has finished (the pool must not compete with them). The final pose of the
+last timed repeat is compared with the accuracy run's (``replay_difference_m``): the engines are
+deterministic, so the errors describe exactly the runs that were timed.
+
+Columns: scene, bodies, system, engine, role (baseline | sweep | reference | resolution),
+parameter, value, unit, is_default, dt_s, steps, repeats, wall_s_median, wall_s_min,
+wall_s_all (every repeat, s, space-separated), off_wall_s_median, speedup, speedup_min,
+n_awake_final, awake_fraction, all_asleep_at_s,
+pose_error_max_m, pose_error_mean_m, angle_error_max_rad, penetration_max_m, penetration_final_m,
+replay_difference_m.
+
+    python -m experiments.fig_tradeoff [--quick]
+writes results/data/fig_tradeoff.csv and fig_tradeoff.json. --quick: pyramid(4) and a landing of
+4 + 3 boxes and 1 loner, 2.5 s, references at dt/4 (resolution dt/2), every other grid point.
+"""
+import inspect
+import math
+import statistics
+
+import numpy as np
+import pandas as pd
+from tqdm import tqdm
+
+import sim
+from experiments import common
+from experiments.common import DT, SLOP, build, compile_kernels, n_awake, pose_error
+from experiments.executor import run_tasks
+from experiments.peers import DEFAULT_ITERATIONS, engine_of
+from experiments.peers.pybullet_runner import DEFAULT_SLEEP_THRESHOLD
+from experiments.peers.pymunk_runner import PymunkRunner
+from experiments.timing import timed
+from sim.geometry import mass_properties
+
+NAME = "fig_tradeoff"
+G = 9.81                     # m/s^2, |gravity| of every scene here
+
+#: the sleeping-off system of each engine (the speed-up's denominator and the reference)
+OFF = {"sim": "sim-off", "pymunk": "pymunk", "pybullet": "pybullet"}
+ENGINES = ("sim", "pymunk", "pybullet")
+
+_PYMUNK_SLEEP_TIME = inspect.signature(PymunkRunner).parameters["sleep_time"].default
+#: (system, parameter, unit, default, log10 step of the grid, exponents k: value = default *
+#: 10^(k * step)). Defaults are read from the code that defines them.
+SWEEPS = (
+    ("sim-paper", "impulse_threshold", "N s",
+     sim.freeze.paper.PARAMETERS["impulse_threshold"], 0.5, range(-3, 4)),
+    ("sim-extended", "impulse_threshold", "N s",
+     sim.freeze.extended.PARAMETERS["impulse_threshold"], 0.5, range(-3, 4)),
+    ("sim-extended", "rest_speed", "m/s",
+     sim.freeze.extended.PARAMETERS["rest_speed"], 0.5, range(-3, 4)),
+    ("sim-sleep", "sleep_speed", "m/s", sim.freeze.sleep.PARAMETERS["sleep_speed"], 0.5,
+     range(-3, 4)),
+    ("sim-sleep", "sleep_time", "s", sim.freeze.sleep.PARAMETERS["sleep_time"], 0.5,
+     range(-3, 3)),
+    ("pymunk-sleep", "sleep_time", "s", _PYMUNK_SLEEP_TIME, 0.5, range(-3, 3)),
+    # Chipmunk's rule when idle_speed is unset: |g| dt (cpSpaceProcessComponents)
+    ("pymunk-sleep", "idle_speed", "m/s", G * DT, 0.5, range(-3, 4)),
+    ("pybullet-sleep", "sleep_threshold", "(m/s)^2", DEFAULT_SLEEP_THRESHOLD, 1.0, range(-3, 3)),
+)
+#: settings whose default row leaves the parameter unset (the engine's own rule applies)
+UNSET_AT_DEFAULT = {("pymunk-sleep", "idle_speed")}
+
+FULL = {
+    "scenes": (("pyramid", {"base": 10}),
+               ("landing", {"base": 8, "layers": 2, "loners": 3})),
+    "duration_s": 5.0,
+    "fine": 8,                       # reference dt = DT / fine; resolution run at DT / (fine/2)
+    "every_other_grid_point": False,
+    "repeats": {"sim": 15, "pymunk": 15, "pybullet": 5},
+}
+QUICK = {
+    "scenes": (("pyramid", {"base": 4}),
+               ("landing", {"base": 4, "layers": 1, "loners": 1})),
+    "duration_s": 2.5,
+    "fine": 4,
+    "every_other_grid_point": True,  # k = -2, 0, 2 only
+    "repeats": {"sim": 3, "pymunk": 3, "pybullet": 3},
+}
+DROP = 0.5                   # m, landing: fall height of each row and step of the loners' heights
+GAP = 0.125                  # m, landing: gap between neighbours in a row (as sim.scenes.pyramid)
+FRICTION = 0.6               # as every builder in sim.scenes
+ERROR_FLOOR = 1e-9           # m or rad; analysis draws smaller errors (round-off) at this value
+
+
+# ---- scenes ------------------------------------------------------------------------------------
+def landing(base=8, layers=2, loners=3, drop=DROP, size=1.0, gap=GAP, friction=FRICTION):
+    """Boxes that fall a short height flat onto others and onto the floor, then settle.
+
+    A row of ``base`` boxes on the floor; ``layers`` rows above, each one box shorter and centred
+    over the gaps of the row below, its bottom ``drop`` m above that row's top; ``loners`` boxes
+    beside the pile falling flat onto the floor from drop, 2 drop, 3 drop m. All start at rest,
+    none touching, so every landing is flat and the contact sequence does not depend on dt."""
+    if base < 1 or layers < 0 or layers >= base or loners < 0:
+        raise ValueError(f"landing needs base >= 1, 0 <= layers < base, loners >= 0; got "
+                         f"base={base}, layers={layers}, loners={loners}")
+    pitch = size + gap
+    bodies = []
+    y = 0.0                                  # bottom of the current row, m
+    for layer in range(layers + 1):
+        n = base - layer
+        bodies += [sim.Body.box(size, size, position=((k - (n - 1) / 2) * pitch, y + size / 2),
+                                friction=friction) for k in range(n)]
+        y += size + drop
+    x0 = (base / 2 + 1.5) * pitch            # clear of the pile's widest row by > 1 m
+    bodies += [sim.Body.box(size, size, position=(x0 + 1.5 * pitch * j, size / 2 + drop * (j + 1)),
+                            friction=friction) for j in range(loners)]
+    return sim.Scene(bodies=bodies, name="landing",
+                     params={"base": base, "layers": layers, "loners": loners, "drop": drop,
+                             "size": size, "gap": gap, "friction": friction})
+
+
+def make_scene(name, params):
+    if name == "landing":
+        return landing(**params)
+    if name not in sim.scenes.BUILDERS:
+        raise ValueError(f"unknown scene {name!r}")
+    return sim.scenes.BUILDERS[name](**params)
+
+
+def scene_tag(scene):
+    if scene.name == "landing":
+        p = scene.params
+        return f"landing({p['base']},{p['layers']},{p['loners']})"
+    return common.label(scene)
+
+
+# ---- the one penetration routine ---------------------------------------------------------------
+class Polygons:
+    """The scene's polygons, ready for ``deepest_overlap``: every dynamic body's vertices about its
+    centre of mass (the pose every runner reports), padded to one vertex count by repeating the
+    last vertex (a repeated vertex adds a zero-length edge, which is skipped), the static bodies'
+    world vertices, and the floor's height."""
+
+    def __init__(self, scene):
+        scene.validate()
+        self.n = len(scene.bodies)
+        k = max(len(b.vertices) for b in list(scene.bodies) + list(scene.static_bodies))
+        self.local = np.empty((self.n, k, 2))            # (N,K,2) m, body frame about the COM
+        for i, b in enumerate(scene.bodies):
+            _, centroid, _ = mass_properties(b.vertices, b.density)
+            self.local[i] = _pad(np.asarray(b.vertices, dtype=float) - centroid, k)
+        self.statics = np.array([_pad(_world(b), k) for b in scene.static_bodies]).reshape(
+            len(scene.static_bodies), k, 2)               # (S,K,2) m, world
+        self.floor_y = scene.floor_y                       # m or None
+
+    def world(self, positions, angles):
+        """(N,K,2) m: world vertices of every dynamic body at this pose."""
+        c, s = np.cos(angles)[:, None], np.sin(angles)[:, None]
+        x, y = self.local[..., 0], self.local[..., 1]
+        return np.stack([c * x - s * y, s * x + c * y], axis=-1) + np.asarray(positions)[:, None]
+
+
+def _pad(v, k):
+    return np.concatenate([v, np.repeat(v[-1:], k - len(v), axis=0)])
+
+
+def _world(body):
+    c, s = math.cos(body.angle), math.sin(body.angle)
+    v = np.asarray(body.vertices, dtype=float)
+    return v @ np.array([[c, s], [-s, c]]) + np.asarray(body.position, dtype=float)
+
+
+def _separation(a, b):
+    """(P,) m: for each pair, the largest separation of polygon b from polygon a along a's outward
+    edge normals (negative: every edge of a has some vertex of b behind it). a, b: (P,K,2) CCW."""
+    edge = np.roll(a, -1, axis=1) - a                     # (P,K,2)
+    length = np.hypot(edge[..., 0], edge[..., 1])
+    safe = np.where(length, length, 1.0)[..., None]
+    normal = np.stack([edge[..., 1], -edge[..., 0]], axis=-1) / safe
+    # (P,K_edges,K_vertices): signed distance of b's vertices from a's edge lines
+    dist = np.einsum("pec,pvc->pev", normal, b) - np.einsum("pec,pec->pe", normal, a)[..., None]
+    sep = dist.min(axis=2)
+    sep[length < 1e-12] = -np.inf                         # padded, zero-length edges
+    return sep.max(axis=1)
+
+
+def deepest_overlap(polygons, positions, angles):
+    """The deepest overlap at this pose, m (0 when nothing overlaps): over every pair of dynamic
+    bodies, every dynamic-static pair (separating-axis test: the overlap of two convex polygons
+    is minus their largest separation along the edge normals of either) and every body against
+    the floor (how far its lowest vertex is below floor_y)."""
+    w = polygons.world(positions, angles)
+    deepest = 0.0
+    if polygons.floor_y is not None and len(w):
+        deepest = max(deepest, float(polygons.floor_y - w[..., 1].min()))
+    others = np.concatenate([w, polygons.statics]) if len(polygons.statics) else w
+    lo, hi = w.min(axis=1), w.max(axis=1)                 # (N,2) bounding boxes
+    olo, ohi = others.min(axis=1), others.max(axis=1)
+    touch = ((lo[:, None] <= ohi[None]) & (olo[None] <= hi[:, None])).all(axis=2)
+    n = len(w)
+    touch[:, :n] &= np.triu(np.ones((n, n), dtype=bool), k=1)   # each dynamic pair once
+    i, j = np.nonzero(touch)
+    if len(i):
+        a, b = w[i], others[j]
+        sep = np.maximum(_separation(a, b), _separation(b, a))
+        deepest = max(deepest, float(-sep.min()))
+    return max(deepest, 0.0)
+
+
+# ---- runs --------------------------------------------------------------------------------------
+def grid(default, step, exponents):
+    """default * 10^(k step) for every k (k = 0 gives the default exactly)."""
+    return [default if k == 0 else default * 10.0 ** (k * step) for k in exponents]
+
+
+def settings_of(config):
+    """Every (system, parameter, unit, value, is_default) to time and measure, per engine, the
+    sleeping-off baseline first."""
+    out = {e: [(OFF[e], "none", "", math.nan, True)] for e in ENGINES}
+    for system, parameter, unit, default, step, exponents in SWEEPS:
+        ks = [k for k in exponents if k % 2 == 0] if config["every_other_grid_point"] else exponents
+        for k, value in zip(ks, grid(default, step, ks)):
+            out[engine_of(system)].append((system, parameter, unit, value, k == 0))
+    return out
+
+
+def runner_settings(system, parameter, value, is_default):
+    if parameter == "none" or (is_default and (system, parameter) in UNSET_AT_DEFAULT):
+        return {}
+    return {parameter: value}
+
+
+def accuracy_run(task):
+    """One untimed run, sampled every ``sample_every`` steps (executor task: a plain dict).
+    Returns the final pose, penetration over the run, and how much was asleep."""
+    scene = make_scene(task["scene"], task["scene_params"])
+    polygons = Polygons(scene)
+    runner = build(task["system"], scene, dt=task["dt"], **task["settings"])
+    try:
+        every, samples = task["sample_every"], task["samples"]
+        deepest = deepest_overlap(polygons, runner.positions, runner.angles)
+        awake_sum, all_asleep_at = 0, math.nan
+        for s in range(1, samples + 1):
+            runner.step(every)
+            depth = deepest_overlap(polygons, runner.positions, runner.angles)
+            deepest = max(deepest, depth)
+            awake = n_awake(runner)
+            awake_sum += awake
+            if awake == 0 and math.isnan(all_asleep_at):
+                all_asleep_at = runner.time
+        return {"positions": runner.positions, "angles": runner.angles,
+                "penetration_max_m": deepest, "penetration_final_m": depth,
+                "n_awake_final": awake, "awake_fraction": awake_sum / (samples * polygons.n),
+                "all_asleep_at_s": all_asleep_at, "settings": runner.settings}
+    finally:
+        runner.close()
+
+
+def timed_runs(scene, engine, settings, steps, repeats, progress):
+    """Wall times (s) of steps 2..``steps`` of a fresh runner per setting, ``repeats`` rounds
+    round-robin over the settings (order reversed every other round); also the final pose and
+    awake count of the last round."""
+    times = [[] for _ in settings]
+    final = [None] * len(settings)
+    order = list(range(len(settings)))
+    for r in range(repeats):
+        for k in (order if r % 2 == 0 else order[::-1]):
+            system, parameter, _, value, is_default = settings[k]
+            progress.set_postfix_str(f"{scene_tag(scene)} {system} {parameter}")
+            runner = build(system, scene, **runner_settings(system, parameter, value, is_default))
+            try:
+                runner.step(1)                              # the first step is not timed
+                times[k].append(timed(runner, steps - 1))
+                final[k] = (runner.positions, n_awake(runner))
+            finally:
+                runner.close()
+            progress.update()
+    return times, final
+
+
+def run(config, args):
+    compile_kernels()
+    steps = int(round(config["duration_s"] / DT))
+    fine = int(config["fine"])
+    if fine < 2 or fine % 2:
+        raise ValueError(f"fine must be an even integer >= 2, got {fine}")
+    per_engine = settings_of(config)
+    scenes = [make_scene(name, params) for name, params in config["scenes"]]
+
+    # 1. untimed accuracy runs (the pool), before any timing
+    tasks, keys = [], []
+    for (name, params), scene in zip(config["scenes"], scenes):
+        base = {"scene": name, "scene_params": params}
+        for engine in ENGINES:
+            for role, div in (("reference", fine), ("resolution", fine // 2)):
+                tasks.append({**base, "system": OFF[engine], "dt": DT / div, "settings": {},
+                              "sample_every": div, "samples": steps})
+                keys.append((scene_tag(scene), engine, role, None))
+            for k, (system, parameter, _, value, is_default) in enumerate(per_engine[engine]):
+                tasks.append({**base, "system": system, "dt": DT,
+                              "settings": runner_settings(system, parameter, value, is_default),
+                              "sample_every": 1, "samples": steps})
+                keys.append((scene_tag(scene), engine, "setting", k))
+    results = dict(zip(keys, run_tasks(accuracy_run, tasks, desc=f"{NAME} accuracy runs")))
+
+    # 2. timed runs, serial, one engine at a time, settings interleaved
+    total = sum(len(per_engine[e]) * config["repeats"][e] for e in ENGINES) * len(scenes)
+    timings = {}
+    with tqdm(total=total, desc=f"{NAME} timed runs", unit="run") as bar:
+        for scene in scenes:
+            for engine in ENGINES:
+                timings[scene_tag(scene), engine] = timed_runs(
+                    scene, engine, per_engine[engine], steps, config["repeats"][engine], bar)
+
+    # 3. the table
+    rows = []
+    for scene in scenes:
+        tag = scene_tag(scene)
+        for engine in ENGINES:
+            ref = results[tag, engine, "reference", None]
+            times, final = timings[tag, engine]
+            off_median = statistics.median(times[0])
+            off_min = min(times[0])
+            for role, div in (("reference", fine), ("resolution", fine // 2)):
+                res = results[tag, engine, role, None]
+                rows.append(_row(tag, scene, OFF[engine], engine, role, "none", "", math.nan,
+                                 True, DT / div, steps * div, res, ref))
+            for k, (system, parameter, unit, value, is_default) in enumerate(per_engine[engine]):
+                res = results[tag, engine, "setting", k]
+                row = _row(tag, scene, system, engine, "baseline" if k == 0 else "sweep",
+                           parameter, unit, value, is_default, DT, steps, res, ref)
+                med, low = statistics.median(times[k]), min(times[k])
+                end_pose, end_awake = final[k]
+                row.update(repeats=len(times[k]), wall_s_median=med, wall_s_min=low,
+                           wall_s_all=" ".join(f"{t:.6g}" for t in times[k]),
+                           off_wall_s_median=off_median, speedup=off_median / med,
+                           speedup_min=off_min / low,
+                           replay_difference_m=float(np.abs(end_pose - res["positions"]).max()))
+                if end_awake != res["n_awake_final"]:
+                    raise RuntimeError(f"{tag} {system} {parameter}={value}: the timed run ended "
+                                       f"with {end_awake} awake, the accuracy run with "
+                                       f"{res['n_awake_final']}: runs are not reproducible")
+                rows.append(row)
+    table = pd.DataFrame(rows, columns=COLUMNS)
+
+    system_settings = {}
+    for engine in ENGINES:
+        res = results[scene_tag(scenes[0]), engine, "reference", None]
+        system_settings[f"{OFF[engine]} reference"] = res["settings"]
+        for k, (system, parameter, _, value, is_default) in enumerate(per_engine[engine]):
+            if is_default:
+                system_settings.setdefault(system, results[scene_tag(scenes[0]), engine,
+                                                            "setting", k]["settings"])
+    parameters = {
+        "dt": DT, "slop": SLOP, "duration_s": config["duration_s"], "steps": steps,
+        "reference_dt": DT / fine, "resolution_dt": DT / (fine // 2),
+        "iterations": dict(DEFAULT_ITERATIONS), "error_floor": ERROR_FLOOR,
+        "sweeps": [{"system": s, "parameter": p, "unit": u, "default": d, "grid_log10_step": st,
+                    "exponents": list(ex)} for s, p, u, d, st, ex in SWEEPS],
+        "unset_at_default": sorted(f"{s}:{p}" for s, p in UNSET_AT_DEFAULT),
+        "timing": "build excluded, first step excluded, steps 2..N in one call with GC paused; "
+                  "settings of one engine round-robin, order reversed every other repeat; "
+                  "speedup = median(off) / median(setting)",
+        "penetration": "deepest_overlap: SAT on the scene's polygons at every sampled pose",
+        "system_settings": system_settings,
+    }
+    return table, scenes, parameters
+
+
+COLUMNS = ["scene", "bodies", "system", "engine", "role", "parameter", "value", "unit",
+           "is_default", "dt_s", "steps", "repeats", "wall_s_median", "wall_s_min",
+           "wall_s_all", "off_wall_s_median", "speedup", "speedup_min", "n_awake_final",
+           "awake_fraction",
+           "all_asleep_at_s", "pose_error_max_m", "pose_error_mean_m", "angle_error_max_rad",
+           "penetration_max_m", "penetration_final_m", "replay_difference_m"]
+
+
+def _row(tag, scene, system, engine, role, parameter, unit, value, is_default, dt, steps, res,
+         ref):
+    if role == "reference":
+        d_max = d_mean = a_max = math.nan             # the reference itself: no error to speak of
+    else:
+        d_max, a_max = pose_error(res["positions"], res["angles"], ref["positions"],
+                                  ref["angles"])
+        d_mean = float(np.hypot(*(res["positions"] - ref["positions"]).T).mean())
+    row = dict.fromkeys(COLUMNS, math.nan)
+    row.update(scene=tag, bodies=len(scene.bodies), system=system, engine=engine, role=role,
+               parameter=parameter, value=value, unit=unit, is_default=bool(is_default), dt_s=dt,
+               steps=steps, n_awake_final=res["n_awake_final"],
+               awake_fraction=res["awake_fraction"], all_asleep_at_s=res["all_asleep_at_s"],
+               pose_error_max_m=d_max, pose_error_mean_m=d_mean, angle_error_max_rad=a_max,
+               penetration_max_m=res["penetration_max_m"],
+               penetration_final_m=res["penetration_final_m"])
+    return row
+
+
+main = common.entry(NAME, __doc__, FULL, QUICK, run)
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,213 @@
+"""experiments.fig_tradeoff and analysis.fig_tradeoff: the one penetration routine against sim's own
+separating-axis kernel and known overlaps, the landing scene, and the experiment end to end on
+--quick sizes (into a temporary folder) followed by its analysis.
+
+Wall-clock speed-ups are checked only where a wrong result could not come from machine load (the
+ratio of minima, for a setting that freezes the whole scene within a step)."""
+import json
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import sim
+from analysis import fig_tradeoff as analysis
+from experiments import fig_tradeoff as exp
+from experiments import paths
+from experiments.common import SLOP, build
+from sim.geometry import edge_normals, mass_properties, max_separation
+
+
+# ---- the penetration routine -------------------------------------------------------------------
+def _com(body):
+    """World centre of mass of a scene body (what every runner reports as its position)."""
+    _, centroid, _ = mass_properties(body.vertices, body.density)
+    c, s = math.cos(body.angle), math.sin(body.angle)
+    return np.array(body.position) + np.array([c * centroid[0] - s * centroid[1],
+                                               s * centroid[0] + c * centroid[1]])
+
+
+def _pose(scene):
+    return (np.array([_com(b) for b in scene.bodies]),
+            np.array([b.angle for b in scene.bodies], dtype=float))
+
+
+def test_overlap_matches_sims_separating_axis_kernel():
+    rng = np.random.default_rng(7)
+    overlapping = 0
+    for _ in range(200):
+        bodies = [sim.Body(vertices=sim.scenes.random_convex(rng, 0.5),
+                           position=tuple(rng.uniform(-0.6, 0.6, 2) + (0.0, 5.0)),
+                           angle=float(rng.uniform(-3, 3))) for _ in range(2)]
+        scene = sim.Scene(bodies=bodies, floor_y=None)
+        polygons = exp.Polygons(scene)
+        positions, angles = _pose(scene)
+        got = exp.deepest_overlap(polygons, positions, angles)
+        w = polygons.world(positions, angles)
+        a = np.ascontiguousarray(w[0][:len(bodies[0].vertices)])
+        b = np.ascontiguousarray(w[1][:len(bodies[1].vertices)])
+        sep = max(max_separation(a, edge_normals(a), b)[1],
+                  max_separation(b, edge_normals(b), a)[1])
+        assert got == pytest.approx(max(0.0, -sep), abs=1e-12)
+        overlapping += sep < 0
+    assert 20 < overlapping < 180            # both cases were exercised
+
+
+def test_overlap_of_known_poses():
+    box = lambda x, y, angle=0.0: sim.Body.box(1.0, 1.0, position=(x, y), angle=angle)
+    # two unit boxes 0.9 m apart overlap by 0.1 m; the floor is not touched
+    scene = sim.Scene(bodies=[box(0.0, 2.0), box(0.9, 2.0)])
+    assert exp.deepest_overlap(exp.Polygons(scene), *_pose(scene)) == pytest.approx(0.1)
+    # apart: nothing; a box sunk 3 cm into the floor: 0.03
+    scene = sim.Scene(bodies=[box(0.0, 2.0), box(1.2, 0.47)])
+    assert exp.deepest_overlap(exp.Polygons(scene), *_pose(scene)) == pytest.approx(0.03)
+    # a box rotated 45 degrees whose corner is 2 cm into the floor
+    h = math.sqrt(0.5)
+    scene = sim.Scene(bodies=[box(0.0, h - 0.02, math.pi / 4)])
+    assert exp.deepest_overlap(exp.Polygons(scene), *_pose(scene)) == pytest.approx(0.02)
+    # a static ledge (a triangle: padding to the box's 4 vertices is exercised) 5 cm into a box
+    ledge = sim.Body(vertices=[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)], position=(0.45, 1.5))
+    scene = sim.Scene(bodies=[box(0.0, 2.0)], static_bodies=[ledge])
+    assert exp.deepest_overlap(exp.Polygons(scene), *_pose(scene)) == pytest.approx(0.05)
+
+
+# ---- the landing scene -------------------------------------------------------------------------
+def test_landing_starts_apart_and_settles_in_rows():
+    scene = exp.landing(base=4, layers=1, loners=2)
+    assert len(scene.bodies) == 4 + 3 + 2
+    assert exp.deepest_overlap(exp.Polygons(scene), *_pose(scene)) == 0.0
+    runner = build("sim-off", scene)
+    runner.step(150)
+    y = runner.positions[:, 1]
+    # rest heights: base row and loners 0.5 m, the dropped row 1.5 m (less a few slops)
+    expected = np.array([0.5] * 4 + [1.5] * 3 + [0.5] * 2)
+    assert np.abs(y - expected).max() < 0.02
+    assert np.hypot(*runner.velocities.T).max() < 0.05
+    # the dropped boxes land flat, centred over the gaps: no tilt, no sliding off
+    assert np.abs(runner.angles).max() < 0.01
+    start_x = [b.position[0] for b in scene.bodies[4:7]]
+    assert np.abs(runner.positions[4:7, 0] - start_x).max() < 0.02
+
+
+def test_bad_scene_input_is_refused():
+    with pytest.raises(ValueError, match="layers"):
+        exp.landing(base=2, layers=2)
+    with pytest.raises(ValueError, match="unknown scene"):
+        exp.make_scene("heap", {})
+
+
+def test_grid_is_log_spaced_around_the_default():
+    assert exp.grid(0.5, 0.5, range(-2, 3)) == pytest.approx([0.05, 0.158113883, 0.5, 1.58113883,
+                                                              5.0])
+    assert exp.grid(0.05, 1.0, [0])[0] == 0.05      # the default exactly
+
+
+def test_pareto_front():
+    pts = pd.DataFrame({"speedup": [1.0, 2.0, 3.0, 4.0, 0.5, 5.0],
+                        "err": [5.0, 3.0, 4.0, 1.0, 0.5, math.nan]})
+    front = analysis.pareto(pts, "err")
+    assert list(zip(front["speedup"], front["err"])) == [(0.5, 0.5), (4.0, 1.0)]
+
+
+# ---- end to end --------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("fig_tradeoff")
+    exp.main(["--quick"], data_dir=folder)
+    table = pd.read_csv(folder / f"{exp.NAME}.csv")
+    meta = json.loads((folder / f"{exp.NAME}.json").read_text())
+    return table, meta, folder
+
+
+def test_table_has_every_run(quick_run):
+    table, meta, _ = quick_run
+    assert list(table.columns) == exp.COLUMNS
+    assert meta["parameters"]["quick"] is True
+    scenes = list(dict.fromkeys(table["scene"]))
+    assert scenes == ["pyramid(4)", "landing(4,1,1)"]
+    for scene in scenes:
+        t = table[table["scene"] == scene]
+        for engine, off in exp.OFF.items():
+            for role in ("reference", "resolution", "baseline"):
+                rows = t[(t["engine"] == engine) & (t["role"] == role)]
+                assert len(rows) == 1 and rows["system"].iloc[0] == off, (scene, engine, role)
+        for system, parameter, _, default, _, _ in exp.SWEEPS:
+            rows = t[(t["system"] == system) & (t["parameter"] == parameter)]
+            assert len(rows) == 3, (scene, system, parameter)        # k = -2, 0, 2
+            assert rows.loc[rows["is_default"], "value"].tolist() == pytest.approx([default])
+            assert rows["value"].is_monotonic_increasing
+
+
+def test_timings_and_replays(quick_run):
+    table, _, _ = quick_run
+    timed = table[table["role"].isin(["baseline", "sweep"])]
+    assert (timed["wall_s_median"] > 0).all()
+    assert (timed["wall_s_min"] <= timed["wall_s_median"]).all()
+    assert (timed["repeats"] >= 3).all()
+    assert (table.loc[table["role"] == "baseline", "speedup"] == 1.0).all()
+    for _, row in timed.iterrows():
+        times = [float(x) for x in row["wall_s_all"].split()]
+        assert len(times) == row["repeats"]
+        assert min(times) == pytest.approx(row["wall_s_min"], rel=1e-5)      # 6 digits in csv
+    # every engine is deterministic: the timed run ended exactly where the measured one did
+    assert (timed["replay_difference_m"] == 0.0).all()
+    assert table.loc[~table["role"].isin(["baseline", "sweep"]), "wall_s_median"].isna().all()
+
+
+def test_physics_of_the_results(quick_run):
+    table, _, _ = quick_run
+    errors = ["pose_error_max_m", "pose_error_mean_m", "angle_error_max_rad"]
+    ref = table["role"] == "reference"
+    assert table.loc[ref, errors].isna().all().all()
+    assert (table.loc[~ref, errors] >= 0).all().all()
+    assert (table["pose_error_mean_m"] <= table["pose_error_max_m"]).where(~ref, True).all()
+    assert (table["penetration_final_m"] <= table["penetration_max_m"] + 1e-15).all()
+    # sleeping off, every step solved: at rest the overlap left is at most the slop
+    for role in ("reference", "resolution", "baseline"):
+        rows = table[table["role"] == role]
+        assert (rows["penetration_final_m"] <= SLOP + 1e-4).all(), role
+        assert (rows["awake_fraction"] == 1.0).all() and rows["all_asleep_at_s"].isna().all()
+    # a body landing at ~3 m/s sinks about v dt into the floor before any engine sees the contact
+    landing_base = table[(table["scene"] == "landing(4,1,1)") & (table["role"] == "baseline")]
+    assert (landing_base["penetration_max_m"] > 0.01).all()
+    # sleeping that never engages (sleep_time 5 s > the 2.5 s run) leaves sim's trajectory intact
+    t = table[table["scene"] == "pyramid(4)"]
+    never = t[(t["system"] == "sim-sleep") & (t["parameter"] == "sleep_time") & (t["value"] == 5.0)]
+    base = t[(t["system"] == "sim-off") & (t["role"] == "baseline")]
+    assert never["awake_fraction"].iloc[0] == 1.0
+    assert never["pose_error_max_m"].iloc[0] == pytest.approx(base["pose_error_max_m"].iloc[0],
+                                                              abs=1e-12)
+    # extended freezes the pyramid (placed at rest) at once, and then costs far less per run
+    ext = t[(t["system"] == "sim-extended") & t["is_default"]]
+    assert (ext["n_awake_final"] == 0).all() and (ext["awake_fraction"] < 0.1).all()
+    assert (ext["speedup_min"] > 1.5).all()
+
+
+def test_analysis_draws_and_quotes(quick_run, monkeypatch, tmp_path):
+    _, _, folder = quick_run
+    monkeypatch.setattr(paths, "DATA", folder)
+    monkeypatch.setattr(paths, "FIGURES", tmp_path / "figures")
+    monkeypatch.setattr(paths, "GENERATED", tmp_path / "generated")
+    numbers = analysis.main([])
+    svg = tmp_path / "figures" / f"{analysis.NAME}.svg"
+    assert svg.exists() and svg.stat().st_size > 20_000
+    fronts = pd.read_csv(tmp_path / "generated" / f"{analysis.NAME}.csv")
+    assert set(fronts["measure"]) == {"pose", "penetration"}
+    assert set(fronts["system"]) == set(analysis.FREEZING)
+    for _, front in fronts.groupby(["scene", "measure", "system"]):
+        # on a front, more speed costs strictly more error
+        assert front["speedup"].is_monotonic_increasing
+        assert front["error_m"].diff().dropna().gt(0).all()
+    written = json.loads((tmp_path / "generated" / f"{analysis.NAME}.json").read_text())
+    assert written["quick"] is True
+    pyramid = numbers["scenes"]["pyramid(4)"]
+    assert set(pyramid["baseline"]) == set(exp.OFF.values())
+    assert set(pyramid["systems"]) == set(analysis.FREEZING)
+    for entry in pyramid["systems"].values():
+        assert entry["default"]["speedup"] > 0
+        assert "best_speedup_matching_baseline" in entry
+    # extended freezes a pyramid placed at rest where it stands: no body ends a micron off
+    ext = pyramid["systems"]["sim-extended"]
+    assert ext["default"]["pose_error_max_m"] < 1e-6
+    assert ext["default"]["awake_fraction"] < 0.1

@@ -26,7 +26,7 @@ class SimulationError(RuntimeError):
 
 
 #: the solver's fast paths (see World's ``fast_paths``): name -> bit of the FAST_PATHS setting
-FAST_PATHS = {"friction": L.FAST_FRICTION}
+FAST_PATHS = {"friction": L.FAST_FRICTION, "box": L.FAST_BOX}
 
 
 def _fast_paths(value):
@@ -82,7 +82,8 @@ class World:
                             solver builds up pressure over the first steps. Needs warm_starting.
       fast_paths            True (default), False, or a collection of names from FAST_PATHS:
                             work skipped when the scene does not need it ("friction": no
-                            friction rows for contacts whose friction coefficient is 0). The
+                            friction rows for contacts whose friction coefficient is 0; "box":
+                            a separating-axis test specialised to box pairs). The
                             results are identical either way; False exists to measure the saving
                             (experiments/bench_fast_paths.py).
       **policy_parameters   the freeze policy's own parameters (e.g. impulse_threshold)
@@ -225,7 +226,8 @@ class World:
             np.zeros((4 * n + 64, 5), np.int64),               # events, see sim.activity
             np.zeros((n, self.policy.REAL_COLUMNS)),           # body_real: policy's own, per body
             np.zeros((n, self.policy.INT_COLUMNS), np.int64),  # body_int: policy's own, per body
-            np.zeros((max(16, 4 * n), 2), np.int64))           # links: policy's body pairs
+            np.zeros((max(16, 4 * n), 2), np.int64),           # links: policy's body pairs
+            np.zeros((max(16, 4 * n), 3)))                     # link_load: per link, policy's
         initial = getattr(self.policy, "initial", None)
         if initial is not None:
             initial(self._activity[7])
@@ -273,7 +275,7 @@ class World:
                                 self._world_verts, self._world_normals, self._friction,
                                 self._restitution, self._fsettings[L.FLOOR_Y], 0.0, 0.0, 0.0,
                                 *scratch, 0, empty, empty, np.empty((0, 2), np.int64),
-                                np.empty((0, 2, 2)), False, *C.scratch())
+                                np.empty((0, 2, 2)), False, *C.scratch(), False)
         manifold_int, _, point_float, _ = scratch
         for c in range(count):
             k = manifold_int[c, C.POINT_COUNT]

@@ -361,3 +361,37 @@ def test_events_carry_the_number_of_the_step_that_made_them():
     impact = [step for step, b, f, t, c in world.events if c == "impact"]
     assert impact == [hit]
     assert all(1 <= e[0] <= world.step_count for e in world.events)
+
+
+@pytest.mark.parametrize("height", [0.5, 1.5, 3.0])
+def test_extended_does_not_freeze_an_overlap(height):
+    """A box landing flat from a height sinks about v dt into the floor before the contact is
+    seen; position correction pushes it back out over a few steps while its velocity is already
+    ~0. extended must wait for that (found by fig_tradeoff: frozen at step 35, 13.4 mm deep, for
+    good), so the frozen box ends no deeper than off leaves it, within twice the slop."""
+    scene = sim.Scene(bodies=[sim.Body.box(1.0, 1.0, position=(0.0, 0.5 + height))])
+    ends = {}
+    for policy in ("off", "extended"):
+        w = sim.World(scene, freeze=policy)
+        w.step(240)
+        ends[policy] = -float(w.vertices(0)[:, 1].min())        # depth below the floor, m
+        if policy == "extended":
+            assert w.frozen[0]
+    assert ends["extended"] <= 2 * 0.005 + 1e-12
+    assert ends["extended"] <= ends["off"] + 0.005
+
+
+def test_extended_support_sees_a_woken_load_leave():
+    """A frozen support's load holds the push of every body frozen on it. When such a body wakes,
+    that push must leave the support's load, or the support counts the weight twice (stored and
+    live) and cannot see the column above it tip: in the failure catalogue's impact_on_stack a
+    hit on a frozen 4-box column toppled boxes 1-3 but never woke the base."""
+    from experiments import scenarios
+    case = scenarios.get("impact_on_stack")
+    scene = case.build()
+    w = sim.World(scene, freeze="extended")
+    w.step(int(round(case.seconds * 60)))
+    assert case.classify(scene, w.positions, w.angles) == case.expected == "toppled"
+    woken = {body: cause for _, body, before, after, cause in w.events
+             if before != after and after == sim.State.FREE}
+    assert woken.get(0) == "tipping", woken

@@ -11,7 +11,8 @@ Freezing (the general rest test), checked every step for awake bodies:
      solver leaves some at the limit in a pyramid that holds.) A body accelerating more slowly
      than ``rest_acceleration`` is indistinguishable from one at rest over the test and can be
      frozen: that is the accuracy the study trades for speed;
-  3. whole groups only: every body it touches is the floor, static, frozen, or itself passes 1-2
+  3. settled: none of its contacts is deeper than twice the slop (position correction is done);
+  4. whole groups only: every body it touches is the floor, static, frozen, or itself passes 1-3
      and is freezing in this step (iterated to a fixed point). An awake body that is still moving
      keeps its neighbours awake, so nothing freezes against something that pushes it.
   Nothing in the test is about horizontal faces: a plank across two boxes, a box leaning on a wall
@@ -42,10 +43,10 @@ import numpy as np
 
 from ..activity import CAUSE, freeze, record, wake
 from ..contacts import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, NORMAL_IMPULSE, NORMAL_X,
-                        NORMAL_Y, POINT_COUNT, TANGENT_IMPULSE)
+                        NORMAL_Y, POINT_COUNT, SEPARATION, TANGENT_IMPULSE)
 from ..jit import inline_kernel, kernel
 from ..layout import (DT, GRAVITY_X, GRAVITY_Y, IMPULSE_THRESHOLD, N_AWAKE, N_DYNAMIC, N_LINKS,
-                      REST_ACCELERATION, REST_SPEED, REST_STEPS)
+                      REST_ACCELERATION, REST_SPEED, REST_STEPS, SLOP)
 from ..state import State
 from .contact_math import stopping_impulse
 
@@ -115,7 +116,7 @@ def before_solve(count, settings, bodies, contacts, activity):
     inv_mass, inv_inertia = bodies[4], bodies[5]
     manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
     states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
-        links = activity
+        links, link_load = activity
     n_dyn = isettings[N_DYNAMIC]
     touched = np.empty(min(2 * count, n_dyn) + 1, np.int64)
     n_touched = 0
@@ -160,7 +161,7 @@ def before_solve(count, settings, bodies, contacts, activity):
                                 events, body_int)
     return _wake_supported(n_queue, queue, states, awake, awake_slot, counters, inv_mass,
                            inv_inertia, solver_inv_mass, solver_inv_inertia, events, body_int,
-                           links)
+                           links, link_load, body_real)
 
 
 @inline_kernel
@@ -179,7 +180,8 @@ def _touch(i, touched, n_touched, body_real, body_int):
 
 @kernel
 def _wake_supported(n_queue, queue, states, awake, awake_slot, counters, inv_mass, inv_inertia,
-                    solver_inv_mass, solver_inv_inertia, events, body_int, links):
+                    solver_inv_mass, solver_inv_inertia, events, body_int, links, link_load,
+                    body_real):
     """Support removed: everything the bodies in queue[0..n_queue-1] carry wakes too, in this
     same step, transitively (breadth first over the links). Returns the number woken in all."""
     head = 0
@@ -192,7 +194,7 @@ def _wake_supported(n_queue, queue, states, awake, awake_slot, counters, inv_mas
                                     awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
                                     solver_inv_inertia, events, body_int)
     if n_queue > 0:
-        _drop_links_of_awake(links, counters, awake_slot)
+        _drop_links_of_awake(links, link_load, counters, awake_slot, body_real)
     return n_queue
 
 
@@ -206,7 +208,7 @@ def after_solve(count, settings, bodies, contacts, activity):
     inv_mass, inv_inertia, extent = bodies[4], bodies[5], bodies[11]
     manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
     states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
-        links = activity
+        links, link_load = activity
     n_dyn = isettings[N_DYNAMIC]
     dt = fsettings[DT]
     gx = fsettings[GRAVITY_X]
@@ -247,7 +249,8 @@ def after_solve(count, settings, bodies, contacts, activity):
                                 inv_mass, inv_inertia, solver_inv_mass, solver_inv_inertia,
                                 events, body_int)
     _wake_supported(n_queue, queue, states, awake, awake_slot, counters, inv_mass, inv_inertia,
-                    solver_inv_mass, solver_inv_inertia, events, body_int, links)
+                    solver_inv_mass, solver_inv_inertia, events, body_int, links, link_load,
+                    body_real)
 
     # ---- 2. the rest test -----------------------------------------------------------------
     n_awake = counters[N_AWAKE]
@@ -285,6 +288,16 @@ def after_solve(count, settings, bodies, contacts, activity):
             any_candidate = True
     if not any_candidate:
         return
+    # settled: a candidate with a contact deeper than twice the slop is still being pushed out
+    # by position correction (which works on positions, not velocities, so the body looks at
+    # rest); frozen now, it would keep that overlap for good
+    too_deep = -2.0 * fsettings[SLOP]
+    for c in range(count):
+        for j in range(manifold_int[c, POINT_COUNT]):
+            if point_float[c, j, SEPARATION] < too_deep:
+                for body in (manifold_int[c, BODY_A], manifold_int[c, BODY_B]):
+                    if 0 <= body < n_dyn:
+                        body_int[body, MARK] = 0
     changed = True
     while changed:                       # a candidate touching an awake non-candidate is out
         changed = False
@@ -341,11 +354,18 @@ def after_solve(count, settings, bodies, contacts, activity):
                 if 0 <= other < n_dyn:
                     n_links = counters[N_LINKS]
                     if n_links == links.shape[0]:
-                        _drop_links_of_awake(links, counters, awake_slot)
+                        _drop_links_of_awake(links, link_load, counters, awake_slot, body_real)
                         n_links = counters[N_LINKS]
                     if n_links < links.shape[0]:
                         links[n_links, 0] = other
                         links[n_links, 1] = i
+                        # what i puts on its support (the support's load holds it, whether the
+                        # support froze before or with i): taken back when i wakes
+                        fx, fy, m = _push_on_support(i, other, c, manifold_int, manifold_float,
+                                                     point_float, position, up_x, up_y)
+                        link_load[n_links, 0] = fx
+                        link_load[n_links, 1] = fy
+                        link_load[n_links, 2] = m
                         counters[N_LINKS] = n_links + 1
     # support extent along the tangent of the dominant support normal
     for k in range(n_awake):
@@ -456,12 +476,43 @@ def _wake_one(i, cause, n_queue, queue, states, awake, awake_slot, counters, inv
 
 
 @kernel
-def _drop_links_of_awake(links, counters, awake_slot):
-    """Compact the link list, keeping only links whose supported body is still frozen."""
+def _drop_links_of_awake(links, link_load, counters, awake_slot, body_real):
+    """Compact the link list, keeping only links whose supported body is still frozen. A dropped
+    link's push leaves its support's load: the awake body's contacts now push live (else the
+    support would count that weight twice and could not see the body tip or leave)."""
     kept = 0
     for k in range(counters[N_LINKS]):
+        support = links[k, 0]
         if awake_slot[links[k, 1]] < 0:
-            links[kept, 0] = links[k, 0]
+            links[kept, 0] = support
             links[kept, 1] = links[k, 1]
+            link_load[kept, 0] = link_load[k, 0]
+            link_load[kept, 1] = link_load[k, 1]
+            link_load[kept, 2] = link_load[k, 2]
             kept += 1
+        elif awake_slot[support] < 0:
+            body_real[support, LOAD_X] -= link_load[k, 0]
+            body_real[support, LOAD_Y] -= link_load[k, 1]
+            body_real[support, LOAD_M] -= link_load[k, 2]
     counters[N_LINKS] = kept
+
+
+@inline_kernel
+def _push_on_support(i, support, c, manifold_int, manifold_float, point_float, position, up_x,
+                     up_y):
+    """The impulse body i exerts on ``support`` through manifold c at the points where it is
+    supported (the same points whose push enters the support's load), and its moment about the
+    support's centre of mass."""
+    b = manifold_int[c, BODY_B]
+    fx = 0.0
+    fy = 0.0
+    m = 0.0
+    for j in range(manifold_int[c, POINT_COUNT]):
+        px, py = _impulse_on(i, c, j, manifold_int, manifold_float, point_float)
+        if px * up_x + py * up_y > 0.1 * np.hypot(px, py):
+            wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
+            wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
+            fx -= px
+            fy -= py
+            m -= (wx - position[support, 0]) * py - (wy - position[support, 1]) * px
+    return fx, fy, m

@@ -121,7 +121,7 @@ def before_solve(count, settings, bodies, contacts, activity):
     inv_mass, inv_inertia = bodies[4], bodies[5]
     manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
     states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
-        _ = activity
+        _, _ = activity
     n_dyn = isettings[N_DYNAMIC]
     # Section 2's collision impulse of each moving body against its floor-like surfaces, judged
     # by after_solve: the impulse that stops its approach, from the velocities before gravity
@@ -182,7 +182,7 @@ def after_solve(count, settings, bodies, contacts, activity):
     vert_start, local_verts = bodies[8], bodies[9]
     manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
     states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
-        _ = activity
+        _, _ = activity
     n_dyn = isettings[N_DYNAMIC]
     dt = fsettings[DT]
     g = abs(fsettings[GRAVITY_Y])

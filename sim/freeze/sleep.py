@@ -61,7 +61,7 @@ def before_solve(count, settings, bodies, contacts, activity):
     inv_mass, inv_inertia = bodies[4], bodies[5]
     manifold_int = contacts[1]
     states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
-        _ = activity
+        _, _ = activity
     n_dyn = isettings[N_DYNAMIC]
     woken = 0
     for c in range(count):
@@ -94,7 +94,7 @@ def after_solve(count, settings, bodies, contacts, activity):
     velocity, angular_velocity, extent = bodies[2], bodies[3], bodies[11]
     manifold_int = contacts[1]
     states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
-        _ = activity
+        _, _ = activity
     n_dyn = isettings[N_DYNAMIC]
     dt = fsettings[DT]
     n_awake = counters[N_AWAKE]

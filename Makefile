@@ -30,9 +30,9 @@ GEN  := $(PAPER_OUT)/generated
 RECS := $(RESULTS_DIR)/recordings
 
 # One experiment script (experiments/<name>.py) and one analysis script (analysis/<name>.py) each.
-TABLES  := bench_step bench_freeze peer_agreement
+TABLES  := bench_step bench_freeze peer_agreement bench_fast_paths
 STUDY   := fig_states fig_edge_as_floor fig_overhang fig_speedup fig_scaling fig_time_to_rest \
-           fig_tradeoff table_failures
+           fig_tradeoff table_failures table_extremes
 ALL     := $(TABLES) $(STUDY)
 # One recording per figure scene: <builder>__<policy>
 RECORDINGS := seed_fig1__paper seed_fig2__paper seed_fig3__paper seed_fig3__extended \
@@ -103,6 +103,10 @@ trace: $(STAMP)
 # Print the currently installed versions, to refresh the `pinned` extra by hand.
 lock: $(STAMP)
 	$(PY) -m pip freeze --exclude-editable
+
+# `make print-ALL` etc.: the value of a variable (the end-to-end test reads the lists from here)
+print-%:
+	@echo $($*)
 
 clean:
 	rm -rf results paper/figures paper/generated paper/paper.pdf

@@ -312,17 +312,35 @@ def expected_awake(system, n_frozen, n_awake):
     return n_awake if system in FREEZING else n_awake + n_frozen
 
 
-def per_body_cost(config, repeats, progress, systems=MIX_SYSTEMS, extra_units=None):
+def relative_to_off(fits):
+    """Add b_over_b_off and a_over_a_off (against the sim-off fit, if there is one) to every other
+    system's fit, in place."""
+    off = fits.get("sim-off")
+    if off is None:
+        return fits
+    for system, fit in fits.items():
+        if system != "sim-off":
+            fit["b_over_b_off"] = fit["b"] / off["b"] if off["b"] else math.nan
+            fit["a_over_a_off"] = fit["a"] / off["a"] if off["a"] else math.nan
+    return fits
+
+
+def per_body_cost(config, repeats, progress, systems=MIX_SYSTEMS, extra_units=None,
+                  scenes_out=None):
     """Part 2 on ``config``'s mixes for ``systems``: (rows, fits). A system that sleeps the row
     only after a timer (sim-sleep, pymunk-sleep: 0.5 s) is stepped, after the warm-up, until only
     the flyers are solved, for at most ``config["mix_settle_s"]`` s (default 0). Fit rows are
-    written for the keys of FIT_UNITS (+ ``extra_units``, key -> unit)."""
+    written for the keys of FIT_UNITS (+ ``extra_units``, key -> unit). The mix scenes are
+    appended to the list ``scenes_out`` if one is given (for the metadata: building thousands of
+    bodies again takes seconds)."""
     mixes = [(nf, na) for nf in config["mix_frozen"] for na in config["mix_awake"]]
     settle_cap = WARMUP_STEPS + int(round(config.get("mix_settle_s", 0.0) / DT))
     runners, keys = [], []
     try:
         for nf, na in mixes:
             scene = mix_scene(nf, na)
+            if scenes_out is not None:
+                scenes_out.append(scene)
             for system in systems:
                 progress.set_postfix_str(f"{label(scene)} {system}: build")
                 runner = build(system, scene)
@@ -357,12 +375,7 @@ def per_body_cost(config, repeats, progress, systems=MIX_SYSTEMS, extra_units=No
         fit = fit_cost([keys[k][3] for k in ks], [keys[k][2] for k in ks],
                        [statistics.median(times[k]) for k in ks])
         fits[system] = fit
-    if "sim-off" in fits:
-        off = fits["sim-off"]
-        for system, fit in fits.items():
-            if system != "sim-off":
-                fit["b_over_b_off"] = fit["b"] / off["b"] if off["b"] else math.nan
-                fit["a_over_a_off"] = fit["a"] / off["a"] if off["a"] else math.nan
+    relative_to_off(fits)
     units = {**FIT_UNITS, "b_over_b_off": "ratio", "a_over_a_off": "ratio", **(extra_units or {})}
     for system, fit in fits.items():
         for key, value in fit.items():

@@ -1,0 +1,157 @@
+"""Figure 6 "fig_time_to_rest": steps until every body of a scene is frozen/asleep, per system.
+
+Horizontal bars, one group per scene, one bar per freezing system, log scale in steps (top axis in
+seconds at dt 1/60 s). A run that did not freeze the whole scene within the cap is drawn hatched up
+to the cap and labelled "never" with the number of bodies still awake; a run whose freeze did not
+hold (bodies awake again 1 s later) is marked with a red cross.
+
+paper/generated/fig_time_to_rest.csv: scene x system, steps (or "never (k awake)"). The numbers:
+per system, the steps for every scene, how many scenes it never froze (and which), the median
+steps over the scenes it did freeze; the cap.
+"""
+import math
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+from matplotlib.ticker import FuncFormatter
+
+from analysis import style
+
+NAME = "fig_time_to_rest"
+FREEZING = ("sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep", "pybullet-sleep")
+
+
+def runs_of(table):
+    """One row per (scene, system): steps (NaN = never), never, awake at the end, awake 1 s
+    after, cap, bodies; scenes in the order of the table."""
+    t = table[table["part"] == "time_to_freeze"] if "part" in table else table
+    if t.empty:
+        raise ValueError(f"{NAME}: no time_to_freeze rows in the results table")
+    wide = t.pivot_table(index=["scene", "system"], columns="metric", values="value",
+                         aggfunc="first", dropna=False)
+    need = {"steps_to_all_frozen", "n_awake_at_end", "n_awake_1s_after", "cap_steps"}
+    if need - set(wide.columns):
+        raise ValueError(f"{NAME}: results table lacks metrics {sorted(need - set(wide.columns))}")
+    flags = t.drop_duplicates(["scene", "system"]).set_index(["scene", "system"])
+    wide["never"] = flags["flag"].astype(object).fillna("").eq("never").reindex(wide.index)
+    wide["bodies"] = flags["bodies"].reindex(wide.index)
+    wide = wide.reset_index()
+    order = {s: i for i, s in enumerate(dict.fromkeys(t["scene"]))}
+    wide["scene_order"] = wide["scene"].map(order)
+    return wide.sort_values("scene_order")
+
+
+def draw(table, meta):
+    runs = runs_of(table)
+    scenes = list(dict.fromkeys(runs["scene"]))
+    systems = [s for s in FREEZING if s in set(runs["system"])]
+    cap = float(runs["cap_steps"].max())
+    dt = float(meta.get("parameters", {}).get("dt", 1 / 60))
+    bar_h = 0.8 / len(systems)
+    fig, ax = plt.subplots(figsize=(style.WIDTH, 0.42 * len(scenes) + 1.2))
+    for k, system in enumerate(systems):
+        st = style.system_style(system)
+        for i, scene in enumerate(scenes):
+            r = runs[(runs["scene"] == scene) & (runs["system"] == system)]
+            if r.empty:
+                continue
+            r = r.iloc[0]
+            y = i + (k - (len(systems) - 1) / 2) * bar_h
+            if r["never"]:
+                ax.barh(y, cap, height=bar_h, color="white", edgecolor=st["color"], hatch="////",
+                        linewidth=0.6)
+                ax.text(cap * 1.05, y, f"never ({int(r['n_awake_at_end'])} awake)",
+                        va="center", fontsize=5, color=st["color"])
+                continue
+            steps = float(r["steps_to_all_frozen"])
+            ax.barh(y, steps, height=bar_h, color=st["color"], edgecolor="none")
+            ax.text(steps * 1.05, y, f"{steps:.0f}", va="center", fontsize=5, color="0.25")
+            if r["n_awake_1s_after"] > 0:
+                ax.plot(steps, y, marker="x", color="red", markersize=4, linestyle="none")
+    ax.set_xscale("log")
+    ax.set_xlim(0.8, cap * 4)
+    ax.axvline(cap, color="0.4", linewidth=0.8, linestyle=":")
+    ax.text(cap * 1.05, -0.45, f"cap: {cap * dt:g} s", ha="left", va="top", fontsize=6,
+            color="0.3")
+    ax.set_yticks(range(len(scenes)), scenes)
+    ax.set_ylim(len(scenes) - 0.5, -0.5)          # first scene on top
+    ax.grid(axis="y", visible=False)
+    step = f"1/{round(1 / dt)}" if abs(1 / dt - round(1 / dt)) < 1e-9 else f"{dt:.4g}"
+    ax.set_xlabel(f"steps until every body is frozen/asleep (dt = {step} s)")
+    top = ax.secondary_xaxis("top", functions=(lambda s: s * dt, lambda t: t / dt))
+    top.set_xlabel("simulated time (s)")
+    plain = FuncFormatter(lambda v, _: f"{v:g}")
+    ax.xaxis.set_major_formatter(plain)
+    top.xaxis.set_major_formatter(plain)
+    handles = [Patch(color=style.system_style(s)["color"], label=s) for s in systems]
+    handles += [Patch(facecolor="white", edgecolor="0.3", hatch="////",
+                      label="never within the cap"),
+                Line2D([], [], marker="x", color="red", linestyle="none",
+                       label="awake again 1 s later")]
+    ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.12), ncol=4,
+              frameon=False)
+    fig.tight_layout()
+    style.save_figure(fig, NAME)
+
+    style.write_table(_paper_table(runs, scenes, systems), NAME)
+    return _numbers(runs, scenes, systems, cap, dt)
+
+
+def _cell(r):
+    if r["never"]:
+        return f"never ({int(r['n_awake_at_end'])} awake)"
+    cell = f"{r['steps_to_all_frozen']:.0f}"
+    if r["n_awake_1s_after"] > 0:
+        cell += f" (+{int(r['n_awake_1s_after'])} woke)"
+    return cell
+
+
+def _paper_table(runs, scenes, systems):
+    rows = []
+    for scene in scenes:
+        s = runs[runs["scene"] == scene]
+        row = {"scene": scene, "bodies": int(s["bodies"].iloc[0])}
+        for system in systems:
+            r = s[s["system"] == system]
+            row[system] = _cell(r.iloc[0]) if len(r) else "-"
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def _numbers(runs, scenes, systems, cap, dt):
+    out = {"cap_steps": int(cap), "cap_s": cap * dt, "dt": dt, "scenes": scenes}
+    for system in systems:
+        s = runs[runs["system"] == system]
+        froze = s[~s["never"]]
+        out[system] = {
+            "steps": {r.scene: (None if r.never else int(r.steps_to_all_frozen))
+                      for r in s.itertuples()},
+            "never": [r.scene for r in s.itertuples() if r.never],
+            "n_never": int(s["never"].sum()),
+            "awake_at_cap": {r.scene: int(r.n_awake_at_end) for r in s.itertuples() if r.never},
+            "median_steps_when_frozen": (float(np.median(froze["steps_to_all_frozen"]))
+                                         if len(froze) else math.nan),
+            "did_not_hold": [r.scene for r in s.itertuples() if r.n_awake_1s_after > 0],
+            # per scene family (drop seeds, stacks...): median steps, None if any run never froze
+            "family_median_steps": {
+                family: (None if g["never"].any()
+                         else float(np.median(g["steps_to_all_frozen"])))
+                for family, g in s.groupby(s["scene"].str.split("(").str[0], sort=False)},
+        }
+    fastest = {}
+    for scene in scenes:
+        s = runs[(runs["scene"] == scene) & ~runs["never"]]
+        if len(s):
+            best = s["steps_to_all_frozen"].min()
+            fastest[scene] = sorted(s.loc[s["steps_to_all_frozen"] == best, "system"])
+    out["fastest"] = fastest
+    return out
+
+
+main = style.entry(NAME, draw)
+
+if __name__ == "__main__":
+    main()

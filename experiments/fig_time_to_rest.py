@@ -1,0 +1,76 @@
+"""Figure "fig_time_to_rest" (figure 6): steps until a scene is fully frozen/asleep, per system.
+
+Question: how soon does each freezing system stop solving a scene that comes to rest, and which
+scenes does it never freeze whole? Freezing pays only from that step on (figure 4 times the
+steady state after it).
+
+Systems: sim-sleep (island sleep, 0.5 s timer), sim-paper (the seed's state machine), sim-extended
+(ours), pymunk-sleep (Chipmunk, 0.5 s timer) and pybullet-sleep (Bullet, fixed 2 s deactivation
+time). Scenes (sim/scenes.py): rest_row(50), stack(5), stack(10), pyramid(10), pyramid(20),
+drop(30, seed 0..4) (30 random convex polygons dropped on the floor), seed_fig1 (a box on the
+floor, one tilted on its corner, one in the air), seed_fig2 (a box falling on a box), seed_fig3
+(a box sliding off a box).
+
+Method (bench_freeze.freeze_run, reused): each (scene, system) run is stepped one step at a time,
+dt 1/60 s, until every body is frozen/asleep (no work is done for it: sim's ``World.frozen``,
+out of the awake list; the peers' ``asleep``) or the cap of 30 s (1800 steps). A run that does not
+get there is kept, not dropped: NaN steps, flag "never", with the number still awake at the cap
+(``n_awake_at_end``). A run that froze is stepped 1 s more and the awake count then is recorded
+(a freeze that does not hold). Also recorded: the largest distance a body moved (m), and for sim
+the step at which no body was FREE any more (``steps_to_all_not_free``: under paper a pivoting or
+sliding body leaves FREE but stays awake). The runs are independent and untimed, so they go to the
+local process pool (experiments/executor.py). sim and pymunk 10 iterations, slop 0.005 m;
+pybullet 50 iterations.
+
+Columns (long form, bench_freeze's): part ("time_to_freeze"), scene, system, bodies, n_awake,
+n_frozen (at the freeze, or at the cap), metric (steps_to_all_frozen, time_to_all_frozen,
+n_awake_at_end, n_awake_1s_after, max_displacement, cap_steps; sim also steps_to_all_not_free,
+n_not_free_at_end), value, unit, flag.
+
+    python -m experiments.fig_time_to_rest [--quick]
+writes results/data/fig_time_to_rest.csv and fig_time_to_rest.json. --quick: rest_row(50),
+stack(5), pyramid(5), drop(10, seed 0), seed_fig1..3, cap 5 s.
+"""
+import pandas as pd
+
+import sim
+from experiments import bench_freeze
+from experiments.common import DT, SLOP, build, compile_kernels, entry
+from experiments.executor import run_tasks
+
+NAME = "fig_time_to_rest"
+SYSTEMS = bench_freeze.FREEZING
+SEED_FIGS = (("seed_fig1", {}), ("seed_fig2", {}), ("seed_fig3", {}))
+
+FULL = {"scenes": (("rest_row", {"n": 50}), ("stack", {"height": 5}), ("stack", {"height": 10}),
+                   ("pyramid", {"base": 10}), ("pyramid", {"base": 20}),
+                   *(("drop", {"n": 30, "seed": seed}) for seed in range(5))) + SEED_FIGS,
+        "cap_s": 30.0}
+QUICK = {"scenes": (("rest_row", {"n": 50}), ("stack", {"height": 5}), ("pyramid", {"base": 5}),
+                    ("drop", {"n": 10, "seed": 0})) + SEED_FIGS,
+         "cap_s": 5.0}
+
+
+def run(config, args):
+    # compiled here once, so the pool's workers load the kernels from Numba's cache
+    compile_kernels()
+    tasks = bench_freeze.freeze_tasks(config["scenes"], config["cap_s"], SYSTEMS)
+    rows = [row for rows in run_tasks(bench_freeze.freeze_run, tasks, desc=f"{NAME} runs")
+            for row in rows]
+    scenes = [sim.scenes.BUILDERS[name](**params) for name, params in config["scenes"]]
+    settings = {}
+    probe = sim.scenes.single_box()
+    for system in SYSTEMS:
+        with build(system, probe) as r:
+            settings[system] = r.settings
+    parameters = {"dt": DT, "slop": SLOP, "cap_steps": int(round(config["cap_s"] / DT)),
+                  "freeze_hold_s": bench_freeze.FREEZE_HOLD_S, "systems": SYSTEMS,
+                  "frozen_means": "sim: out of the awake list (World.frozen); pymunk/pybullet: "
+                                  "asleep", "system_settings": settings}
+    return pd.DataFrame(rows), scenes, parameters
+
+
+main = entry(NAME, __doc__, FULL, QUICK, run)
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,86 @@
+"""experiments.fig_time_to_rest and analysis.fig_time_to_rest end to end on --quick sizes, into
+temporary folders (the runs go through the process pool).
+
+Asserted are the freezing behaviours the figure shows: the resting row frozen within 3 steps by
+paper and extended, after the 0.5 s timers by sim-sleep and pymunk-sleep and after Bullet's 2 s by
+pybullet-sleep; sim-paper never freezing a pyramid above its two lowest rows; extended freezing
+every quick scene; "never" runs kept with NaN, their flag and the awake count, and drawn."""
+import json
+import math
+
+import pandas as pd
+import pytest
+
+from analysis import fig_time_to_rest as analysis
+from experiments import fig_time_to_rest, paths
+
+
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("fig_time_to_rest")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(paths, "DATA", folder / "data")
+        mp.setattr(paths, "FIGURES", folder / "figures")
+        mp.setattr(paths, "GENERATED", folder / "generated")
+        fig_time_to_rest.main(["--quick"], data_dir=paths.DATA)
+        numbers = analysis.main([])
+    table = pd.read_csv(folder / "data" / "fig_time_to_rest.csv")
+    table["flag"] = table["flag"].astype(object).fillna("")
+    return table, numbers, folder
+
+
+def _steps(table):
+    return table[table["metric"] == "steps_to_all_frozen"]
+
+
+def _one(table, scene, system, metric="steps_to_all_frozen"):
+    return table[(table["scene"] == scene) & (table["system"] == system)
+                 & (table["metric"] == metric)]["value"].item()
+
+
+def test_every_run_is_kept_and_never_is_marked(quick_run):
+    table, _, _ = quick_run
+    steps = _steps(table)
+    assert len(steps) == len(fig_time_to_rest.QUICK["scenes"]) * len(fig_time_to_rest.SYSTEMS)
+    never = steps["flag"] == "never"
+    assert steps.loc[never, "value"].isna().all()
+    assert steps.loc[~never, "value"].map(math.isfinite).all()
+    cap = int(round(fig_time_to_rest.QUICK["cap_s"] / fig_time_to_rest.DT))
+    assert (steps.loc[~never, "value"].between(1, cap)).all()
+    awake = table[table["metric"] == "n_awake_at_end"].set_index(["scene", "system"])["value"]
+    for r in steps.itertuples():
+        left = awake.loc[(r.scene, r.system)]
+        assert (left > 0) if r.flag == "never" else (left == 0), (r.scene, r.system)
+
+
+def test_resting_row_freezing_times(quick_run):
+    table, _, _ = quick_run
+    scene = "rest_row(50)"
+    assert _one(table, scene, "sim-paper") <= 3 and _one(table, scene, "sim-extended") <= 3
+    assert _one(table, scene, "sim-sleep") >= 30 and _one(table, scene, "pymunk-sleep") >= 30
+    assert _one(table, scene, "pybullet-sleep") >= 120
+
+
+def test_paper_pyramid_and_extended_everywhere(quick_run):
+    table, numbers, _ = quick_run
+    scene = "pyramid(5)"
+    assert math.isnan(_one(table, scene, "sim-paper"))
+    assert _one(table, scene, "sim-paper", "n_awake_at_end") == 15 - (5 + 4)   # rows 3.. awake
+    assert numbers["sim-extended"]["n_never"] == 0
+    assert scene in numbers["sim-paper"]["never"]
+
+
+def test_figure_table_and_numbers(quick_run):
+    table, numbers, folder = quick_run
+    svg = (folder / "figures" / "fig_time_to_rest.svg").read_text()
+    assert svg.startswith("<?xml") and svg.count("<path") > 50, "figure is empty"
+    n_never = int((_steps(table)["flag"] == "never").sum())
+    assert n_never > 0                                   # the quick set has never-runs to draw
+    paper = pd.read_csv(folder / "generated" / "fig_time_to_rest.csv")
+    assert len(paper) == len(fig_time_to_rest.QUICK["scenes"])
+    cells = paper[list(fig_time_to_rest.SYSTEMS)].astype(str)
+    assert int(cells.apply(lambda col: col.str.startswith("never (")).to_numpy().sum()) == n_never
+    written = json.loads((folder / "generated" / "fig_time_to_rest.json").read_text())
+    assert written["numbers"] == json.loads(json.dumps(numbers)) and written["quick"] is True
+    assert sum(numbers[s]["n_never"] for s in fig_time_to_rest.SYSTEMS) == n_never
+    assert numbers["sim-paper"]["steps"]["rest_row(50)"] <= 3

@@ -8,10 +8,17 @@ e.g. the quick pipeline), the source is copied there first, so that both resolve
     python -m analysis.paper [--png DIR]     (--png: also render every page to DIR/page-N.png)
 """
 import argparse
+import inspect
 import json
+import math
 import shutil
 
 import typst
+
+import sim
+from sim import freeze
+from sim.freeze import paper as freeze_paper
+from experiments.peers import DEFAULT_ITERATIONS
 
 from analysis.style import write_numbers
 from experiments import paths
@@ -19,6 +26,19 @@ from experiments import paths
 SOURCES = ("paper.typ",)
 #: the experiments whose metadata describes the set-up (the first one present is used)
 SETUP_FROM = ("fig_speedup", "bench_step", "bench_freeze")
+
+
+def world_defaults():
+    """sim.World's keyword defaults (dt, iterations, slop, ...), as the paper quotes them."""
+    return {name: p.default for name, p in inspect.signature(sim.World).parameters.items()
+            if p.default is not inspect.Parameter.empty and isinstance(p.default, (int, float))}
+
+
+def policy_parameters():
+    """Each freeze policy's parameters and their defaults."""
+    modules = {"off": freeze.off, "sleep": freeze.sleep, "paper": freeze.paper,
+               "extended": freeze.extended}
+    return {name: dict(getattr(modules[name], "PARAMETERS", {})) for name in sim.POLICY_NAMES}
 
 
 def setup_numbers():
@@ -35,7 +55,10 @@ def setup_numbers():
             break
     if meta is None:
         raise FileNotFoundError(f"no experiment metadata in {paths.DATA}: run make reproduce")
-    return meta, {"cpu": meta["cpu"], "cpu_count": meta["cpu_count"],
+    return meta, {"world": world_defaults(), "policies": policy_parameters(),
+                  "paper_floor_angle_deg": math.degrees(math.acos(freeze_paper.COS_FLOOR)),
+                  "peer_iterations": dict(DEFAULT_ITERATIONS),
+                  "cpu": meta["cpu"], "cpu_count": meta["cpu_count"],
                   "platform": meta["platform"], "python": meta["python"],
                   "packages": meta["packages"], "commits": sorted(commits),
                   "quick": any(quick), "date_utc": meta["date_utc"]}

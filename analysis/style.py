@@ -87,9 +87,11 @@ def write_table(table, name):
 
 
 def write_numbers(name, numbers, meta):
-    """Write ``paper/generated/<name>.json``: the numbers the paper quotes, plus where they came
-    from (commit, quick or full sizes). Non-finite numbers become strings ("nan")."""
-    out = {"numbers": numbers, "source": f"results/data/{name}.csv",
+    """Write ``paper/generated/<name>.json``: the numbers the paper quotes, the experiment's
+    parameters (so that the paper quotes those from data too) and where they came from (commit,
+    quick or full sizes). Non-finite numbers become strings ("nan")."""
+    out = {"numbers": numbers, "parameters": meta.get("parameters", {}),
+           "source": f"results/data/{name}.csv",
            "commit": meta.get("git", {}).get("commit", "unknown"),
            "quick": bool(meta.get("parameters", {}).get("quick", False)),
            "date_utc": meta.get("date_utc", "unknown")}

@@ -83,8 +83,9 @@ class World:
       fast_paths            True (default), False, or a collection of names from FAST_PATHS:
                             work skipped when the scene does not need it ("friction": no
                             friction rows for contacts whose friction coefficient is 0; "box":
-                            a separating-axis test specialised to box pairs). The
-                            results are identical either way; False exists to measure the saving
+                            a separating-axis test specialised to box pairs, which
+                            chooses the general test's reference face except where round-off
+                            decides a near-tie). False exists to measure the saving
                             (experiments/bench_fast_paths.py).
       **policy_parameters   the freeze policy's own parameters (e.g. impulse_threshold)
 

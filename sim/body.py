@@ -1,10 +1,14 @@
 """``sim.Body``: one convex polygon with its material and initial motion (validated on creation)."""
 from dataclasses import dataclass, field
 import math
+import numbers
 
 import numpy as np
 
 from .geometry import PolygonError, mass_properties, validate_polygon
+
+#: m; bodies beyond this are treated as diverged by the step loop (sim.kernel.MAX_COORDINATE)
+MAX_COORDINATE = 1e12
 
 
 def _finite_pair(value, what, name):
@@ -65,6 +69,9 @@ class Body:
             return
         self.vertices = validate_polygon(self.vertices, name)
         self.position = _finite_pair(self.position, "position", name)
+        if max(abs(self.position[0]), abs(self.position[1])) > MAX_COORDINATE:
+            raise ValueError(f"{name}: position {self.position} is beyond {MAX_COORDINATE:g} m, "
+                             f"where the solver stops as diverged")
         self.velocity = _finite_pair(self.velocity, "velocity", name)
         self.angle = _finite(self.angle, "angle", name)
         self.angular_velocity = _finite(self.angular_velocity, "angular_velocity", name)
@@ -99,6 +106,11 @@ class Body:
     @classmethod
     def regular(cls, n, radius, **kwargs):
         """A regular n-gon of circumradius ``radius``, centred, with a flat bottom edge."""
+        name = kwargs.get("name") or "regular polygon"
+        if isinstance(n, bool) or not isinstance(n, numbers.Integral):
+            raise PolygonError(f"{name}: the vertex count must be an integer, got {n!r}")
+        if not (isinstance(radius, numbers.Real) and math.isfinite(radius) and radius > 0):
+            raise PolygonError(f"{name}: radius must be > 0 and finite, got {radius!r}")
         phase = -math.pi / 2 - math.pi / n
         verts = [(radius * math.cos(phase + 2 * math.pi * i / n), radius * math.sin(phase + 2 * math.pi * i / n))
                  for i in range(n)]

@@ -37,7 +37,7 @@ OK, GROW, NON_FINITE, FLUSH = 0, 1, 2, 3
 
 #: A body farther than this from the origin (m) has diverged: beyond it the broadphase's cell
 #: indices would overflow int64 long before the state turns NaN.
-MAX_COORDINATE = 1e12
+from .body import MAX_COORDINATE  # noqa: E402  m, defined once (bodies are refused beyond it)
 
 
 @kernel

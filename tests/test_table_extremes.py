@@ -1,0 +1,254 @@
+"""experiments.table_extremes end to end on --quick sizes into a temporary results tree, its
+analysis into a temporary paper tree, and the measuring code (rules, overlap, tunnelling) on
+cases whose answer is known."""
+import json
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import sim
+from analysis import table_extremes as analysis
+from experiments import paths, table_extremes as T
+from experiments.common import SYSTEMS
+
+COLUMNS = ["axis", "value", "unit", "system", "scene", "bodies", "dt_s", "iterations", "steps",
+           "status", "reason", "outcome", "ref_outcome", "ref_valid", "error", "finite",
+           "exploded", "tunnelled", "chattering", "energy_growth", "ke_max_rel",
+           "penetration_max_m", "penetration_rel", "drift_max_m", "drift_rel", "wakes_max",
+           "state_changes_max", "asleep_before_event", "decision", "ms_per_step", "steps_done",
+           "wall_s"]
+
+
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory):
+    results = tmp_path_factory.mktemp("results")
+    paper = tmp_path_factory.mktemp("paper")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(paths, "RESULTS", results)            # the incremental store goes here
+        mp.setattr(paths, "DATA", results / "data")
+        mp.setattr(paths, "FIGURES", paper / "figures")
+        mp.setattr(paths, "GENERATED", paper / "generated")
+        T.main(["--quick"], data_dir=results / "data")
+        numbers = analysis.main([])
+    table = pd.read_csv(results / "data" / f"{T.NAME}.csv")
+    for col in ("reason", "outcome", "ref_outcome", "error", "tunnelled", "chattering",
+                "decision"):
+        table[col] = table[col].astype(object).fillna("")    # all-empty reads back as NaN
+    meta = json.loads((results / "data" / f"{T.NAME}.json").read_text())
+    return table, meta, numbers, results, paper
+
+
+def _row(table, axis, value, system):
+    r = table[(table["axis"] == axis) & np.isclose(table["value"], value)
+              & (table["system"] == system)]
+    assert len(r) == 1, (axis, value, system)
+    return r.iloc[0]
+
+
+def test_every_cell_once_with_the_columns(quick_run):
+    table, meta, _, results, _ = quick_run
+    assert list(table.columns) == COLUMNS
+    expected = {(a, float(v), s) for a, values in T.QUICK["axes"].items() for v in values
+                for s in SYSTEMS}
+    got = list(zip(table["axis"], table["value"].astype(float), table["system"]))
+    assert len(got) == len(set(got)) == len(expected)
+    assert set(got) == expected
+    assert set(table["status"]) <= set(T.STATUSES)
+    # a finished sweep leaves no store behind (nothing left to resume); the store was used
+    assert (results / "partial").is_dir()
+    assert not list((results / "partial").glob("*.jsonl"))
+    assert meta["parameters"]["rules"]["penetration_rel"] == T.PENETRATION_REL
+
+
+def test_marks_follow_the_stated_rules(quick_run):
+    table, _, _, _, _ = quick_run
+    ran = table[~table["status"].isin(["not run", "rejected"])]
+    assert len(ran) > 0
+    for r in ran.itertuples():
+        if r.status == "stable":
+            assert r.reason == "" or r.reason.startswith("reference not valid"), r
+            assert r.finite and not r.tunnelled and r.ke_max_rel <= T.EXPLOSION_FACTOR
+            assert r.penetration_rel <= T.PENETRATION_REL
+            assert not (r.drift_rel > T.DRIFT_REL) and r.energy_growth <= T.ENERGY_GROWTH
+            if r.ref_valid:
+                assert r.outcome == r.ref_outcome
+        else:
+            assert r.reason, r
+        if r.tunnelled or not r.finite or r.error:
+            assert r.status == "failed", r
+    # every executed cell stepped, and timed its steps (indicative, only sanity-checked)
+    assert (ran["steps_done"] > 0).all()
+    timed = ran[ran["steps_done"] > 1]["ms_per_step"]
+    assert timed.map(math.isfinite).all() and (timed > 0).all()
+
+
+def test_physical_facts(quick_run):
+    table, meta, _, _, _ = quick_run
+    # every reference is a valid run, and a placed resting scene stands in it
+    for ref in meta["parameters"]["references"]:
+        assert ref["valid"], ref
+    for axis in ("mass_light_on_heavy", "size_large", "polygon_vertices", "collinear"):
+        for r in table[table["axis"] == axis].itertuples():
+            assert r.ref_outcome == "stands", r
+    # a light box on heavy ones stands in sim under every policy, with nothing measurable lost
+    for system in ("sim-off", "sim-sleep", "sim-paper", "sim-extended"):
+        r = _row(table, "mass_light_on_heavy", 0.001, system)
+        assert r.status == "stable" and r.outcome == "stands", r
+    # knife edge: offset by a tilt, the reference falls; balanced exactly, it stays
+    assert _row(table, "knife_edge", 1e-6, "sim-off").ref_outcome.startswith("falls")
+    assert _row(table, "knife_edge", 0.0, "sim-off").ref_outcome == "stays"
+    # the wall is either stopped or passed through; passing through is tunnelling
+    for r in table[table["axis"] == "projectile_wall"].itertuples():
+        assert r.outcome in ("stopped", "passed")
+        if r.outcome == "passed":
+            assert "tunnelling" in r.reason and r.status == "failed"
+
+
+def test_impact_threshold_decisions_flip_at_v_star(quick_run):
+    table, meta, _, _, _ = quick_run
+    thresholds = meta["parameters"]["thresholds"]
+    assert set(thresholds) == {"paper", "extended"}
+    for t in thresholds.values():
+        lo, hi = t["bracket"]
+        assert lo < t["v_star"] < hi and (hi - lo) < 1e-9 * t["v_star"]
+    for eps in (-1e-6, 1e-6):
+        paper = _row(table, "impact_threshold", eps, "sim-paper")
+        extended = _row(table, "impact_threshold", eps, "sim-extended")
+        assert paper.decision == ("held" if eps < 0 else "bounces")
+        assert extended.decision == ("anvil stays frozen" if eps < 0 else "anvil woken")
+        for r in (paper, extended):
+            assert r.state_changes_max <= T.MAX_STATE_CHANGES and not r.chattering
+
+
+def test_analysis_outputs(quick_run):
+    table, _, numbers, _, paper = quick_run
+    svg = paper / "figures" / f"{analysis.FIGURE}.svg"
+    assert svg.exists() and svg.stat().st_size > 20_000
+    text = svg.read_text()
+    for system in SYSTEMS:
+        assert system in text
+    summary = pd.read_csv(paper / "generated" / f"{T.NAME}.csv")
+    assert list(summary.columns) == ["axis", "value", *SYSTEMS]
+    assert len(summary) == len(table.drop_duplicates(["axis", "value"]))
+    assert json.loads((paper / "generated" / f"{T.NAME}.json").read_text())["numbers"] == \
+        json.loads(json.dumps(numbers))
+    assert sum(sum(c.values()) for c in numbers["counts"].values()) == numbers["cells"] == \
+        len(table)
+    assert set(numbers["per_axis"]) == set(T.QUICK["axes"])
+    # the first value at which a system breaks is one where it is degraded or failed
+    for axis, entry in numbers["per_axis"].items():
+        for system in entry["breaks_first"]:
+            label = entry["first_degraded_or_failed"][system]
+            hits = [r for r in table[(table["axis"] == axis) & (table["system"] == system)]
+                    .itertuples() if analysis.value_label(axis, r.value) == label]
+            assert hits and hits[0].status in ("degraded", "failed")
+
+
+# ---- the measuring code on known cases (no sweep) ----------------------------------------------
+def _result(**kw):
+    base = {"status_hint": "", "error": "", "finite": True, "exploded": False, "tunnelled": "",
+            "outcome": "stands", "energy_growth": 0.0, "ke_max_rel": 0.5,
+            "penetration_rel": 0.01, "drift_rel": 0.001, "chattering": ""}
+    return {**base, **kw}
+
+
+def test_classify_rules():
+    ref = _result()
+    assert T.classify(_result(), ref) == ("stable", "")
+    assert T.classify(_result(penetration_rel=0.2), ref)[0] == "degraded"
+    assert T.classify(_result(drift_rel=0.02), ref)[0] == "degraded"
+    assert T.classify(_result(energy_growth=0.06), ref)[0] == "degraded"
+    assert T.classify(_result(finite=False, error="non-finite"), ref)[0] == "failed"
+    assert T.classify(_result(ke_max_rel=2.5), ref)[0] == "failed"
+    assert T.classify(_result(tunnelled="projectile passed through body 2"), ref)[0] == "failed"
+    assert T.classify(_result(outcome="collapsed"), ref)[0] == "failed"
+    assert T.classify(_result(chattering="a body woken 3 times"), ref)[0] == "failed"
+    # an invalid reference is not compared with
+    bad_ref = _result(tunnelled="projectile passed through the wall")
+    assert T.classify(_result(outcome="collapsed"), bad_ref)[0] == "stable"
+    assert T.classify(_result(status_hint="rejected", error="ValueError: x"), ref) == \
+        ("rejected", "ValueError: x")
+
+
+def test_deepest_overlap_known_depths():
+    scene = sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5)),
+                              sim.Body.box(0.5, 0.5, position=(3, 0.25))])
+    shapes = T.Shapes(scene)
+    # box 1 pushed 0.1 m into box 0 from the right, and 0.02 m below the floor
+    pos = np.array([[0.0, 0.5], [0.65, 0.23]])
+    depth, rel = T.deepest_overlap(shapes, pos, np.zeros(2))
+    assert depth == pytest.approx(0.1) and rel == pytest.approx(0.1 / 0.5)
+    depth, rel = T.deepest_overlap(shapes, np.array([[0.0, 0.5], [3.0, 0.25]]), np.zeros(2))
+    assert depth == pytest.approx(0.0, abs=1e-12)
+    assert T.thinnest_width(sim.Body.box(2.0, 0.02).vertices) == pytest.approx(0.02)
+
+
+class _Pose:
+    """A stand-in runner: just the observables the Judge reads."""
+
+    def __init__(self, positions):
+        self.positions = np.asarray(positions, float)
+        n = len(self.positions)
+        self.angles = np.zeros(n)
+        self.velocities = np.zeros((n, 2))
+        self.angular_velocities = np.zeros(n)
+        self.asleep = np.zeros(n, bool)
+
+
+def test_tunnelling_is_seen_through_and_not_over():
+    scene = T.projectile_wall(100.0)
+    judge = T.Judge(scene, T.Shapes(scene))
+    judge.sample(_Pose([[-0.5, 2.0]]), 0.0)
+    judge.sample(_Pose([[1.2, 2.0]]), 0.1)                 # jumped through the wall
+    assert "passed through the wall" in judge.tunnelled
+    judge = T.Judge(scene, T.Shapes(scene))
+    judge.sample(_Pose([[-0.5, 2.0]]), 0.0)
+    judge.sample(_Pose([[-0.4, 4.5]]), 0.1)                # rose above the wall's top
+    judge.sample(_Pose([[0.5, 4.5]]), 0.2)                 # passed over it
+    judge.sample(_Pose([[1.0, 3.0]]), 0.3)                 # and came down behind it
+    assert judge.tunnelled == ""
+    assert judge.outcome() == "passed"
+
+
+def test_tunnelling_over_several_steps_and_not_when_pushed_back():
+    scene = T.projectile_stack(100.0)             # body 2: the unit box centred at (0, 2.5)
+    column = [[0.0, 0.5 + k] for k in range(5)]
+
+    def judge_path(path):
+        judge = T.Judge(scene, T.Shapes(scene))
+        for k, xy in enumerate(path):
+            judge.sample(_Pose(column + [xy]), 0.1 * k)
+        return judge.tunnelled
+
+    # in through the left face, a step inside, out through the right face, descending
+    assert "passed through body 2" in judge_path([[-1.4, 2.4], [0.2, 2.2], [0.9, 2.1]])
+    # in through the left face and pushed back out of it: an impact, not tunnelling
+    assert judge_path([[-1.4, 2.4], [-0.3, 2.4], [-0.8, 2.4]]) == ""
+    # inside all along (and a path that never entered it): nothing to say
+    assert judge_path([[-0.2, 2.4], [0.1, 2.3], [0.2, 2.2]]) == ""
+    # in through the left face, out through the bottom: not counted
+    assert judge_path([[-1.4, 2.4], [-0.2, 2.2], [-0.1, 1.6]]) == ""
+    assert T.clip_to_box(np.array([-2.0, 0.0]), np.array([2.0, 0.0]), np.array([0.5, 0.5])) \
+        == ((0, -1), (0, 1))
+    assert T.clip_to_box(np.array([-2.0, 1.0]), np.array([2.0, 1.0]), np.array([0.5, 0.5])) \
+        is None
+
+
+@pytest.mark.parametrize("builder,arg", [
+    ("mass_stack", 0), ("mass_stack", -1.0), ("mass_stack", math.nan), ("size_stack", 0.0),
+    ("size_stack", -1.0), ("size_stack", math.nan), ("plank_flat", 0), ("plank_upright", -3),
+    ("polygon_on_box", 2), ("polygon_on_box", 3.5), ("collinear_box", -1e-3),
+    ("projectile_wall", 0.0), ("impact", math.nan), ("knife_edge", math.inf), ("columns", 7),
+])
+def test_builders_refuse_out_of_range(builder, arg):
+    with pytest.raises(ValueError):
+        T.BUILDERS[builder](arg)
+
+
+def test_a_refused_scene_is_recorded_not_raised():
+    task = {"role": "run", "system": "sim-off", "scene": {"builder": "mass_stack", "args": [-1]},
+            "dt": 1 / 60, "iterations": None, "steps": 10, "sample_every": 1, "budget_s": 5.0}
+    out = T.simulate(task)
+    assert out["status_hint"] == "rejected" and "mass ratio" in out["error"]

@@ -31,7 +31,8 @@ def numbers(name):
 
 
 def x(v):
-    return f"{fmt(v, 2)}×"
+    """A speed-up: whole numbers from 100 up (1,940×), two significant figures below."""
+    return f"{v:,.0f}×" if v >= 100 else f"{fmt(v, 2)}×"
 
 
 def lines():
@@ -76,8 +77,11 @@ def lines():
                + f". Every system gets {' and '.join(tf['scenarios_all_right'])} right; the "
                "velocity-based rules (every one but `paper`) miss slow tipping, slow sliding and "
                "creep.")
-    if "headline" in ex:
-        out.append(f"- **Extremes:** {ex['headline']}")
+    firsts = [f"{axis.replace('_', ' ')}: {', '.join(a['breaks_first'])} (at {a['breaks_first_at']})"
+              for axis, a in ex["per_axis"].items() if 0 < len(a["breaks_first"]) < 8]
+    failed = ", ".join(f"{s} {c['failed']}" for s, c in ex["counts"].items())
+    out.append(f"- **Extremes** ({ex['cells']} cells; failed per system: {failed}). Breaks "
+               f"first: " + "; ".join(firsts) + ".")
     out += ["", "| figure / table | what it shows | make target |", "| --- | --- | --- |"]
     for name, what in FIGURES:
         target = "table_extremes" if name == "fig_extremes" else name

@@ -42,6 +42,9 @@ RECORD_STEPS := $(if $(QUICK),60,300)
 SCENE ?= seed_fig3
 FREEZE ?= paper
 
+# Results are never intermediate files: make must not delete results/data/*.csv after drawing.
+.SECONDARY:
+
 .PHONY: all venv test reproduce figures paper glance recordings trace lock clean distclean $(ALL)
 
 all: test

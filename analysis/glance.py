@@ -66,7 +66,7 @@ def lines():
                f"({x(pyr['speedup']['sim-extended'])}); `paper` never freezes "
                f"{ttr['sim-paper']['n_never']} of {len(ttr['scenes'])} scenes of "
                f"`fig_time_to_rest`.")
-    rr = "rest_row(50)"
+    rr = next(s for s in ttr["scenes"] if s.startswith("rest_row"))
     out.append(f"- **Time to rest** ({rr}, steps of 1/{round(1 / ttr['dt'])} s): "
                + ", ".join(f"{s} {ttr[s]['steps'][rr]}" for s in
                            ("sim-paper", "sim-extended", "sim-sleep", "pymunk-sleep",

@@ -72,14 +72,13 @@ def collide_pairs(n_pairs, pair_keys, n_bodies, position, rotation, vert_start, 
                   local_normals, world_verts, world_normals, friction, restitution, floor_y,
                   floor_friction, floor_restitution, margin, manifold_int, manifold_float,
                   point_float, point_id, n_prev, prev_key, prev_count, prev_id, prev_impulse,
-                  warm_start, points, seps, ids, normal, fast_box):
+                  warm_start, points, seps, ids, normal):
     """Narrowphase over sorted pair keys; returns the number of manifolds written.
 
     position (M,2) m, rotation (M,2) cos/sin, world_verts/world_normals (V,2) already updated.
     Impulses are copied from the previous step's manifold with the same key and feature id when
     ``warm_start`` is true, and zeroed otherwise. points (2,2), seps (2,), ids (2,) int64 and
     normal (2,) are scratch (``scratch()``), passed in because this kernel allocates nothing.
-    ``fast_box``: box pairs take the specialised separating-axis test.
     """
     stride = n_bodies + 1
     count = 0
@@ -103,8 +102,7 @@ def collide_pairs(n_pairs, pair_keys, n_bodies, position, rotation, vert_start, 
             va0 = vert_start[a]
             va1 = vert_start[a + 1]
             n_points, flip, edge = collide_polygon_rows(
-                world_verts, world_normals, va0, va1, vb0, vb1, margin, points, seps, ids, normal,
-                fast_box)
+                world_verts, world_normals, va0, va1, vb0, vb1, margin, points, seps, ids, normal)
             mu = np.sqrt(friction[a] * friction[b])
             e = max(restitution[a], restitution[b])
         if n_points == 0:

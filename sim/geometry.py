@@ -142,42 +142,6 @@ def _max_separation(verts, normals, a0, a1, b0, b1):
 
 
 @inline_kernel
-def _is_parallelogram(normals, r0, r1):
-    """Whether rows r0..r1-1 are a parallelogram (boxes are): four edges whose opposite outward
-    normals are exact negatives. Exact because a body's world normals are its local normals
-    rotated, and rotation maps -n to exactly -(rotated n)."""
-    return (r1 - r0 == 4 and normals[r0, 0] == -normals[r0 + 2, 0]
-            and normals[r0, 1] == -normals[r0 + 2, 1]
-            and normals[r0 + 1, 0] == -normals[r0 + 3, 0]
-            and normals[r0 + 1, 1] == -normals[r0 + 3, 1])
-
-
-@inline_kernel
-def _max_separation_parallelograms(verts, normals, a0, b0):
-    """``_max_separation`` for two parallelograms (rows a0..a0+3, b0..b0+3), without the loop over
-    B's vertices: B is its centre c plus or minus two half-diagonals h0, h1, so its lowest point
-    along a face normal n is n.c - max(|n.h0|, |n.h1|), and A's opposite faces share n up to sign.
-    Equal to the general test in exact arithmetic; same face order and tie rule."""
-    cx = 0.5 * (verts[b0, 0] + verts[b0 + 2, 0])
-    cy = 0.5 * (verts[b0, 1] + verts[b0 + 2, 1])
-    h0x = verts[b0, 0] - cx
-    h0y = verts[b0, 1] - cy
-    h1x = verts[b0 + 1, 0] - cx
-    h1y = verts[b0 + 1, 1] - cy
-    best_edge = 0
-    best_sep = -np.inf
-    for i in range(4):
-        nx = normals[a0 + i, 0]
-        ny = normals[a0 + i, 1]
-        reach = max(abs(nx * h0x + ny * h0y), abs(nx * h1x + ny * h1y))
-        s = nx * (cx - verts[a0 + i, 0]) + ny * (cy - verts[a0 + i, 1]) - reach
-        if s > best_sep:
-            best_sep = s
-            best_edge = i
-    return best_edge, best_sep
-
-
-@inline_kernel
 def _clip(p0x, p0y, p1x, p1y, d0, d1):
     """Clip segment p0-p1 to the side of a plane where the signed distances d0, d1 of its ends
     are <= 0, moving an end that lies outside onto the plane. On scalars, not arrays: array
@@ -197,7 +161,7 @@ def _clip(p0x, p0y, p1x, p1y, d0, d1):
 
 @inline_kernel
 def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, out_points, out_separations,
-                         out_ids, out_normal, fast_box):
+                         out_ids, out_normal):
     """SAT + reference/incident face clipping between convex polygons A and B, given as row ranges
     a0..a1-1 and b0..b1-1 of packed world-coordinate arrays verts/normals (V,2).
 
@@ -209,19 +173,12 @@ def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, out_points, out
       out_separations (2,) m  signed distance along the normal (negative = penetration)
       out_ids (2,) int64   feature ids (see module comment)
       out_normal (2,)      unit normal from A to B
-    ``fast_box``: use the separating-axis test specialised to parallelograms when both are.
     Returns (count, flip, reference_edge): flip = 1 when B holds the reference face.
     """
-    if fast_box and _is_parallelogram(normals, a0, a1) and _is_parallelogram(normals, b0, b1):
-        edge_a, sep_a = _max_separation_parallelograms(verts, normals, a0, b0)
-        if sep_a > margin:
-            return 0, 0, 0
-        edge_b, sep_b = _max_separation_parallelograms(verts, normals, b0, a0)
-    else:
-        edge_a, sep_a = _max_separation(verts, normals, a0, a1, b0, b1)
-        if sep_a > margin:
-            return 0, 0, 0
-        edge_b, sep_b = _max_separation(verts, normals, b0, b1, a0, a1)
+    edge_a, sep_a = _max_separation(verts, normals, a0, a1, b0, b1)
+    if sep_a > margin:
+        return 0, 0, 0
+    edge_b, sep_b = _max_separation(verts, normals, b0, b1, a0, a1)
     if sep_b > margin:
         return 0, 0, 0
     # Prefer A's face unless B's is better by more than a small tolerance: coherent choice frame to
@@ -355,13 +312,13 @@ def max_separation(verts1, normals1, verts2):
 
 @kernel
 def collide_polygons(verts_a, normals_a, verts_b, normals_b, margin, out_points, out_separations,
-                     out_ids, out_normal, fast_box=True):
+                     out_ids, out_normal):
     """``collide_polygon_rows`` on two separate polygons (K,2) arrays; same outputs and return."""
     ka = verts_a.shape[0]
     verts = np.concatenate((verts_a, verts_b))
     normals = np.concatenate((normals_a, normals_b))
     return collide_polygon_rows(verts, normals, 0, ka, ka, verts.shape[0], margin, out_points,
-                                out_separations, out_ids, out_normal, fast_box)
+                                out_separations, out_ids, out_normal)
 
 
 @kernel

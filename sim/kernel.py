@@ -25,7 +25,7 @@ from .contacts import NORMAL_IMPULSE, POINT_COUNT, collide_pairs, save_for_warm_
 from .freeze.dispatch import freeze_after_solve, freeze_before_solve
 from .jit import kernel
 from .layout import (BAD_BODY, BAUMGARTE, CELL_SIZE, DT, FLOOR_FRICTION, FLOOR_RESTITUTION,
-                     FAST_BOX, FAST_FRICTION, FAST_PATHS, FLOOR_Y, GRAVITY_X, GRAVITY_Y, HAS_FLOOR, ITERATIONS, MARGIN, MAX_CORRECTION,
+                     FAST_FRICTION, FAST_PATHS, FLOOR_Y, GRAVITY_X, GRAVITY_Y, HAS_FLOOR, ITERATIONS, MARGIN, MAX_CORRECTION,
                      N_AWAKE, N_DYNAMIC, N_EVENTS, N_MANIFOLDS, POLICY, POSITION_ITERATIONS,
                      PRESOLVE_SWEEPS, RESTING_DIRTY, RESTITUTION_THRESHOLD, SLOP, STEP_COUNT,
                      WARM_START)
@@ -98,8 +98,7 @@ def _detect(settings, bodies, geometry, contacts, activity, resting):
                           fsettings[FLOOR_RESTITUTION], margin, manifold_int, manifold_float,
                           point_float, point_id, n_prev, prev_key, prev_count, prev_id,
                           prev_impulse, isettings[WARM_START] == 1, np.empty((2, 2)), np.empty(2),
-                          np.empty(2, np.int64), np.empty(2),
-                          (isettings[FAST_PATHS] & FAST_BOX) != 0)
+                          np.empty(2, np.int64), np.empty(2))
     counters[N_MANIFOLDS] = count
     return count
 

@@ -16,7 +16,6 @@ N_INT_SETTINGS = 8
 
 # FAST_PATHS bits: work the solver skips when the scene does not need it (World(fast_paths=...))
 FAST_FRICTION = 1          # no friction rows for a contact whose friction coefficient is zero
-FAST_BOX = 2               # box-box pairs: separating axes from half-diagonals, no vertex loop
 
 # counters
 (STEP_COUNT, N_MANIFOLDS, BAD_BODY, PRESOLVE_SWEEPS, N_AWAKE, N_EVENTS, RESTING_DIRTY,

@@ -26,7 +26,9 @@ class SimulationError(RuntimeError):
 
 
 #: the solver's fast paths (see World's ``fast_paths``): name -> bit of the FAST_PATHS setting
-FAST_PATHS = {"friction": L.FAST_FRICTION, "box": L.FAST_BOX}
+#: (A box-specific separating-axis test was built and measured too: it saved 2.5-4.9 % of a
+#: pyramid(40) step, under the 5 % rule of experiments/bench_fast_paths.py, so it was removed.)
+FAST_PATHS = {"friction": L.FAST_FRICTION}
 
 
 def _fast_paths(value):
@@ -82,10 +84,8 @@ class World:
                             solver builds up pressure over the first steps. Needs warm_starting.
       fast_paths            True (default), False, or a collection of names from FAST_PATHS:
                             work skipped when the scene does not need it ("friction": no
-                            friction rows for contacts whose friction coefficient is 0; "box":
-                            a separating-axis test specialised to box pairs, which
-                            chooses the general test's reference face except where round-off
-                            decides a near-tie). False exists to measure the saving
+                            friction rows for contacts whose friction coefficient is 0, which
+                            is exact). False exists to measure the saving
                             (experiments/bench_fast_paths.py).
       **policy_parameters   the freeze policy's own parameters (e.g. impulse_threshold)
 
@@ -276,7 +276,7 @@ class World:
                                 self._world_verts, self._world_normals, self._friction,
                                 self._restitution, self._fsettings[L.FLOOR_Y], 0.0, 0.0, 0.0,
                                 *scratch, 0, empty, empty, np.empty((0, 2), np.int64),
-                                np.empty((0, 2, 2)), False, *C.scratch(), False)
+                                np.empty((0, 2, 2)), False, *C.scratch())
         manifold_int, _, point_float, _ = scratch
         for c in range(count):
             k = manifold_int[c, C.POINT_COUNT]

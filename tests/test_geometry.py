@@ -600,7 +600,7 @@ def test_packed_row_kernels_match_per_polygon_wrappers(pair, other, margin_frac,
     normal = np.full(2, np.nan)
     count, flip, edge = geometry.collide_polygon_rows(
         verts, normals, starts[ia], starts[ia + 1], starts[ib], starts[ib + 1], float(margin),
-        pts, seps, ids, normal, True)
+        pts, seps, ids, normal)
     want = kernel_collide(a, b, margin)
     assert (count, flip, edge) == (want["count"], want["flip"], want["edge"])
     assert ids[:count].tolist() == want["ids"]
@@ -680,57 +680,3 @@ def test_transform_and_rotate(v, angle, shift):
                        atol=1e-12 * coord_scale(v, out))
     geometry.rotate(v, c, s, out)
     assert np.allclose(out, v @ naive.rotation(angle).T, rtol=0.0, atol=1e-12 * coord_scale(v))
-
-
-# ------------------------------------------------------------------------------------------------
-# The box fast path: the separating-axis test specialised to parallelograms must choose what the
-# general one chooses. Boxes are built as a World builds them (local normals rotated), since the
-# fast path recognises a box by its exactly opposite world normals.
-
-def world_box(w, h, angle, cx, cy):
-    c, s = math.cos(angle), math.sin(angle)
-    rot = np.array([[c, -s], [s, c]])
-    local = np.array([[-w, -h], [w, -h], [w, h], [-w, h]]) / 2.0
-    normals = np.array([[0.0, -1.0], [1.0, 0.0], [0.0, 1.0], [-1.0, 0.0]])
-    return local @ rot.T + (cx, cy), normals @ rot.T
-
-
-def _collide(a, na, b, nb, margin, fast):
-    pts, seps = np.full((2, 2), np.nan), np.full(2, np.nan)
-    ids, normal = np.full(2, -1, dtype=np.int64), np.full(2, np.nan)
-    count, flip, edge = geometry.collide_polygons(a, na, b, nb, margin, pts, seps, ids, normal,
-                                                  fast)
-    return int(count), int(flip), int(edge), pts[:count], seps[:count], ids[:count].tolist()
-
-
-@settings(max_examples=400, deadline=None)
-@given(st.floats(0.05, 5.0), st.floats(0.05, 5.0), st.floats(-math.pi, math.pi),
-       st.floats(0.05, 5.0), st.floats(0.05, 5.0), st.floats(-math.pi, math.pi),
-       st.floats(-4.0, 4.0), st.floats(-4.0, 4.0))
-def test_box_fast_path_matches_the_general_test(wa, ha, ta, wb, hb, tb, dx, dy):
-    a, na = world_box(wa, ha, ta, 0.0, 0.0)
-    b, nb = world_box(wb, hb, tb, dx, dy)
-    margin = 0.02
-    general = _collide(a, na, b, nb, margin, False)
-    fast = _collide(a, na, b, nb, margin, True)
-    # the two differ only by round-off: skip configurations within 1e-9 m of a decision
-    sa = [geometry.max_separation(a, na, b)[1], geometry.max_separation(b, nb, a)[1]]
-    assume(all(abs(s - margin) > 1e-9 for s in sa))
-    assume(abs(sa[1] - sa[0] - 1e-4 - 1e-3 * abs(sa[0])) > 1e-9)
-    seps_a = [min(float(np.dot(na[i], v - a[i])) for v in b) for i in range(4)]
-    seps_b = [min(float(np.dot(nb[i], v - b[i])) for v in a) for i in range(4)]
-    assume(sorted(seps_a)[-1] - sorted(seps_a)[-2] > 1e-9)
-    assume(sorted(seps_b)[-1] - sorted(seps_b)[-2] > 1e-9)
-    assert fast[:3] == general[:3]
-    assert fast[5] == general[5]
-    np.testing.assert_allclose(fast[3], general[3], atol=1e-9)
-    np.testing.assert_allclose(fast[4], general[4], atol=1e-9)
-
-
-def test_box_fast_path_is_taken_only_for_parallelograms():
-    _, nb = world_box(1.0, 2.0, 0.3, 0.0, 0.0)
-    assert geometry._is_parallelogram(nb, 0, 4)
-    tri = np.array([[0.0, -1.0], [0.7, 0.7], [-0.7, 0.7]])
-    assert not geometry._is_parallelogram(tri, 0, 3)
-    kite = geometry.edge_normals(np.array([[0.0, -1.0], [1.0, 0.0], [0.0, 2.0], [-1.0, 0.0]]))
-    assert not geometry._is_parallelogram(kite, 0, 4)

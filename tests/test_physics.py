@@ -258,4 +258,4 @@ def test_fast_paths_are_validated():
     with pytest.raises(ValueError, match="unknown fast path"):
         sim.World(sim.scenes.single_box(), fast_paths=["bogus"])
     assert sim.World(sim.scenes.single_box(), fast_paths=False).fast_paths == ()
-    assert sim.World(sim.scenes.single_box()).fast_paths == ("box", "friction")
+    assert sim.World(sim.scenes.single_box()).fast_paths == ("friction",)

@@ -8,6 +8,7 @@ An experiment script (one per figure or table, DESIGN section 6) looks like::
     main = common.entry(NAME, __doc__, FULL, QUICK, run)
 """
 import argparse
+import hashlib
 import math
 import os
 
@@ -15,8 +16,8 @@ import numpy as np
 import pandas as pd
 
 import sim
-from experiments import executor
-from experiments.metadata import collect, write_results
+from experiments import executor, paths
+from experiments.metadata import _git_state, _jsonable, collect, write_results
 from experiments.peers import engine_of, make_runner
 from experiments.timing import timed
 
@@ -96,6 +97,24 @@ def pose_error(positions, angles, ref_positions, ref_angles):
     return float(d.max()), float(a.max())
 
 
+def store_path(name, quick):
+    """The incremental store of experiment ``name``'s untimed sweep runs (see executor)."""
+    return paths.RESULTS / "partial" / f"{name}{'-quick' if quick else ''}.jsonl"
+
+
+def sweep_store(name, quick, config):
+    """(path, header) for ``executor.run_tasks(..., store=path, header=header)``: the header names
+    the commit, the configuration and a hash of the solver's and the script's sources, so a store
+    left by other code (uncommitted edits included) is never resumed."""
+    digest = hashlib.sha256()
+    for f in sorted(list((paths.ROOT / "sim").rglob("*.py"))
+                    + list((paths.ROOT / "experiments").rglob("*.py"))):
+        digest.update(f.read_bytes())
+    header = {"commit": _git_state()["commit"], "config": _jsonable(config),
+              "source": digest.hexdigest()[:16]}
+    return store_path(name, quick), header
+
+
 def entry(name, doc, full, quick, run, extra_args=None):
     """The standard command line of an experiment: ``python -m experiments.<name> [--quick]``.
 
@@ -125,6 +144,8 @@ def entry(name, doc, full, quick, run, extra_args=None):
                       **parameters}
         metadata = collect(scenes, parameters, script=name, seed=parameters.get("seed"))
         csv_path, _ = write_results(name, table, metadata, folder=data_dir)
+        # the results are written: an incremental store has nothing left to resume
+        store_path(name, args.quick).unlink(missing_ok=True)
         with pd.option_context("display.width", 200, "display.max_columns", 30,
                                "display.max_rows", 60):
             print(table.to_string(index=False, float_format=lambda x: f"{x:.4g}"))

@@ -14,13 +14,16 @@ soon as it arrives (flushed and fsynced), keyed by ``key(task)``. A sweep that i
 started again reads the file and runs only what is missing; nothing finished is lost or redone.
 The file's first line records what the runs were made by (``header``, e.g. the commit and the
 sweep's configuration); a file with a different header is set aside (renamed ``*.stale``), not
-mixed in. Results must then be JSON-ready (dicts of numbers and strings).
+mixed in. JSON-ready results are stored as JSON (readable); any other picklable result (numpy
+arrays, say) as base64 pickle on its line, restored exactly.
 
 ``fn`` must be a module-level function and every task picklable; each task should carry
 everything its run needs (scene parameters, system, settings), so a run is reproducible alone.
 """
+import base64
 import json
 import os
+import pickle
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
@@ -64,7 +67,10 @@ class ResultStore:
                 entry = json.loads(line)
             except json.JSONDecodeError:
                 continue                                  # torn write: that run is redone
-            self.done[entry["key"]] = entry["result"]
+            if "pickle" in entry:
+                self.done[entry["key"]] = pickle.loads(base64.b64decode(entry["pickle"]))
+            else:
+                self.done[entry["key"]] = entry["result"]
 
     def _append(self, entry):
         with open(self.path, "a") as f:
@@ -74,7 +80,12 @@ class ResultStore:
 
     def add(self, key, result):
         self.done[key] = result
-        self._append({"key": key, "result": result})
+        try:
+            json.dumps(result, allow_nan=True)
+            entry = {"key": key, "result": result}
+        except (TypeError, ValueError):
+            entry = {"key": key, "pickle": base64.b64encode(pickle.dumps(result)).decode("ascii")}
+        self._append(entry)
 
 
 def run_tasks(fn, tasks, desc="runs", workers=None, scheduler=None, store=None, header=None,

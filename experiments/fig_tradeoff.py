@@ -107,7 +107,8 @@ from tqdm import tqdm
 
 import sim
 from experiments import common
-from experiments.common import DT, SLOP, build, compile_kernels, n_awake, pose_error
+from experiments.common import (DT, SLOP, build, compile_kernels, n_awake, pose_error,
+                                sweep_store)
 from experiments.executor import run_tasks
 from experiments.peers import DEFAULT_ITERATIONS, engine_of
 from experiments.peers.pybullet_runner import DEFAULT_SLEEP_THRESHOLD
@@ -375,7 +376,10 @@ def run(config, args):
                               "settings": runner_settings(system, parameter, value, is_default),
                               "sample_every": 1, "samples": steps})
                 keys.append((scene_tag(scene), engine, "setting", k))
-    results = dict(zip(keys, run_tasks(accuracy_run, tasks, desc=f"{NAME} accuracy runs")))
+    store, header = sweep_store(NAME, args.quick, config)
+    key_of = {id(t): repr(k) for t, k in zip(tasks, keys)}
+    results = dict(zip(keys, run_tasks(accuracy_run, tasks, desc=f"{NAME} accuracy runs",
+                                       store=store, header=header, key=lambda t: key_of[id(t)])))
 
     # 2. timed runs, serial, one engine at a time, settings interleaved
     total = sum(len(per_engine[e]) * config["repeats"][e] for e in ENGINES) * len(scenes)

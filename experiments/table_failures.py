@@ -71,7 +71,8 @@ import pandas as pd
 from tqdm import tqdm
 
 from experiments import common, scenarios
-from experiments.common import DT, REFERENCE, SYSTEMS, build, compile_kernels, pose_error
+from experiments.common import (DT, REFERENCE, SYSTEMS, build, compile_kernels, pose_error,
+                                sweep_store)
 from experiments.executor import run_tasks
 from experiments.timing import timed
 
@@ -200,8 +201,10 @@ def run(config, args):
     # untimed: the truth and every system's observed run, in parallel
     tasks = [(n, TRUTH_SYSTEM, truth_dt, config["truth_iterations"]) for n in names]
     tasks += [(n, s, DT, None) for n in names for s in SYSTEMS]
+    store, header = sweep_store(NAME, args.quick, config)
     results = dict(zip([(t[0], t[1] if t[2] == DT else "truth") for t in tasks],
-                       run_tasks(observe, tasks, desc=f"{NAME} untimed runs")))
+                       run_tasks(observe, tasks, desc=f"{NAME} untimed runs",
+                                 store=store, header=header)))
 
     # timed: serial, interleaved
     timings = {}

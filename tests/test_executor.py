@@ -78,3 +78,26 @@ def test_dask_local_cluster_gives_the_local_results(tmp_path, monkeypatch):
         on_cluster = executor.run_tasks(square, TASKS, store=tmp_path / "d.jsonl",
                                         header={"c": 1})
     assert on_cluster == executor.run_tasks(square, TASKS, workers=2, scheduler="") == EXPECTED
+
+
+def array_run(task):
+    import numpy as np
+    return {"x": task["x"], "positions": np.arange(3.0) * task["x"]}
+
+
+def test_non_json_results_are_stored_exactly(tmp_path):
+    """Sweeps whose runs return numpy arrays resume with the very same arrays."""
+    import numpy as np
+    store = tmp_path / "arrays.jsonl"
+    first = executor.run_tasks(array_run, TASKS, workers=1, store=store, header={"c": 1})
+    calls = []
+
+    def never(task):
+        calls.append(task)
+        return array_run(task)
+    again = executor.run_tasks(never, TASKS, workers=1, store=store, header={"c": 1})
+    assert calls == []
+    for a, b in zip(first, again):
+        assert a["x"] == b["x"]
+        np.testing.assert_array_equal(a["positions"], b["positions"])
+        assert isinstance(b["positions"], np.ndarray)

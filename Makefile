@@ -65,7 +65,7 @@ test: $(STAMP)
 SIM_SOURCES  := $(wildcard sim/*.py sim/freeze/*.py)
 EXP_SOURCES  := $(wildcard experiments/peers/*.py) experiments/common.py experiments/metadata.py \
                 experiments/paths.py experiments/timing.py experiments/executor.py \
-                experiments/filmstrip.py experiments/scenarios.py
+                experiments/filmstrip.py experiments/scenarios.py experiments/overlap.py
 ANA_SOURCES  := analysis/style.py
 
 reproduce: paper recordings glance

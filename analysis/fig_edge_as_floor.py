@@ -34,14 +34,8 @@ def draw(table, meta):
                 ax.set_yticklabels([])
     fs.state_legend(fig, ghost=True, y=0.97)
     style.save_figure(fig, NAME)
-    err = {p: fs.final_error(table, p) for p in POLICIES}
     return {"frames": steps, "time_of_frame_s": [s * dt for s in steps],
-            "a_paper_events": [{"step": int(e.step), "from": style.STATE_LABEL[int(e.from_state)],
-                                "to": style.STATE_LABEL[int(e.state)], "cause": e.cause}
-                               for e in a_events.itertuples()],
-            "a_frozen_step": {p: fs.nan_if_none(fs.frozen_step(table, p, "A")) for p in POLICIES},
-            "final_position_error_m": {p: err[p][0] for p in POLICIES},
-            "final_angle_error_rad": {p: err[p][1] for p in POLICIES}}
+            **fs.body_a_numbers(table, POLICIES)}
 
 
 main = style.entry(NAME, draw)

@@ -75,16 +75,10 @@ def draw(table, meta):
     ax_x.legend(loc="lower right")
     fs.state_legend(fig, ghost=True, y=0.92)
     style.save_figure(fig, NAME)
-    err = {p: fs.final_error(table, p) for p in POLICIES}
     left = a_events[a_events["cause"] == "com_outside_support"]
     return {"frames": steps,
             "com_outside_support_step": int(left["step"].iloc[0]) if len(left) else float("nan"),
-            "a_paper_events": [{"step": int(e.step), "from": style.STATE_LABEL[int(e.from_state)],
-                                "to": style.STATE_LABEL[int(e.state)], "cause": e.cause}
-                               for e in a_events.itertuples()],
-            "a_frozen_step": {p: fs.nan_if_none(fs.frozen_step(table, p, "A")) for p in POLICIES},
-            "final_position_error_m": {p: err[p][0] for p in POLICIES},
-            "final_angle_error_rad": {p: err[p][1] for p in POLICIES}}
+            **fs.body_a_numbers(table, POLICIES)}
 
 
 main = style.entry(NAME, draw)

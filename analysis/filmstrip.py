@@ -100,3 +100,16 @@ def frozen_step(table, policy, name):
 
 def nan_if_none(x):
     return math.nan if x is None else x
+
+
+def body_a_numbers(table, policies):
+    """What the paper quotes of body A in a two-body seed figure: its paper events, the step it
+    froze under each policy, and its final pose error against off."""
+    from analysis import style
+    err = {p: final_error(table, p) for p in policies}
+    return {"a_paper_events": [{"step": int(e.step), "from": style.STATE_LABEL[int(e.from_state)],
+                                "to": style.STATE_LABEL[int(e.state)], "cause": e.cause}
+                               for e in events(table, "paper", "A").itertuples()],
+            "a_frozen_step": {p: nan_if_none(frozen_step(table, p, "A")) for p in policies},
+            "final_position_error_m": {p: err[p][0] for p in policies},
+            "final_angle_error_rad": {p: err[p][1] for p in policies}}

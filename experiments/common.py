@@ -28,6 +28,8 @@ SYSTEM_SETTINGS = {"sim": {"slop": SLOP}, "pymunk": {"collision_slop": SLOP}, "p
 #: every system of the study, and each one's sleeping-off reference
 SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk", "pymunk-sleep",
            "pybullet", "pybullet-sleep")
+#: what "frozen" means in every table (the metadata says so)
+FROZEN_MEANS = "sim: out of the awake list (World.frozen); pymunk/pybullet: asleep"
 REFERENCE = {"sim-off": "sim-off", "sim-sleep": "sim-off", "sim-paper": "sim-off",
              "sim-extended": "sim-off", "pymunk": "pymunk", "pymunk-sleep": "pymunk",
              "pybullet": "pybullet", "pybullet-sleep": "pybullet"}

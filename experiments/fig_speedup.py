@@ -53,8 +53,8 @@ from tqdm import tqdm
 
 import sim
 from experiments import bench_freeze
-from experiments.common import (DT, REFERENCE, SLOP, SYSTEMS, build, compile_kernels, entry,
-                                label)
+from experiments.common import (DT, FROZEN_MEANS, REFERENCE, SLOP, SYSTEMS, build,
+                                compile_kernels, entry, label)
 from experiments.peers import engine_of
 
 NAME = "fig_speedup"
@@ -144,8 +144,7 @@ def run(config, args):
     parameters = {"dt": DT, "slop": SLOP, "settle_cap_steps": cap,
                   "warmup_steps": bench_freeze.WARMUP_STEPS,
                   "pybullet_max_bodies": PYBULLET_MAX_BODIES, "reference": REFERENCE,
-                  "frozen_means": "sim: out of the awake list (World.frozen); pymunk/pybullet: "
-                                  "asleep", "system_settings": settings}
+                  "frozen_means": FROZEN_MEANS, "system_settings": settings}
     return pd.DataFrame(rows), scenes, parameters
 
 

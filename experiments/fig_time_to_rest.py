@@ -35,7 +35,7 @@ import pandas as pd
 
 import sim
 from experiments import bench_freeze
-from experiments.common import DT, SLOP, build, compile_kernels, entry
+from experiments.common import DT, FROZEN_MEANS, SLOP, build, compile_kernels, entry
 from experiments.executor import run_tasks
 
 NAME = "fig_time_to_rest"
@@ -65,8 +65,7 @@ def run(config, args):
             settings[system] = r.settings
     parameters = {"dt": DT, "slop": SLOP, "cap_steps": int(round(config["cap_s"] / DT)),
                   "freeze_hold_s": bench_freeze.FREEZE_HOLD_S, "systems": SYSTEMS,
-                  "frozen_means": "sim: out of the awake list (World.frozen); pymunk/pybullet: "
-                                  "asleep", "system_settings": settings}
+                  "frozen_means": FROZEN_MEANS, "system_settings": settings}
     return pd.DataFrame(rows), scenes, parameters
 
 

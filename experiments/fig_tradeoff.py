@@ -114,6 +114,7 @@ from experiments.peers import DEFAULT_ITERATIONS, engine_of
 from experiments.peers.pybullet_runner import DEFAULT_SLEEP_THRESHOLD
 from experiments.peers.pymunk_runner import PymunkRunner
 from experiments.timing import timed
+from experiments.overlap import pad as _pad, separation as _separation, world_vertices as _world
 from sim.geometry import mass_properties
 
 NAME = "fig_tradeoff"
@@ -233,30 +234,6 @@ class Polygons:
         c, s = np.cos(angles)[:, None], np.sin(angles)[:, None]
         x, y = self.local[..., 0], self.local[..., 1]
         return np.stack([c * x - s * y, s * x + c * y], axis=-1) + np.asarray(positions)[:, None]
-
-
-def _pad(v, k):
-    return np.concatenate([v, np.repeat(v[-1:], k - len(v), axis=0)])
-
-
-def _world(body):
-    c, s = math.cos(body.angle), math.sin(body.angle)
-    v = np.asarray(body.vertices, dtype=float)
-    return v @ np.array([[c, s], [-s, c]]) + np.asarray(body.position, dtype=float)
-
-
-def _separation(a, b):
-    """(P,) m: for each pair, the largest separation of polygon b from polygon a along a's outward
-    edge normals (negative: every edge of a has some vertex of b behind it). a, b: (P,K,2) CCW."""
-    edge = np.roll(a, -1, axis=1) - a                     # (P,K,2)
-    length = np.hypot(edge[..., 0], edge[..., 1])
-    safe = np.where(length, length, 1.0)[..., None]
-    normal = np.stack([edge[..., 1], -edge[..., 0]], axis=-1) / safe
-    # (P,K_edges,K_vertices): signed distance of b's vertices from a's edge lines
-    dist = np.einsum("pec,pvc->pev", normal, b) - np.einsum("pec,pec->pe", normal, a)[..., None]
-    sep = dist.min(axis=2)
-    sep[length < 1e-12] = -np.inf                         # padded, zero-length edges
-    return sep.max(axis=1)
 
 
 def deepest_overlap(polygons, positions, angles):

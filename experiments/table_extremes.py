@@ -148,6 +148,7 @@ from experiments.common import DT, SYSTEMS, build
 from experiments.executor import run_tasks
 from experiments.metadata import _git_state
 from experiments.peers import DEFAULT_ITERATIONS, engine_of
+from experiments.overlap import pad as _pad, separation as _separation, world_vertices as _world
 from sim.geometry import mass_properties
 
 NAME = "table_extremes"
@@ -498,28 +499,6 @@ def clip_to_box(a, b, half):
     if t_in >= t_out:
         return None
     return face_in, face_out
-
-
-def _pad(v, k):
-    return np.concatenate([v, np.repeat(v[-1:], k - len(v), axis=0)])
-
-
-def _world(body):
-    c, s = math.cos(body.angle), math.sin(body.angle)
-    v = np.asarray(body.vertices, dtype=float)
-    return v @ np.array([[c, s], [-s, c]]) + np.asarray(body.position, dtype=float)
-
-
-def _separation(a, b):
-    """(P,) m: largest separation of polygons b from polygons a along a's edge normals."""
-    edge = np.roll(a, -1, axis=1) - a
-    length = np.hypot(edge[..., 0], edge[..., 1])
-    normal = np.stack([edge[..., 1], -edge[..., 0]], axis=-1) / np.where(length, length,
-                                                                           1.0)[..., None]
-    dist = np.einsum("pec,pvc->pev", normal, b) - np.einsum("pec,pec->pe", normal, a)[..., None]
-    sep = dist.min(axis=2)
-    sep[length < 1e-12] = -np.inf
-    return sep.max(axis=1)
 
 
 def deepest_overlap(shapes, positions, angles):

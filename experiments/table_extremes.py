@@ -134,7 +134,6 @@ writes results/data/table_extremes.csv and table_extremes.json. --quick: one or 
 axis (the extreme ones), short runs (1 s; the projectiles 3 s, the knife edge 4 s), small sizes,
 coarser references (fine 4, projectiles 8).
 """
-import hashlib
 import json
 import math
 import time
@@ -143,10 +142,9 @@ import numpy as np
 import pandas as pd
 
 import sim
-from experiments import common, paths
+from experiments import common
 from experiments.common import DT, SYSTEMS, build
 from experiments.executor import run_tasks
-from experiments.metadata import _git_state
 from experiments.peers import DEFAULT_ITERATIONS, engine_of
 from experiments.overlap import pad as _pad, separation as _separation, world_vertices as _world
 from sim.geometry import mass_properties
@@ -909,20 +907,6 @@ def _key(task):
     return "ref|" + json.dumps([task["scene"], task["dt"], task["iterations"], task["steps"]])
 
 
-def store_path(quick):
-    return paths.RESULTS / "partial" / f"{NAME}{'-quick' if quick else ''}.jsonl"
-
-
-def _source_digest():
-    """Hash of this script and the solver's sources, so a store made by other code is not reused
-    when the commit has not changed (uncommitted edits)."""
-    digest = hashlib.sha256()
-    for f in sorted(list((paths.ROOT / "sim").rglob("*.py")) + [paths.ROOT / "experiments" /
-                                                                 f"{NAME}.py"]):
-        digest.update(f.read_bytes())
-    return digest.hexdigest()[:16]
-
-
 def classify(res, ref):
     """(status, reason) of one run by the stated rules, given its reference's result."""
     hint = res["status_hint"]
@@ -975,8 +959,7 @@ def chattering(task, res):
 def run(config, args):
     common.compile_kernels()
     quick = bool(args.quick)
-    store = store_path(quick)
-    header = {"commit": _git_state()["commit"], "config": config, "source": _source_digest()}
+    store, header = common.sweep_store(NAME, quick, config)   # entry removes it once written
 
     # 1. the impulse thresholds (two bisections, through the executor)
     thresholds = {}
@@ -1063,8 +1046,6 @@ def run(config, args):
         "impact": {"hammer_m": HAMMER, "hammer_density": HAMMER_DENSITY, "gap_m": HAMMER_GAP},
         "store": str(store),
     }
-    global _STORE_TO_REMOVE
-    _STORE_TO_REMOVE = store              # removed only once the CSV is written (see main)
     return table, scenes, parameters
 
 
@@ -1090,20 +1071,7 @@ def _row(task, res, status, reason, ref):
             "wall_s": res["wall_s"]}
 
 
-_STORE_TO_REMOVE = None
-_main = common.entry(NAME, __doc__, FULL, QUICK, run)
-
-
-def main(argv=None, data_dir=None):
-    """Run, write the CSV (common.entry), then remove the incremental store: once the results
-    are written, nothing is left to resume."""
-    global _STORE_TO_REMOVE
-    table = _main(argv, data_dir=data_dir)
-    if _STORE_TO_REMOVE is not None:
-        _STORE_TO_REMOVE.unlink(missing_ok=True)
-        _STORE_TO_REMOVE = None
-    return table
-
+main = common.entry(NAME, __doc__, FULL, QUICK, run)
 
 if __name__ == "__main__":
     main()

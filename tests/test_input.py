@@ -195,3 +195,13 @@ def test_observables_are_copies():
     world.velocities[0, 0] = 99.0
     assert world.positions[0, 0] == 0.0 and world.velocities[0, 0] == 0.0
     assert world.states.dtype == np.int8 and world.states[0] == sim.State.FREE
+
+
+def test_vertices_edited_in_place_are_caught_by_the_world():
+    """A body passes its full check once and is then only fingerprinted; an in-place edit of its
+    vertex array must still be noticed (here: the polygon turned clockwise)."""
+    body = sim.Body.box(1, 1, position=(0.0, 0.5))
+    scene = scene_with(body)
+    body.vertices[:] = body.vertices[::-1].copy()
+    with pytest.raises(ValueError, match="clockwise"):
+        sim.World(scene)

@@ -1,24 +1,21 @@
-"""Which bodies are awake, and moving bodies between awake and frozen (DESIGN section 2).
+"""Which bodies are awake, and moving bodies between awake and frozen (freezing is data movement).
 
-Freezing is data movement, not a flag tested in every loop: the solver, the integrator and the
-broadphase walk ``awake`` (a compact list of body indices); a frozen body leaves that list, its
-solver masses drop to zero (to the awake bodies touching it, it is as immovable as a wall) and it
-joins the *resting grid* (``broadphase.build_grid``) that awake bodies are tested against. The
-resting grid is rebuilt once in a step in which the frozen set changed, never per step otherwise.
+Freezing is not a flag tested in every loop: the solver, the integrator and the broadphase walk
+``activity.awake`` (a compact list of body indices); a frozen body leaves that list, its solver
+masses drop to zero (to the awake bodies touching it, it is as immovable as a wall), its contacts
+with other immovable bodies leave the awake contact list (``contacts.sleep_contacts_of``), and it
+joins the *resting grid* that awake bodies are tested against. The resting grid is rebuilt once
+in a step in which the frozen set changed, never per step otherwise. Waking reverses each move.
 
-Arrays (N dynamic bodies, M bodies in all):
-  awake (N,) int64          indices of awake dynamic bodies in awake[0..counters[N_AWAKE]-1]
-  awake_slot (N,) int64     position of each body in ``awake``, -1 when frozen
-  solver_inv_mass (M,)      1/kg seen by the solver: the body's own when awake, 0 when frozen/static
-  solver_inv_inertia (M,)   1/(kg m^2), likewise
-  events (E,5) int64        step, body, from_state, to_state, cause; counters[N_EVENTS] used
+Arrays: see ``data.Activity``. Events are rows (step, body, from_state, to_state, cause) of
+``activity.events``, counters[N_EVENTS] of them used.
 """
 import numpy as np
 
+from .contacts import sleep_contacts_of, wake_contacts_of
+from .data import Activity, N_AWAKE, N_EVENTS, RESTING_DIRTY, STEP_COUNT
 from .jit import inline_kernel, kernel
-
-# counters (int64 array) shared with sim.kernel: columns named there, listed here for the helpers
-from .layout import N_AWAKE, N_EVENTS, RESTING_DIRTY, STEP_COUNT
+from .state import State
 
 # event columns
 EVENT_STEP, EVENT_BODY, EVENT_FROM, EVENT_TO, EVENT_CAUSE = range(5)
@@ -44,10 +41,12 @@ def record(events, counters, body, from_state, to_state, cause):
 
 
 @inline_kernel
-def freeze(i, awake, awake_slot, counters, solver_inv_mass, solver_inv_inertia, velocity,
-           angular_velocity):
+def freeze(i, settings, counters, bodies, contacts, activity):
     """Take awake body i out of the awake list (swap with the last), zero its velocity and solver
-    masses, and mark the resting grid for a rebuild."""
+    masses, move its contacts with immovable bodies out of the awake contacts, and mark the
+    resting grid for a rebuild."""
+    awake = activity.awake
+    awake_slot = activity.awake_slot
     slot = awake_slot[i]
     if slot < 0:
         return
@@ -57,36 +56,58 @@ def freeze(i, awake, awake_slot, counters, solver_inv_mass, solver_inv_inertia, 
     awake_slot[moved] = slot
     awake_slot[i] = -1
     counters[N_AWAKE] = last
-    solver_inv_mass[i] = 0.0
-    solver_inv_inertia[i] = 0.0
-    velocity[i, 0] = 0.0
-    velocity[i, 1] = 0.0
-    angular_velocity[i] = 0.0
+    activity.solver_inv_mass[i] = 0.0
+    activity.solver_inv_inertia[i] = 0.0
+    bodies.velocity[i, 0] = 0.0
+    bodies.velocity[i, 1] = 0.0
+    bodies.angular_velocity[i] = 0.0
+    sleep_contacts_of(i, settings.n_dynamic, awake_slot, contacts, counters)
     counters[RESTING_DIRTY] = 1
 
 
 @inline_kernel
-def wake(i, awake, awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
-         solver_inv_inertia):
-    """Put frozen body i back at the end of the awake list with its own masses."""
+def wake(i, settings, counters, bodies, contacts, activity):
+    """Put frozen body i back at the end of the awake list with its own masses and contacts."""
+    awake_slot = activity.awake_slot
     if awake_slot[i] >= 0:
         return
     n = counters[N_AWAKE]
-    awake[n] = i
+    activity.awake[n] = i
     awake_slot[i] = n
     counters[N_AWAKE] = n + 1
-    solver_inv_mass[i] = inv_mass[i]
-    solver_inv_inertia[i] = inv_inertia[i]
+    activity.solver_inv_mass[i] = bodies.inv_mass[i]
+    activity.solver_inv_inertia[i] = bodies.inv_inertia[i]
+    wake_contacts_of(i, contacts, counters)
     counters[RESTING_DIRTY] = 1
 
 
 @kernel
-def resting_bodies(n_dynamic, n_bodies, awake_slot):
-    """Indices of every body not awake: frozen dynamic bodies and all static bodies."""
-    out = np.empty(n_bodies, np.int64)
+def resting_bodies(n_dynamic, n_bodies, awake_slot, out):
+    """Write the indices of every body not awake (frozen dynamic bodies, then all static bodies)
+    into ``out`` (M,); returns how many."""
     k = 0
     for i in range(n_bodies):
         if i >= n_dynamic or awake_slot[i] < 0:
             out[k] = i
             k += 1
-    return out[:k]
+    return k
+
+
+def initial_activity(n_dynamic, n_bodies, inv_mass, inv_inertia, policy):
+    """Activity arrays of a new World: every body awake, no events, the policy's state zeroed
+    (and set up by its ``initial`` hook when it has one)."""
+    act = Activity(
+        states=np.full(n_dynamic, State.FREE, np.int8),
+        awake=np.arange(n_dynamic, dtype=np.int64),
+        awake_slot=np.arange(n_dynamic, dtype=np.int64),
+        solver_inv_mass=inv_mass.copy(),
+        solver_inv_inertia=inv_inertia.copy(),
+        events=np.zeros((4 * n_dynamic + 64, 5), np.int64),
+        body_real=np.zeros((n_dynamic, policy.REAL_COLUMNS)),
+        body_int=np.zeros((n_dynamic, policy.INT_COLUMNS), np.int64),
+        links=np.zeros((max(16, 4 * n_dynamic), 2), np.int64),
+        link_load=np.zeros((max(16, 4 * n_dynamic), 3)))
+    initial = getattr(policy, "initial", None)
+    if initial is not None:
+        initial(act.body_int)
+    return act

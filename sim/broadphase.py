@@ -1,69 +1,98 @@
-"""Broadphase: world-space geometry, bounding boxes and candidate pairs from uniform grids.
+"""Broadphase: bounding boxes, uniform grids, and the pairs the contact store keeps.
 
-Bodies are indexed 0..M-1 with the N dynamic bodies first and the static polygons after them.
-Only *awake* bodies (a list of indices) move; every other body — static polygons and frozen
-bodies — sits in a *resting grid* built once when that set changes and only ever queried with
-awake bodies' boxes, so resting bodies cost nothing per step (DESIGN section 2).
-A pair is encoded as one int64 key, ``(a + 1) * (M + 1) + b`` with a < b, and ``a = -1`` for the
-floor, so that sorting keys orders pairs deterministically and the floor pairs come first.
+Pairs persist (``sim.contacts``): a pair is made when two *fat* boxes start to overlap and freed
+when they stop. A body's fat box is its bounding box grown by a margin (``sim.tolerances``); it is
+refitted only when the body's current box leaves it, and only a refitted ("moved") body looks for
+new partners or loses old ones. A resting pile refits nothing and costs one box test per body.
+
+Bodies are indexed 0..M-1, the N dynamic ones first. Awake bodies are found through a grid of their
+fat boxes, rebuilt in a step in which any of them moved; static and frozen bodies through the
+*resting grid*, rebuilt only when the frozen set changes (DESIGN: frozen bodies cost nothing per
+step). Grids live in preallocated buffers (``data.Grid``): a build that does not fit reports the
+sizes it needs, and the step returns GROW before anything else has changed.
 """
 import numpy as np
-from .jit import inline_kernel, kernel, lean_kernel
 
-# aabb columns
-MIN_X, MIN_Y, MAX_X, MAX_Y = 0, 1, 2, 3
+from .contacts import create, destroy, find
+from .data import (Grid, BODY_A, BODY_B, DENSE, GRID_INFO, NEXT_A, NEXT_B, LO_CX, LO_CY,
+                   MASK, MAX_X, MAX_Y, MIN_X, MIN_Y, N_BUCKETS, N_ENTRIES, N_MOVED,
+                   NEEDED_BUCKETS, NEEDED_ENTRIES, WIDTH)
+from .jit import inline_kernel, lean_kernel
+
+
+@inline_kernel
+def _transform(i, position, angle, vert_start, local_verts, local_normals, rotation, world_verts,
+               world_normals):
+    """World vertices and normals of body i; returns its tight box (lo_x, lo_y, hi_x, hi_y)."""
+    c = np.cos(angle[i])
+    s = np.sin(angle[i])
+    rotation[i, 0] = c
+    rotation[i, 1] = s
+    px = position[i, 0]
+    py = position[i, 1]
+    lo_x = np.inf
+    lo_y = np.inf
+    hi_x = -np.inf
+    hi_y = -np.inf
+    for v in range(vert_start[i], vert_start[i + 1]):
+        x = local_verts[v, 0]
+        y = local_verts[v, 1]
+        wx = c * x - s * y + px
+        wy = s * x + c * y + py
+        world_verts[v, 0] = wx
+        world_verts[v, 1] = wy
+        nx = local_normals[v, 0]
+        ny = local_normals[v, 1]
+        world_normals[v, 0] = c * nx - s * ny
+        world_normals[v, 1] = s * nx + c * ny
+        lo_x = min(lo_x, wx)
+        lo_y = min(lo_y, wy)
+        hi_x = max(hi_x, wx)
+        hi_y = max(hi_y, wy)
+    return lo_x, lo_y, hi_x, hi_y
 
 
 @lean_kernel
-def update_geometry(which, count, position, angle, vert_start, local_verts, local_normals,
-                    rotation, world_verts, world_normals, aabb, margin):
-    """World vertices, normals, rotation (cos, sin) and margin-fattened AABBs of bodies
-    which[0..count-1].
+def update_geometry(which, count, dt, bodies, geometry, counters):
+    """World vertices and boxes of bodies which[0..count-1] at their current poses.
 
-    position (M,2) m, angle (M,) rad, vert_start (M+1,) offsets into local_verts/local_normals (V,2);
-    outputs rotation (M,2), world_verts (V,2) m, world_normals (V,2), aabb (M,4) m.
-    """
+    ``aabb`` is the tight box grown by the body's resting speculative reach and swept along its
+    velocity over one step (plus what its rotation can reach): every contact the body can make in
+    the step lies inside it. ``fat`` is refitted (the box grown by the body's margin) when ``aabb``
+    has left it, and the body is added to ``geometry.moved`` (counters[N_MOVED] of them)."""
+    aabb = geometry.aabb
+    fat = geometry.fat
+    n_moved = counters[N_MOVED]
     for k in range(count):
         i = which[k]
-        c = np.cos(angle[i])
-        s = np.sin(angle[i])
-        rotation[i, 0] = c
-        rotation[i, 1] = s
-        px = position[i, 0]
-        py = position[i, 1]
-        lo_x = np.inf
-        lo_y = np.inf
-        hi_x = -np.inf
-        hi_y = -np.inf
-        for v in range(vert_start[i], vert_start[i + 1]):
-            x = local_verts[v, 0]
-            y = local_verts[v, 1]
-            wx = c * x - s * y + px
-            wy = s * x + c * y + py
-            world_verts[v, 0] = wx
-            world_verts[v, 1] = wy
-            nx = local_normals[v, 0]
-            ny = local_normals[v, 1]
-            world_normals[v, 0] = c * nx - s * ny
-            world_normals[v, 1] = s * nx + c * ny
-            lo_x = min(lo_x, wx)
-            lo_y = min(lo_y, wy)
-            hi_x = max(hi_x, wx)
-            hi_y = max(hi_y, wy)
-        aabb[i, MIN_X] = lo_x - margin
-        aabb[i, MIN_Y] = lo_y - margin
-        aabb[i, MAX_X] = hi_x + margin
-        aabb[i, MAX_Y] = hi_y + margin
+        lo_x, lo_y, hi_x, hi_y = _transform(i, bodies.position, bodies.angle, bodies.vert_start,
+                                            bodies.local_verts, bodies.local_normals,
+                                            geometry.rotation, geometry.world_verts,
+                                            geometry.world_normals)
+        grow = bodies.speculative[i] + abs(bodies.angular_velocity[i]) * bodies.extent[i] * dt
+        sweep_x = bodies.velocity[i, 0] * dt
+        sweep_y = bodies.velocity[i, 1] * dt
+        aabb[i, MIN_X] = lo_x - grow + min(sweep_x, 0.0)
+        aabb[i, MIN_Y] = lo_y - grow + min(sweep_y, 0.0)
+        aabb[i, MAX_X] = hi_x + grow + max(sweep_x, 0.0)
+        aabb[i, MAX_Y] = hi_y + grow + max(sweep_y, 0.0)
+        if (aabb[i, MIN_X] < fat[i, MIN_X] or aabb[i, MIN_Y] < fat[i, MIN_Y]
+                or aabb[i, MAX_X] > fat[i, MAX_X] or aabb[i, MAX_Y] > fat[i, MAX_Y]):
+            m = bodies.margin[i]
+            fat[i, MIN_X] = aabb[i, MIN_X] - m
+            fat[i, MIN_Y] = aabb[i, MIN_Y] - m
+            fat[i, MAX_X] = aabb[i, MAX_X] + m
+            fat[i, MAX_Y] = aabb[i, MAX_Y] + m
+            if i < geometry.moved_flag.shape[0] and not geometry.moved_flag[i]:
+                geometry.moved_flag[i] = True
+                geometry.moved[n_moved] = i
+                n_moved += 1
+    counters[N_MOVED] = n_moved
 
 
 @inline_kernel
 def _cell(x, inv_cell):
     return np.int64(np.floor(x * inv_cell))
-
-
-# grid layout (int64 array of GRID_INFO fields)
-LO_CX, LO_CY, WIDTH, MASK, DENSE, INV_CELL_BITS = range(6)
-GRID_INFO = 6
 
 
 @inline_kernel
@@ -74,156 +103,197 @@ def _bucket(cx, cy, info):
     return ((cx * 73856093) ^ (cy * 19349663)) & info[MASK]
 
 
-@kernel
-def build_grid(which, count, aabb, cell_size):
-    """A uniform grid of the boxes of bodies which[0..count-1]: each box is entered in every cell
-    it covers; cells map to buckets of a table filled by counting sort (dense when the occupied
-    cells are compact, hashed otherwise). Returns (start (T+1,), entry_body (E,), entry_cx (E,),
-    entry_cy (E,), info (GRID_INFO,)); bucket h holds entries start[h]..start[h+1]-1."""
+@lean_kernel
+def build_grid(which, count, boxes, cell_size, grid):
+    """Enter the boxes of bodies which[0..count-1] into ``grid``: each box in every cell it
+    covers; cells map to buckets of a table filled by counting sort (dense when the occupied cells
+    are compact, hashed otherwise). Returns False, with the sizes it needs in
+    info[NEEDED_ENTRIES] and info[NEEDED_BUCKETS], when the buffers are too small."""
+    info = grid.info
     inv_cell = 1.0 / cell_size
     n_entries = 0
     lo_cx = lo_cy = np.int64(2 ** 62)
     hi_cx = hi_cy = -np.int64(2 ** 62)
     for k in range(count):
         i = which[k]
-        c0 = _cell(aabb[i, MIN_X], inv_cell)
-        c1 = _cell(aabb[i, MAX_X], inv_cell)
-        r0 = _cell(aabb[i, MIN_Y], inv_cell)
-        r1 = _cell(aabb[i, MAX_Y], inv_cell)
+        c0 = _cell(boxes[i, MIN_X], inv_cell)
+        c1 = _cell(boxes[i, MAX_X], inv_cell)
+        r0 = _cell(boxes[i, MIN_Y], inv_cell)
+        r1 = _cell(boxes[i, MAX_Y], inv_cell)
         n_entries += (c1 - c0 + 1) * (r1 - r0 + 1)
         lo_cx = min(lo_cx, c0)
         hi_cx = max(hi_cx, c1)
         lo_cy = min(lo_cy, r0)
         hi_cy = max(hi_cy, r1)
-    info = np.zeros(GRID_INFO, np.int64)
     if count == 0:
         info[DENSE] = 1
         info[WIDTH] = 1
-        return (np.zeros(2, np.int64), np.empty(0, np.int64), np.empty(0, np.int64),
-                np.empty(0, np.int64), info)
+        info[LO_CX] = 0
+        info[LO_CY] = 0
+        info[N_ENTRIES] = 0
+        info[N_BUCKETS] = 1
+        grid.start[0] = 0
+        grid.start[1] = 0
+        return True
     width = hi_cx - lo_cx + 1
-    info[LO_CX] = lo_cx
-    info[LO_CY] = lo_cy
-    info[WIDTH] = width
     # A compact set gets a dense table, one bucket per cell (no hash collisions); a sparse one
     # (bodies flung far apart) a hash table twice the entry count.
     if width * (hi_cy - lo_cy + 1) <= max(4 * n_entries, 4096):
-        info[DENSE] = 1
+        dense = 1
         size = width * (hi_cy - lo_cy + 1)
     else:
+        dense = 0
         size = 1
         while size < 2 * n_entries:
             size *= 2
-        info[MASK] = size - 1
-    start = np.zeros(size + 1, np.int64)
-    entry_body = np.empty(n_entries, np.int64)
-    entry_cx = np.empty(n_entries, np.int64)
-    entry_cy = np.empty(n_entries, np.int64)
+    if n_entries > grid.entry_body.shape[0] or size + 1 > grid.start.shape[0]:
+        info[NEEDED_ENTRIES] = n_entries
+        info[NEEDED_BUCKETS] = size + 1
+        return False
+    info[LO_CX] = lo_cx
+    info[LO_CY] = lo_cy
+    info[WIDTH] = width
+    info[DENSE] = dense
+    info[MASK] = size - 1
+    info[N_ENTRIES] = n_entries
+    info[N_BUCKETS] = size
+    start = grid.start
+    for h in range(size + 1):
+        start[h] = 0
     for k in range(count):
         i = which[k]
-        for cx in range(_cell(aabb[i, MIN_X], inv_cell), _cell(aabb[i, MAX_X], inv_cell) + 1):
-            for cy in range(_cell(aabb[i, MIN_Y], inv_cell), _cell(aabb[i, MAX_Y], inv_cell) + 1):
+        for cx in range(_cell(boxes[i, MIN_X], inv_cell), _cell(boxes[i, MAX_X], inv_cell) + 1):
+            for cy in range(_cell(boxes[i, MIN_Y], inv_cell), _cell(boxes[i, MAX_Y], inv_cell) + 1):
                 start[_bucket(cx, cy, info) + 1] += 1
     for h in range(size):
         start[h + 1] += start[h]
-    fill = start[:-1].copy()
-    for k in range(count):
+    # start[h + 1] is now the end of bucket h. Fill each bucket from its end down, with start[h + 1]
+    # as the cursor (no second array): afterwards start[h + 1] holds the start of bucket h.
+    for k in range(count - 1, -1, -1):
         i = which[k]
-        for cx in range(_cell(aabb[i, MIN_X], inv_cell), _cell(aabb[i, MAX_X], inv_cell) + 1):
-            for cy in range(_cell(aabb[i, MIN_Y], inv_cell), _cell(aabb[i, MAX_Y], inv_cell) + 1):
+        for cx in range(_cell(boxes[i, MAX_X], inv_cell), _cell(boxes[i, MIN_X], inv_cell) - 1, -1):
+            for cy in range(_cell(boxes[i, MAX_Y], inv_cell), _cell(boxes[i, MIN_Y], inv_cell) - 1,
+                            -1):
                 h = _bucket(cx, cy, info)
-                e = fill[h]
-                entry_body[e] = i
-                entry_cx[e] = cx
-                entry_cy[e] = cy
-                fill[h] = e + 1
-    return start, entry_body, entry_cx, entry_cy, info
+                e = start[h + 1] - 1
+                grid.entry_body[e] = i
+                grid.entry_cx[e] = cx
+                grid.entry_cy[e] = cy
+                start[h + 1] = e
+    for h in range(size):                  # shift back: start[h] = start of bucket h
+        start[h] = start[h + 1]
+    start[size] = n_entries
+    return True
 
 
 @inline_kernel
-def _reported_here(ax0, ay0, ax1, ay1, bx0, by0, bx1, by1, cx, cy, inv_cell):
-    """Do boxes a and b overlap, with (cx, cy) the cell of the lower-left corner of their overlap?
-    Then this cell reports the pair, and a pair found in several shared cells is reported once.
-    On scalars: an inlined helper taking the arrays costs a reference-count round trip per call,
-    which tripled the sweep."""
-    lo_x = max(ax0, bx0)
-    lo_y = max(ay0, by0)
-    if lo_x > min(ax1, bx1) or lo_y > min(ay1, by1):
-        return False
-    return _cell(lo_x, inv_cell) == cx and _cell(lo_y, inv_cell) == cy
+def _overlap(boxes, i, other_boxes, j):
+    return not (boxes[i, MIN_X] > other_boxes[j, MAX_X] or boxes[i, MAX_X] < other_boxes[j, MIN_X]
+                or boxes[i, MIN_Y] > other_boxes[j, MAX_Y] or boxes[i, MAX_Y] < other_boxes[j, MIN_Y])
 
 
-@kernel
-def find_pairs(awake, n_awake, aabb, has_floor, floor_y, cell_size, resting, pair_keys):
-    """Candidate pairs of the awake bodies, written sorted into ``pair_keys`` (P,).
-
-    Awake-awake pairs come from a grid of the awake boxes built here; awake-resting pairs from
-    querying the ``resting`` grid (see ``build_grid``) with each awake box; resting-resting pairs are
-    never looked at. An awake body whose box reaches below the floor plane pairs with the floor.
-    Returns the pair count, or ``-needed`` when ``pair_keys`` is too small (nothing else changes,
-    so the caller can grow the buffer and call again).
-    """
-    m = aabb.shape[0]
-    stride = m + 1
+@inline_kernel
+def query_box(grid, boxes, lo_x, lo_y, hi_x, hi_y, cell_size, out):
+    """Write into ``out`` each body of ``grid`` whose box (rows of ``boxes``) overlaps the box
+    (lo_x, lo_y, hi_x, hi_y), once each; returns how many. A body met in several cells is
+    reported from the cell of the lower-left corner of the overlap only."""
+    info = grid.info
+    if info[N_ENTRIES] == 0:
+        return 0
     inv_cell = 1.0 / cell_size
-    count = 0
-    if has_floor:
-        for k in range(n_awake):
-            i = awake[k]
-            if aabb[i, MIN_Y] <= floor_y:
-                if count < pair_keys.shape[0]:
-                    pair_keys[count] = i          # (a + 1) * stride + b with a = -1
-                count += 1
-    cap = pair_keys.shape[0]
-    start, entry_body, entry_cx, entry_cy, info = build_grid(awake, n_awake, aabb, cell_size)
-    for h in range(start.shape[0] - 1):
-        for e1 in range(start[h], start[h + 1]):
-            i = entry_body[e1]
-            cx = entry_cx[e1]
-            cy = entry_cy[e1]
-            ax0 = aabb[i, MIN_X]
-            ay0 = aabb[i, MIN_Y]
-            ax1 = aabb[i, MAX_X]
-            ay1 = aabb[i, MAX_Y]
-            for e2 in range(e1 + 1, start[h + 1]):
-                if entry_cx[e2] != cx or entry_cy[e2] != cy:
-                    continue                 # another cell that hashed to the same bucket
-                j = entry_body[e2]
-                if _reported_here(ax0, ay0, ax1, ay1, aabb[j, MIN_X], aabb[j, MIN_Y],
-                                  aabb[j, MAX_X], aabb[j, MAX_Y], cx, cy, inv_cell):
-                    if count < cap:
-                        pair_keys[count] = (min(i, j) + 1) * stride + max(i, j)
-                    count += 1
-    r_start, r_body, r_cx, r_cy, r_info = resting
-    if r_body.shape[0] > 0:
-        n_buckets = r_start.shape[0] - 1
-        for k in range(n_awake):
-            i = awake[k]
-            ax0 = aabb[i, MIN_X]
-            ay0 = aabb[i, MIN_Y]
-            ax1 = aabb[i, MAX_X]
-            ay1 = aabb[i, MAX_Y]
-            for cx in range(_cell(ax0, inv_cell), _cell(ax1, inv_cell) + 1):
-                for cy in range(_cell(ay0, inv_cell), _cell(ay1, inv_cell) + 1):
-                    if r_info[DENSE] == 1:
-                        if (cx < r_info[LO_CX] or cx >= r_info[LO_CX] + r_info[WIDTH]
-                                or cy < r_info[LO_CY]):
-                            continue
-                        h = _bucket(cx, cy, r_info)
-                        if h >= n_buckets:
-                            continue
-                    else:
-                        h = _bucket(cx, cy, r_info)
-                    for e in range(r_start[h], r_start[h + 1]):
-                        if r_cx[e] != cx or r_cy[e] != cy:
-                            continue
-                        j = r_body[e]
-                        if _reported_here(ax0, ay0, ax1, ay1, aabb[j, MIN_X], aabb[j, MIN_Y],
-                                          aabb[j, MAX_X], aabb[j, MAX_Y], cx, cy, inv_cell):
-                            if count < cap:
-                                pair_keys[count] = (min(i, j) + 1) * stride + max(i, j)
-                            count += 1
-    if count > pair_keys.shape[0]:
-        return -count
-    pair_keys[:count].sort()
-    return count
+    n_buckets = info[N_BUCKETS]
+    n = 0
+    for cx in range(_cell(lo_x, inv_cell), _cell(hi_x, inv_cell) + 1):
+        if info[DENSE] == 1 and (cx < info[LO_CX] or cx >= info[LO_CX] + info[WIDTH]):
+            continue
+        for cy in range(_cell(lo_y, inv_cell), _cell(hi_y, inv_cell) + 1):
+            if info[DENSE] == 1 and cy < info[LO_CY]:
+                continue
+            h = _bucket(cx, cy, info)
+            if h >= n_buckets:
+                continue
+            for e in range(grid.start[h], grid.start[h + 1]):
+                if grid.entry_cx[e] != cx or grid.entry_cy[e] != cy:
+                    continue                  # another cell that hashed to the same bucket
+                j = grid.entry_body[e]
+                if (lo_x > boxes[j, MAX_X] or hi_x < boxes[j, MIN_X] or lo_y > boxes[j, MAX_Y]
+                        or hi_y < boxes[j, MIN_Y]):
+                    continue
+                if (_cell(max(lo_x, boxes[j, MIN_X]), inv_cell) != cx
+                        or _cell(max(lo_y, boxes[j, MIN_Y]), inv_cell) != cy):
+                    continue
+                out[n] = j
+                n += 1
+    return n
+
+
+@inline_kernel
+def _query(i, fat, grid, cell_size, n_dynamic, bodies, contacts, counters, found):
+    """Make a contact for every body in ``grid`` whose fat box overlaps body i's and that has
+    none yet (``found``: scratch, one slot per body). Returns False when the store is full."""
+    n = query_box(grid, fat, fat[i, MIN_X], fat[i, MIN_Y], fat[i, MAX_X], fat[i, MAX_Y],
+                  cell_size, found)
+    for k in range(n):
+        j = found[k]
+        if j == i:
+            continue
+        a = min(i, j)
+        b = max(i, j)
+        if find(a, b, n_dynamic, contacts) < 0:
+            if create(a, b, n_dynamic, bodies.slop, bodies.speculative, contacts, counters) < 0:
+                return False
+    return True
+
+
+@lean_kernel
+def find_new_pairs(settings, bodies, geometry, awake_grid, resting_grid, contacts, counters,
+                   found):
+    """Contacts for the moved bodies' new partners: awake ones (``awake_grid``), resting ones
+    (``resting_grid``) and the floor. ``found``: scratch (M,). Returns False when the contact
+    store is full (the contacts made so far stay; a retry skips them)."""
+    fat = geometry.fat
+    n_dyn = settings.n_dynamic
+    for k in range(counters[N_MOVED]):
+        i = geometry.moved[k]
+        if settings.has_floor and fat[i, MIN_Y] <= settings.floor_y:
+            if find(-1, i, n_dyn, contacts) < 0:
+                if create(-1, i, n_dyn, bodies.slop, bodies.speculative, contacts, counters) < 0:
+                    return False
+        if not _query(i, fat, awake_grid, settings.cell_size, n_dyn, bodies, contacts, counters,
+                      found):
+            return False
+        if not _query(i, fat, resting_grid, settings.cell_size, n_dyn, bodies, contacts,
+                      counters, found):
+            return False
+    return True
+
+
+@lean_kernel
+def drop_stale_pairs(settings, geometry, contacts, counters):
+    """Free the contacts of moved bodies whose fat boxes no longer overlap; clear the moved list."""
+    fat = geometry.fat
+    ci = contacts.contact_int
+    n_dyn = settings.n_dynamic
+    for k in range(counters[N_MOVED]):
+        i = geometry.moved[k]
+        s = contacts.head[i]
+        while s >= 0:
+            a = ci[s, BODY_A]
+            b = ci[s, BODY_B]
+            nxt = ci[s, NEXT_A] if a == i else ci[s, NEXT_B]     # read before freeing
+            if a < 0:
+                keep = fat[b, MIN_Y] <= settings.floor_y
+            else:
+                keep = _overlap(fat, a, fat, b)
+            if not keep:
+                destroy(s, n_dyn, contacts, counters)
+            s = nxt
+        geometry.moved_flag[i] = False
+    counters[N_MOVED] = 0
+
+
+def grid_buffers(entries, buckets):
+    """A ``data.Grid`` with room for ``entries`` entries and ``buckets`` buckets."""
+    return Grid(start=np.zeros(buckets + 1, np.int64), entry_body=np.zeros(entries, np.int64),
+                entry_cx=np.zeros(entries, np.int64), entry_cy=np.zeros(entries, np.int64),
+                info=np.zeros(GRID_INFO, np.int64))

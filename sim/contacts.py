@@ -1,127 +1,340 @@
-"""Narrowphase: turn candidate pairs into contact manifolds and carry impulses over (warm start).
+"""The persistent contact store and the narrowphase that updates it in place.
 
-A manifold is one touching pair with one or two points. Contact data is stored row-per-manifold,
-the layout a sequential-impulse solver walks, in three arrays with named columns:
+A contact slot is made when two bodies' fat boxes start to overlap (``broadphase``) and freed when
+they stop: in between, every step either body is awake, its manifold (0-2 points) is recomputed
+from the current poses, and impulses carry over from the last step's points with the same feature
+id (warm starting). Nothing is allocated in the step loop: slots come from a free list, and a full
+store makes the step return GROW before anything has changed (the World grows it and retries).
 
-  manifold_int   (C, 6) int64   BODY_A, BODY_B (-1 = floor), KEY, POINT_COUNT,
-                                REFERENCE (body holding the reference face, -1 = floor), INCIDENT
-  manifold_float (C, 12) float64
-      NORMAL_X, NORMAL_Y         world unit normal from A to B
-      FRICTION, RESTITUTION      mixed coefficients (geometric mean, max)
-      LOCAL_NORMAL_X/Y           reference face normal in the reference body frame
-      LOCAL_FACE_X/Y             a point of the reference face in the reference body frame, m
-      K11, K12, K22              normal-mass matrix of a two-point manifold (block solver), 1/kg
-      BLOCK                      1.0 when the 2x2 block solve is well conditioned
-  point_float    (C, 2, 12) float64, per point:
-      ANCHOR_AX/AY, ANCHOR_BX/BY  contact point relative to each centre of mass, m
-      SEPARATION                 m, negative = penetration (at narrowphase time)
-      NORMAL_MASS, TANGENT_MASS  effective masses, kg
-      TARGET_VELOCITY            normal velocity the solver aims for, m/s (speculative / bounce)
-      NORMAL_IMPULSE, TANGENT_IMPULSE  accumulated impulses, N s
-      LOCAL_X/Y                  the point in the incident body frame, m (position correction)
-  point_id       (C, 2) int64   feature ids (see geometry.py)
+Which contacts are looked at is data, not a test in every loop (as sleeping is in Box2D v3):
+``contacts.awake`` lists the slots with at least one awake body. Freezing a body moves its contacts
+whose other body cannot move out of that list (``sleep_contacts_of``), waking moves them back
+(``wake_contacts_of``); each dynamic body's contacts form a doubly linked list through the slots,
+so both cost the body's own contact count. Contacts between resting bodies cost nothing.
 
-Manifolds are stored in increasing KEY order, so last step's manifolds can be matched to this
-step's by a merge walk, and impulses copied where the feature ids agree.
+Columns are named in ``sim.data`` (BODY_A, NORMAL_X, NORMAL_IMPULSE...). A pair (a, b) has a < b;
+a = -1 is the floor; the normal points from A to B.
 """
 import numpy as np
-from .jit import lean_kernel
 
+from .data import (ALIVE, ANCHOR_AX, AWAKE_UNSORTED, CARRIED, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, AWAKE_INDEX, BODY_A, BODY_B,
+                   FREE_HEAD, FRICTION, GROW_CONTACTS, GROW_NEEDED, INCIDENT, LOCAL_FACE_X,
+                   LOCAL_FACE_Y, LOCAL_NORMAL_X, LOCAL_NORMAL_Y, LOCAL_X, LOCAL_Y, MAX_DEGREE,
+                   N_ACTIVE, N_AWAKE_CONTACTS, N_LIVE, N_SLOTS, NEXT_A, NEXT_B, NORMAL_IMPULSE,
+                   NORMAL_VELOCITY, NORMAL_X, NORMAL_Y, POINT_COUNT, PREV_A, PREV_B, REFERENCE,
+                   RESTITUTION, SEPARATION, SLOP, SPECULATIVE, TANGENT_IMPULSE, WARM_NORMAL,
+                   WARM_TANGENT)
 from .geometry import collide_floor_rows, collide_polygon_rows
-
-BODY_A, BODY_B, KEY, POINT_COUNT, REFERENCE, INCIDENT = range(6)
-MANIFOLD_INT_COLUMNS = 6
-(NORMAL_X, NORMAL_Y, FRICTION, RESTITUTION, LOCAL_NORMAL_X, LOCAL_NORMAL_Y, LOCAL_FACE_X,
- LOCAL_FACE_Y, K11, K12, K22, BLOCK) = range(12)
-MANIFOLD_FLOAT_COLUMNS = 12
-(ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, SEPARATION, NORMAL_MASS, TANGENT_MASS,
- TARGET_VELOCITY, NORMAL_IMPULSE, TANGENT_IMPULSE, LOCAL_X, LOCAL_Y) = range(12)
-POINT_FLOAT_COLUMNS = 12
+from .jit import inline_kernel, kernel, lean_kernel
+from .tolerances import FACE_FRACTION
 
 
-def scratch():
-    """Scratch arrays for ``collide_pairs``: points (2,2), separations (2,), ids (2,), normal (2,)."""
-    return np.empty((2, 2)), np.empty(2), np.empty(2, np.int64), np.empty(2)
+# ---- the per-body lists -------------------------------------------------------------------------
+@inline_kernel
+def _next_of(i, s, contact_int):
+    """The slot after s in body i's list."""
+    return contact_int[s, NEXT_A] if contact_int[s, BODY_A] == i else contact_int[s, NEXT_B]
 
 
-def allocate(capacity):
-    """Empty contact storage for ``capacity`` manifolds: (manifold_int, manifold_float, point_float,
-    point_id)."""
-    return (np.zeros((capacity, MANIFOLD_INT_COLUMNS), np.int64),
-            np.zeros((capacity, MANIFOLD_FLOAT_COLUMNS), np.float64),
-            np.zeros((capacity, 2, POINT_FLOAT_COLUMNS), np.float64),
-            np.zeros((capacity, 2), np.int64))
+@inline_kernel
+def _set_link(i, s, column_a, column_b, value, contact_int):
+    """Set s's NEXT or PREV field on body i's side (column_a when i is BODY_A, else column_b)."""
+    if contact_int[s, BODY_A] == i:
+        contact_int[s, column_a] = value
+    else:
+        contact_int[s, column_b] = value
 
 
-@lean_kernel
-def save_for_warm_start(count, manifold_int, point_float, point_id, prev_key, prev_count,
-                        prev_id, prev_impulse):
-    """Copy what warm starting needs of the current manifolds: keys, ids, impulses (C,2,2)."""
-    for c in range(count):
-        prev_key[c] = manifold_int[c, KEY]
-        n = manifold_int[c, POINT_COUNT]
-        prev_count[c] = n
-        for j in range(n):
-            prev_id[c, j] = point_id[c, j]
-            prev_impulse[c, j, 0] = point_float[c, j, NORMAL_IMPULSE]
-            prev_impulse[c, j, 1] = point_float[c, j, TANGENT_IMPULSE]
+@inline_kernel
+def _link(i, s, contacts):
+    """Put slot s at the head of dynamic body i's list."""
+    ci = contacts.contact_int
+    h = contacts.head[i]
+    _set_link(i, s, NEXT_A, NEXT_B, h, ci)
+    _set_link(i, s, PREV_A, PREV_B, -1, ci)
+    if h >= 0:
+        _set_link(i, h, PREV_A, PREV_B, s, ci)
+    contacts.head[i] = s
+    contacts.degree[i] += 1
 
 
-@lean_kernel
-def collide_pairs(n_pairs, pair_keys, n_bodies, position, rotation, vert_start, local_verts,
-                  local_normals, world_verts, world_normals, friction, restitution, floor_y,
-                  floor_friction, floor_restitution, margin, manifold_int, manifold_float,
-                  point_float, point_id, n_prev, prev_key, prev_count, prev_id, prev_impulse,
-                  warm_start, points, seps, ids, normal):
-    """Narrowphase over sorted pair keys; returns the number of manifolds written.
+@inline_kernel
+def _unlink(i, s, contacts):
+    ci = contacts.contact_int
+    if ci[s, BODY_A] == i:
+        nxt = ci[s, NEXT_A]
+        prv = ci[s, PREV_A]
+    else:
+        nxt = ci[s, NEXT_B]
+        prv = ci[s, PREV_B]
+    if prv >= 0:
+        _set_link(i, prv, NEXT_A, NEXT_B, nxt, ci)
+    else:
+        contacts.head[i] = nxt
+    if nxt >= 0:
+        _set_link(i, nxt, PREV_A, PREV_B, prv, ci)
+    contacts.degree[i] -= 1
 
-    position (M,2) m, rotation (M,2) cos/sin, world_verts/world_normals (V,2) already updated.
-    Impulses are copied from the previous step's manifold with the same key and feature id when
-    ``warm_start`` is true, and zeroed otherwise. points (2,2), seps (2,), ids (2,) int64 and
-    normal (2,) are scratch (``scratch()``), passed in because this kernel allocates nothing.
-    """
+
+@inline_kernel
+def find(a, b, n_dynamic, contacts):
+    """The slot of pair (a, b) (a < b, a = -1 the floor), or -1: a walk of the shorter list."""
+    ci = contacts.contact_int
+    i = b
+    if 0 <= a < n_dynamic and (b >= n_dynamic or contacts.degree[a] < contacts.degree[b]):
+        i = a
+    if i >= n_dynamic:
+        return -1
+    s = contacts.head[i]
+    while s >= 0:
+        if ci[s, BODY_A] == a and ci[s, BODY_B] == b:
+            return s
+        s = _next_of(i, s, ci)
+    return -1
+
+
+# ---- the awake list -----------------------------------------------------------------------------
+@inline_kernel
+def _add_awake(s, contacts, counters):
+    ci = contacts.contact_int
+    if ci[s, AWAKE_INDEX] >= 0:
+        return
+    k = counters[N_AWAKE_CONTACTS]
+    contacts.awake[k] = s
+    ci[s, AWAKE_INDEX] = k
+    counters[N_AWAKE_CONTACTS] = k + 1
+    counters[AWAKE_UNSORTED] += 1
+
+
+@inline_kernel
+def _remove_awake(s, contacts, counters):
+    """Swap-remove slot s from the awake list."""
+    ci = contacts.contact_int
+    k = ci[s, AWAKE_INDEX]
+    if k < 0:
+        return
+    last = counters[N_AWAKE_CONTACTS] - 1
+    moved = contacts.awake[last]
+    contacts.awake[k] = moved
+    ci[moved, AWAKE_INDEX] = k
+    ci[s, AWAKE_INDEX] = -1
+    counters[N_AWAKE_CONTACTS] = last
+    if k != last:
+        counters[AWAKE_UNSORTED] += 1
+
+
+@inline_kernel
+def _is_awake(i, n_dynamic, awake_slot):
+    return 0 <= i < n_dynamic and awake_slot[i] >= 0
+
+
+@inline_kernel
+def wake_contacts_of(i, contacts, counters):
+    """Body i has woken: every contact of its list is awake now."""
+    ci = contacts.contact_int
+    s = contacts.head[i]
+    while s >= 0:
+        _add_awake(s, contacts, counters)
+        s = _next_of(i, s, ci)
+
+
+@inline_kernel
+def sleep_contacts_of(i, n_dynamic, awake_slot, contacts, counters):
+    """Body i has frozen: its contacts whose other body cannot move either leave the awake list
+    (with their manifold and impulses kept, to warm start the pair if it wakes)."""
+    ci = contacts.contact_int
+    s = contacts.head[i]
+    while s >= 0:
+        other = ci[s, BODY_A] if ci[s, BODY_B] == i else ci[s, BODY_B]
+        if not _is_awake(other, n_dynamic, awake_slot):
+            _remove_awake(s, contacts, counters)
+        s = _next_of(i, s, ci)
+
+
+@inline_kernel
+def _key(s, contact_int, stride):
+    """The pair's order: floor pairs first, then by the lower body, then the higher."""
+    return (contact_int[s, BODY_A] + 1) * stride + contact_int[s, BODY_B]
+
+
+@kernel
+def sort_awake(n_bodies, contacts, counters):
+    """Put the awake contacts back in pair order, if any was added or removed since the last sort.
+
+    The solver's result depends on the order it meets contacts in (Gauss-Seidel, colouring), and
+    that order must not depend on history: a stack frozen and woken by an impact must be solved
+    exactly as the same stack that never froze, or a freezing policy would differ from ``off`` by
+    solver noise, not by freezing. A few new contacts go in by insertion; many (a new World, a
+    large wake) by a full sort."""
+    if counters[AWAKE_UNSORTED] == 0:
+        return
+    ci = contacts.contact_int
+    awake = contacts.awake
+    n = counters[N_AWAKE_CONTACTS]
     stride = n_bodies + 1
-    count = 0
-    p = 0        # merge cursor into the previous step's manifolds
-    for k in range(n_pairs):
-        key = pair_keys[k]
-        a = key // stride - 1
-        b = key - (a + 1) * stride
+    if counters[AWAKE_UNSORTED] > 32:
+        keys = np.empty(n, np.int64)
+        for k in range(n):
+            keys[k] = _key(awake[k], ci, stride)
+        order = np.argsort(keys, kind="mergesort")
+        tmp = awake[:n].copy()
+        for k in range(n):
+            awake[k] = tmp[order[k]]
+    else:
+        for k in range(1, n):                  # insertion sort: nearly sorted already
+            s = awake[k]
+            key = _key(s, ci, stride)
+            j = k - 1
+            while j >= 0 and _key(awake[j], ci, stride) > key:
+                awake[j + 1] = awake[j]
+                j -= 1
+            awake[j + 1] = s
+    for k in range(n):
+        ci[awake[k], AWAKE_INDEX] = k
+    counters[AWAKE_UNSORTED] = 0
+
+
+# ---- making and freeing slots -------------------------------------------------------------------
+@lean_kernel
+def create(a, b, n_dynamic, slop, speculative, contacts, counters):
+    """A new contact for pair (a, b), awake, with no points yet. Returns its slot, or -1 when the
+    store is full (counters[GROW_NEEDED] says so; nothing was changed)."""
+    ci = contacts.contact_int
+    cf = contacts.contact_float
+    s = counters[FREE_HEAD]
+    if s >= 0:
+        counters[FREE_HEAD] = ci[s, NEXT_A]
+    elif counters[N_SLOTS] < ci.shape[0]:
+        s = counters[N_SLOTS]
+        counters[N_SLOTS] = s + 1
+    else:
+        counters[GROW_NEEDED] |= GROW_CONTACTS
+        return -1
+    ci[s, BODY_A] = a
+    ci[s, BODY_B] = b
+    ci[s, POINT_COUNT] = 0
+    ci[s, REFERENCE] = -1
+    ci[s, INCIDENT] = b
+    ci[s, AWAKE_INDEX] = -1
+    ci[s, ALIVE] = 1
+    for j in range(2):
+        contacts.point_id[s, j] = -1
+        for col in range(contacts.point_float.shape[2]):
+            contacts.point_float[s, j, col] = 0.0
+    if a >= 0:
+        cf[s, SLOP] = min(slop[a], slop[b])
+        cf[s, SPECULATIVE] = min(speculative[a], speculative[b])
+    else:
+        cf[s, SLOP] = slop[b]
+        cf[s, SPECULATIVE] = speculative[b]
+    for i in (a, b):
+        if 0 <= i < n_dynamic:
+            _link(i, s, contacts)
+            counters[MAX_DEGREE] = max(counters[MAX_DEGREE], contacts.degree[i])
+    _add_awake(s, contacts, counters)
+    counters[N_LIVE] += 1
+    return s
+
+
+@lean_kernel
+def destroy(s, n_dynamic, contacts, counters):
+    """Free slot s: out of both bodies' lists and the awake list, onto the free list."""
+    ci = contacts.contact_int
+    for i in (ci[s, BODY_A], ci[s, BODY_B]):
+        if 0 <= i < n_dynamic:
+            _unlink(i, s, contacts)
+    _remove_awake(s, contacts, counters)
+    ci[s, ALIVE] = 0
+    ci[s, POINT_COUNT] = 0
+    ci[s, NEXT_A] = counters[FREE_HEAD]
+    counters[FREE_HEAD] = s
+    counters[N_LIVE] -= 1
+
+
+# ---- narrowphase ------------------------------------------------------------------------------------
+@inline_kernel
+def _closing_speed(a, b, velocity, angular_velocity, extent):
+    """m/s: a bound on how fast any point of a can approach any point of b (a = -1: the floor)."""
+    vbx = velocity[b, 0]
+    vby = velocity[b, 1]
+    reach = abs(angular_velocity[b]) * extent[b]
+    if a >= 0:
+        vbx -= velocity[a, 0]
+        vby -= velocity[a, 1]
+        reach += abs(angular_velocity[a]) * extent[a]
+    return np.sqrt(vbx * vbx + vby * vby) + reach
+
+
+@lean_kernel
+def update_manifolds(settings, bodies, geometry, contacts, counters):
+    """Recompute the manifold of every awake contact from the current poses (world vertices in
+    ``geometry`` up to date for every body involved) and list those with points in
+    ``contacts.active``. The speculative margin is the pair's resting reach plus the distance the
+    pair can close in one step, so a contact exists before bodies meet however fast they move.
+    Returns the number of active contacts."""
+    ci = contacts.contact_int
+    cf = contacts.contact_float
+    pf = contacts.point_float
+    points = contacts.scratch_points
+    seps = contacts.scratch_separations
+    ids = contacts.scratch_ids
+    normal = contacts.scratch_normal
+    position = bodies.position
+    vert_start = bodies.vert_start
+    world_verts = geometry.world_verts
+    world_normals = geometry.world_normals
+    rotation = geometry.rotation
+    dt = settings.dt
+    n_active = 0
+    for k in range(counters[N_AWAKE_CONTACTS]):
+        s = contacts.awake[k]
+        a = ci[s, BODY_A]
+        b = ci[s, BODY_B]
+        margin = cf[s, SPECULATIVE] + dt * _closing_speed(a, b, bodies.velocity,
+                                                           bodies.angular_velocity, bodies.extent)
         vb0 = vert_start[b]
         vb1 = vert_start[b + 1]
         if a < 0:
-            n_points = collide_floor_rows(world_verts, world_normals, vb0, vb1, floor_y, margin,
-                                          points, seps, ids)
+            n_points = collide_floor_rows(world_verts, world_normals, vb0, vb1, settings.floor_y,
+                                          margin, points, seps, ids)
             flip = 0
             edge = 0
             normal[0] = 0.0
             normal[1] = 1.0
-            mu = np.sqrt(floor_friction * friction[b])
-            e = max(floor_restitution, restitution[b])
+            mu = np.sqrt(settings.floor_friction * bodies.friction[b])
+            e = max(settings.floor_restitution, bodies.restitution[b])
         else:
-            va0 = vert_start[a]
-            va1 = vert_start[a + 1]
             n_points, flip, edge = collide_polygon_rows(
-                world_verts, world_normals, va0, va1, vb0, vb1, margin, points, seps, ids, normal)
-            mu = np.sqrt(friction[a] * friction[b])
-            e = max(restitution[a], restitution[b])
+                world_verts, world_normals, vert_start[a], vert_start[a + 1], vb0, vb1, margin,
+                FACE_FRACTION * cf[s, SLOP], points, seps, ids, normal)
+            mu = np.sqrt(bodies.friction[a] * bodies.friction[b])
+            e = max(bodies.restitution[a], bodies.restitution[b])
+        # last step's points, to carry their impulses over by feature id
+        n_old = ci[s, POINT_COUNT]
+        old_id0 = contacts.point_id[s, 0]
+        old_id1 = contacts.point_id[s, 1]
+        old_n0 = pf[s, 0, WARM_NORMAL]
+        old_t0 = pf[s, 0, WARM_TANGENT]
+        old_n1 = pf[s, 1, WARM_NORMAL]
+        old_t1 = pf[s, 1, WARM_TANGENT]
+        old_c0 = pf[s, 0, CARRIED]
+        old_c1 = pf[s, 1, CARRIED]
+        ci[s, POINT_COUNT] = n_points
         if n_points == 0:
+            contacts.point_id[s, 0] = -1            # apart: nothing to warm start from
+            contacts.point_id[s, 1] = -1
             continue
-        manifold_int[count, BODY_A] = a
-        manifold_int[count, BODY_B] = b
-        manifold_int[count, KEY] = key
-        manifold_int[count, POINT_COUNT] = n_points
-        manifold_float[count, NORMAL_X] = normal[0]
-        manifold_float[count, NORMAL_Y] = normal[1]
-        manifold_float[count, FRICTION] = mu
-        manifold_float[count, RESTITUTION] = e
+        cf[s, NORMAL_X] = normal[0]
+        cf[s, NORMAL_Y] = normal[1]
+        cf[s, FRICTION] = mu
+        cf[s, RESTITUTION] = e
         if a < 0:
             ref = -1
             inc = b
-            manifold_float[count, LOCAL_NORMAL_X] = 0.0
-            manifold_float[count, LOCAL_NORMAL_Y] = 1.0
-            manifold_float[count, LOCAL_FACE_X] = 0.0
-            manifold_float[count, LOCAL_FACE_Y] = floor_y
+            cf[s, LOCAL_NORMAL_X] = 0.0
+            cf[s, LOCAL_NORMAL_Y] = 1.0
+            cf[s, LOCAL_FACE_X] = 0.0
+            cf[s, LOCAL_FACE_Y] = settings.floor_y
             ref_nx = 0.0
             ref_ny = 1.0
         else:
@@ -132,46 +345,68 @@ def collide_pairs(n_pairs, pair_keys, n_bodies, position, rotation, vert_start, 
                 ref = a
                 inc = b
             r = vert_start[ref] + edge
-            manifold_float[count, LOCAL_NORMAL_X] = local_normals[r, 0]
-            manifold_float[count, LOCAL_NORMAL_Y] = local_normals[r, 1]
-            manifold_float[count, LOCAL_FACE_X] = local_verts[r, 0]
-            manifold_float[count, LOCAL_FACE_Y] = local_verts[r, 1]
+            cf[s, LOCAL_NORMAL_X] = bodies.local_normals[r, 0]
+            cf[s, LOCAL_NORMAL_Y] = bodies.local_normals[r, 1]
+            cf[s, LOCAL_FACE_X] = bodies.local_verts[r, 0]
+            cf[s, LOCAL_FACE_Y] = bodies.local_verts[r, 1]
             ref_nx = world_normals[r, 0]
             ref_ny = world_normals[r, 1]
-        manifold_int[count, REFERENCE] = ref
-        manifold_int[count, INCIDENT] = inc
-        ci = rotation[inc, 0]
-        si = rotation[inc, 1]
+        ci[s, REFERENCE] = ref
+        ci[s, INCIDENT] = inc
+        ci_ = rotation[inc, 0]
+        si_ = rotation[inc, 1]
         for j in range(n_points):
-            # anchor halfway between the two surfaces, so neither body is favoured
-            mx = points[j, 0] - 0.5 * seps[j] * ref_nx
-            my = points[j, 1] - 0.5 * seps[j] * ref_ny
-            if a >= 0:
-                point_float[count, j, ANCHOR_AX] = mx - position[a, 0]
-                point_float[count, j, ANCHOR_AY] = my - position[a, 1]
+            # Each body's anchor on its own surface: the incident point, and its projection on the
+            # reference face. (Halfway between the surfaces, as Box2D does, puts the anchor of a
+            # contact made ahead of a fast body far outside both bodies: its impulses then turn
+            # them about a point in the air.)
+            ix = points[j, 0]
+            iy = points[j, 1]
+            rx = ix - seps[j] * ref_nx
+            ry = iy - seps[j] * ref_ny
+            if ref == a:
+                ax_ = rx
+                ay_ = ry
+                bx_ = ix
+                by_ = iy
             else:
-                point_float[count, j, ANCHOR_AX] = 0.0
-                point_float[count, j, ANCHOR_AY] = 0.0
-            point_float[count, j, ANCHOR_BX] = mx - position[b, 0]
-            point_float[count, j, ANCHOR_BY] = my - position[b, 1]
-            point_float[count, j, SEPARATION] = seps[j]
+                ax_ = ix
+                ay_ = iy
+                bx_ = rx
+                by_ = ry
+            if a >= 0:
+                pf[s, j, ANCHOR_AX] = ax_ - position[a, 0]
+                pf[s, j, ANCHOR_AY] = ay_ - position[a, 1]
+            else:
+                pf[s, j, ANCHOR_AX] = 0.0
+                pf[s, j, ANCHOR_AY] = 0.0
+            pf[s, j, ANCHOR_BX] = bx_ - position[b, 0]
+            pf[s, j, ANCHOR_BY] = by_ - position[b, 1]
+            pf[s, j, SEPARATION] = seps[j]
             dx = points[j, 0] - position[inc, 0]
             dy = points[j, 1] - position[inc, 1]
-            point_float[count, j, LOCAL_X] = ci * dx + si * dy           # R^T (p - x)
-            point_float[count, j, LOCAL_Y] = -si * dx + ci * dy
-            point_float[count, j, NORMAL_IMPULSE] = 0.0
-            point_float[count, j, TANGENT_IMPULSE] = 0.0
-            point_id[count, j] = ids[j]
-        if warm_start:
-            while p < n_prev and prev_key[p] < key:
-                p += 1
-            if p < n_prev and prev_key[p] == key:
-                for j in range(n_points):
-                    for q in range(prev_count[p]):
-                        if prev_id[p, q] == ids[j]:
-                            point_float[count, j, NORMAL_IMPULSE] = prev_impulse[p, q, 0]
-                            point_float[count, j, TANGENT_IMPULSE] = prev_impulse[p, q, 1]
-                            break
-        count += 1
-    return count
-
+            pf[s, j, LOCAL_X] = ci_ * dx + si_ * dy           # R^T (p - x)
+            pf[s, j, LOCAL_Y] = -si_ * dx + ci_ * dy
+            pf[s, j, NORMAL_IMPULSE] = 0.0
+            pf[s, j, TANGENT_IMPULSE] = 0.0
+            pf[s, j, NORMAL_VELOCITY] = 0.0
+            warm_n = 0.0
+            warm_t = 0.0
+            carried = 0.0
+            if settings.warm_starting:
+                if n_old > 0 and old_id0 == ids[j]:
+                    warm_n = old_n0
+                    warm_t = old_t0
+                    carried = old_c0
+                elif n_old > 1 and old_id1 == ids[j]:
+                    warm_n = old_n1
+                    warm_t = old_t1
+                    carried = old_c1
+            pf[s, j, WARM_NORMAL] = warm_n
+            pf[s, j, WARM_TANGENT] = warm_t
+            pf[s, j, CARRIED] = carried
+            contacts.point_id[s, j] = ids[j]
+        contacts.active[n_active] = s
+        n_active += 1
+    counters[N_ACTIVE] = n_active
+    return n_active

@@ -160,13 +160,14 @@ def _clip(p0x, p0y, p1x, p1y, d0, d1):
 
 
 @inline_kernel
-def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, out_points, out_separations,
-                         out_ids, out_normal):
+def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, face_tolerance, out_points,
+                         out_separations, out_ids, out_normal):
     """SAT + reference/incident face clipping between convex polygons A and B, given as row ranges
     a0..a1-1 and b0..b1-1 of packed world-coordinate arrays verts/normals (V,2).
 
     Finds up to two contact points whose separation is at most ``margin`` (m). The reference face is
-    A's unless B's best axis separates clearly more (a small bias keeps the choice from flickering).
+    A's unless B's best axis separates clearly more: by ``face_tolerance`` (m) plus 0.1% (the bias
+    keeps the choice from flickering; it scales with the bodies, see ``sim.tolerances``).
 
     Outputs (written in place):
       out_points (2,2)  m   contact points on the incident polygon's surface
@@ -183,7 +184,7 @@ def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, out_points, out
         return 0, 0, 0
     # Prefer A's face unless B's is better by more than a small tolerance: coherent choice frame to
     # frame keeps feature ids, and so warm starting, stable.
-    b_first = sep_b > sep_a + 1e-4 + 1e-3 * abs(sep_a)
+    b_first = sep_b > sep_a + face_tolerance + 1e-3 * abs(sep_a)
     for attempt in range(2):
         if b_first == (attempt == 0):
             kept = _clip_against_face(verts, normals, b0, b1, a0, a1, edge_b, 1, margin,
@@ -312,13 +313,14 @@ def max_separation(verts1, normals1, verts2):
 
 @kernel
 def collide_polygons(verts_a, normals_a, verts_b, normals_b, margin, out_points, out_separations,
-                     out_ids, out_normal):
-    """``collide_polygon_rows`` on two separate polygons (K,2) arrays; same outputs and return."""
+                     out_ids, out_normal, face_tolerance=1e-4):
+    """``collide_polygon_rows`` on two separate polygons (K,2) arrays; same outputs and return.
+    ``face_tolerance`` defaults to the value a 1 m body gets (``sim.tolerances``)."""
     ka = verts_a.shape[0]
     verts = np.concatenate((verts_a, verts_b))
     normals = np.concatenate((normals_a, normals_b))
-    return collide_polygon_rows(verts, normals, 0, ka, ka, verts.shape[0], margin, out_points,
-                                out_separations, out_ids, out_normal)
+    return collide_polygon_rows(verts, normals, 0, ka, ka, verts.shape[0], margin, face_tolerance,
+                                out_points, out_separations, out_ids, out_normal)
 
 
 @kernel

@@ -1,12 +1,25 @@
-"""The one decorator every kernel uses, so that compilation options are set in one place.
+"""The decorators every kernel uses, so that compilation options are set in one place.
 
 - cache=True: compiled code is stored on disk (see ``sim/__init__``, which keys the cache folder by a
   hash of the sources, because Numba does not notice edits to a kernel's callees).
 - error_model="numpy": a float division by zero gives inf/nan instead of raising; the Python model
   puts a test-and-raise branch on every division, which costs ~15% of a solver sweep. Non-finite
-  state is caught once per step instead (``kernel._first_non_finite``).
+  state is caught once per step instead (``kernel.first_diverged``).
+
+Vectorisation (see ``sim/soft_step.py``). The contact solver works on batches of ``LANES``
+constraints laid out field by field, and relies on LLVM's SLP vectoriser to turn each batch's
+lane loop into packed instructions (``experiments/bench_kernels.py`` shows them in the compiled
+code). Numba switches SLP off by default, so it is switched on here, before any kernel compiles.
+It changes no result: SLP packs independent scalar operations into vector registers and never
+reorders a sum. Two more conditions are met in the batch kernels themselves: every index is
+unsigned (a signed index gets a wrap-around select per access, which breaks the consecutive
+addresses SLP needs), and a batch lives in one flat array at compile-time offsets (two arrays, or
+one with a run-time row stride, might alias, and LLVM then keeps the scalar code).
 """
+import numba
 from numba import njit
+
+numba.config.SLP_VECTORIZE = 1
 
 kernel = njit(cache=True, error_model="numpy")
 
@@ -19,3 +32,13 @@ inline_kernel = njit(cache=True, error_model="numpy", inline="always")
 #: long-standing Numba flag; the version is pinned). With it, every array an inlined helper takes
 #: costs an atomic increment and decrement per call: half of the narrowphase's time.
 lean_kernel = njit(cache=True, error_model="numpy", _nrt=False)
+
+#: The only fast-math flag used anywhere: ``contract`` lets LLVM fuse a multiply and an add into
+#: one fused multiply-add (one rounding instead of two). It is used by the solver's batch kernels
+#: alone, where it saves ~20% of a sweep. Runs stay bit-identical on one machine (the same compiled
+#: code gives the same result every time); across machines, results agree bit for bit only when
+#: both CPUs have FMA (every x86-64 since 2013, every ARM64) and the same LLVM (pinned numba) is
+#: used. No other flag is set: no reassociation (sums keep their order, so vector width does not
+#: change a result) and no "no NaN" (a NaN must reach the divergence check, not be optimised away).
+wide_kernel = njit(cache=True, error_model="numpy", _nrt=False, fastmath={"contract"})
+wide_inline = njit(cache=True, error_model="numpy", inline="always", fastmath={"contract"})

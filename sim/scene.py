@@ -1,9 +1,60 @@
-"""``sim.Scene``: bodies, static polygons, the floor and gravity. Loadable from / writable to TOML."""
+"""``sim.Scene``: bodies, static polygons, the floor and gravity. Loadable from / writable to TOML.
+
+A scene's dynamic bodies are either a list of ``sim.Body`` (``Scene(bodies=[...])``) or arrays
+(``Scene.from_arrays``). Arrays exist for scale: 10^6 Body objects take seconds to minutes to
+create and check one by one (more for varied polygons), the same bodies as arrays are checked in
+a fraction of a second. An array-backed scene creates its Body objects only if ``scene.bodies``
+is read; from then on that list is the scene's truth (edits to those bodies are seen, as in any
+Body-list scene)."""
 from dataclasses import dataclass, field
 import math
 import tomllib
+from typing import NamedTuple
 
-from .body import Body, _finite, _finite_pair
+import numpy as np
+
+from .body import Body, check_fields, failing_fields, finite_number, finite_pair
+from .geometry import validate_polygon
+from .polygons import check_packed, polygon_suspects
+
+
+class BodyArrays(NamedTuple):
+    """The N dynamic bodies of an array-backed Scene: validated, read-only (the fields of
+    ``sim.Body``, one row per body)."""
+    vertices: np.ndarray          # (V,2) m, body frame, every body's polygon concatenated
+    vert_start: np.ndarray        # (N+1,) int64: body i's vertices are rows vert_start[i]:vert_start[i+1]
+    position: np.ndarray          # (N,2) m, where each body frame's origin is placed
+    angle: np.ndarray             # (N,) rad, CCW
+    velocity: np.ndarray          # (N,2) m/s of the centre of mass
+    angular_velocity: np.ndarray  # (N,) rad/s
+    density: np.ndarray           # (N,) kg/m^2
+    friction: np.ndarray          # (N,) Coulomb mu
+    restitution: np.ndarray       # (N,) in [0, 1]
+    bullet: np.ndarray            # (N,) bool
+    names: tuple | None           # N str ("" = unnamed: "body <i>" in messages), or None
+
+    def body_name(self, i):
+        """Name of body ``i`` for messages."""
+        return (self.names[i] if self.names is not None else "") or f"body {i}"
+
+    @classmethod
+    def from_bodies(cls, bodies):
+        """The fields of validated Body objects gathered into arrays (one pass each, no checks:
+        validate the bodies first, as ``Scene.validate`` does)."""
+        n = len(bodies)
+        vert_start = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(np.fromiter((len(b.vertices) for b in bodies), np.int64, n), out=vert_start[1:])
+        vertices = (np.concatenate([b.vertices for b in bodies]) if n else np.empty((0, 2)))
+        return cls(vertices=vertices.astype(np.float64, copy=False), vert_start=vert_start,
+                   position=np.array([b.position for b in bodies], np.float64).reshape(n, 2),
+                   angle=np.array([b.angle for b in bodies], np.float64),
+                   velocity=np.array([b.velocity for b in bodies], np.float64).reshape(n, 2),
+                   angular_velocity=np.array([b.angular_velocity for b in bodies], np.float64),
+                   density=np.array([b.density for b in bodies], np.float64),
+                   friction=np.array([b.friction for b in bodies], np.float64),
+                   restitution=np.array([b.restitution for b in bodies], np.float64),
+                   bullet=np.array([b.bullet for b in bodies], dtype=bool),
+                   names=tuple(b.name for b in bodies))
 
 
 @dataclass
@@ -16,6 +67,9 @@ class Scene:
     gravity         (2,) m/s^2.
     floor_friction, floor_restitution: the floor's material (and the static bodies' own fields).
     name, params    what built the scene; recorded in every results file.
+
+    ``n_bodies`` counts the dynamic bodies without creating Body objects of an array-backed
+    scene, and ``body_arrays`` gives that scene's arrays (None for a Body-list scene).
     """
     bodies: list
     floor_y: float | None = 0.0
@@ -30,32 +84,94 @@ class Scene:
         self.validate()
 
     def validate(self):
-        if not isinstance(self.bodies, (list, tuple)) or len(self.bodies) == 0:
-            raise ValueError("scene: needs at least one body in `bodies`")
-        self.bodies = list(self.bodies)
+        """Check every body and field; raise ValueError naming the first problem. An array-backed
+        scene's dynamic bodies were checked when it was built and their arrays are read-only, so
+        for them this costs nothing."""
+        if self.body_arrays is None:
+            if not isinstance(self.bodies, (list, tuple)) or len(self.bodies) == 0:
+                raise ValueError("scene: needs at least one body in `bodies`")
+            self.bodies = list(self.bodies)
+            _check_bodies(self.bodies, "body")
         self.static_bodies = list(self.static_bodies)
-        for kind, seq in (("body", self.bodies), ("static body", self.static_bodies)):
-            for i, b in enumerate(seq):
-                if not isinstance(b, Body):
-                    raise ValueError(f"{kind} {i}: expected sim.Body, got {type(b).__name__}")
-                b.validate(b.name or f"{kind} {i}")
+        _check_bodies(self.static_bodies, "static body")
         for i, b in enumerate(self.static_bodies):
             if b.velocity != (0.0, 0.0) or b.angular_velocity != 0.0:
                 raise ValueError(f"static body {i}: static bodies cannot move (velocity must be zero)")
         if self.floor_y is not None:
-            self.floor_y = _finite(self.floor_y, "floor_y", "scene")
-        self.gravity = _finite_pair(self.gravity, "gravity", "scene")
-        self.floor_friction = _finite(self.floor_friction, "floor_friction", "scene")
+            self.floor_y = finite_number(self.floor_y, "floor_y", "scene")
+        self.gravity = finite_pair(self.gravity, "gravity", "scene")
+        self.floor_friction = finite_number(self.floor_friction, "floor_friction", "scene")
         if self.floor_friction < 0:
             raise ValueError(f"scene: floor_friction must be >= 0, got {self.floor_friction}")
-        self.floor_restitution = _finite(self.floor_restitution, "floor_restitution", "scene")
+        self.floor_restitution = finite_number(self.floor_restitution, "floor_restitution", "scene")
         if not 0.0 <= self.floor_restitution <= 1.0:
             raise ValueError(f"scene: floor_restitution must be in [0, 1], got {self.floor_restitution}")
 
+    # ---- array-backed scenes ------------------------------------------------------------------
+    @classmethod
+    def from_arrays(cls, vertices, position, *, vert_start=None, angle=0.0, velocity=(0.0, 0.0),
+                    angular_velocity=0.0, density=1.0, friction=0.5, restitution=0.0,
+                    bullet=False, names=None, static_bodies=(), floor_y=0.0,
+                    gravity=(0.0, -9.81), floor_friction=0.6, floor_restitution=0.0,
+                    name="custom", params=None):
+        """A scene of N dynamic bodies given as arrays, without creating Body objects.
+
+        vertices   m, body frame, counter-clockwise: (K,2) one polygon shared by every body,
+                   (N,K,2) one per body, or (V,2) all polygons concatenated with ``vert_start``
+                   (N+1,) int offsets (body i is rows vert_start[i]:vert_start[i+1]).
+        position   (N,2) m: N is the number of bodies.
+        angle, angular_velocity, density, friction, restitution: a number for all, or (N,).
+        velocity   a pair for all, or (N,2) m/s.    bullet: a bool for all, or (N,) bool.
+        names      None, or N strings ("" = unnamed: "body <i>" in messages).
+        The other arguments are the Scene fields. Bodies obey the rules of ``sim.Body`` and a
+        bad one is refused with the message the same Body in a Body-list scene would get; a bad
+        argument shape with a ValueError naming the argument and the expected shape."""
+        arrays = _body_arrays(vertices, vert_start, position, angle, velocity, angular_velocity,
+                              density, friction, restitution, bullet, names)
+        scene = object.__new__(cls)
+        scene.floor_y, scene.gravity = floor_y, gravity
+        scene.floor_friction, scene.floor_restitution = floor_friction, floor_restitution
+        scene.static_bodies, scene.name = static_bodies, name
+        scene.params = {} if params is None else dict(params)
+        scene._arrays = arrays
+        scene.validate()
+        return scene
+
+    @property
+    def body_arrays(self):
+        """The dynamic bodies as ``BodyArrays`` while the scene is array-backed; None once
+        ``bodies`` is a list of Body (given as one, or created from the arrays on first use)."""
+        return None if "bodies" in self.__dict__ else self.__dict__.get("_arrays")
+
+    def __getattr__(self, attr):
+        # Runs only when normal lookup fails: for `bodies` of an array-backed scene, on first use.
+        arrays = self.__dict__.get("_arrays")
+        if attr == "bodies" and arrays is not None:
+            self.bodies = _materialise(arrays)
+            self._arrays = None                 # the Body list is the truth from now on
+            return self.bodies
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {attr!r}")
+
+    @property
+    def n_bodies(self):
+        """Number of dynamic bodies (creates no Body objects)."""
+        arrays = self.body_arrays
+        return len(arrays.position) if arrays is not None else len(self.bodies)
+
     def body_name(self, i):
         """Name of dynamic body ``i`` for messages."""
+        arrays = self.body_arrays
+        if arrays is not None:
+            return arrays.body_name(i)
         b = self.bodies[i]
         return b.name or f"body {i}"
+
+    def __repr__(self):
+        arrays = self.body_arrays
+        bodies = f"<{len(arrays.position)} bodies in arrays>" if arrays is not None else repr(self.bodies)
+        return (f"Scene(bodies={bodies}, floor_y={self.floor_y!r}, gravity={self.gravity!r}, "
+                f"floor_friction={self.floor_friction!r}, floor_restitution={self.floor_restitution!r}, "
+                f"static_bodies={self.static_bodies!r}, name={self.name!r}, params={self.params!r})")
 
     # ---- files -------------------------------------------------------------------------------
     @classmethod
@@ -100,7 +216,8 @@ class Scene:
                 "floor_y": "none" if self.floor_y is None else self.floor_y,
                 "gravity": list(self.gravity), "floor_friction": self.floor_friction,
                 "floor_restitution": self.floor_restitution,
-                "bodies": [b.to_dict() for b in self.bodies],
+                "bodies": (_body_dicts(self.body_arrays) if self.body_arrays is not None
+                           else [b.to_dict() for b in self.bodies]),
                 "static_bodies": [b.to_dict() for b in self.static_bodies]}
 
     def to_file(self, path):
@@ -131,3 +248,161 @@ def _toml(d):
                 lines.append(f"\n[[{k}]]")
                 lines.extend(f"{kk} = {_toml_value(vv)}" for kk, vv in item.items())
     return "\n".join(lines) + "\n"
+
+
+def _check_bodies(bodies, kind):
+    """Each of ``bodies`` must be a valid sim.Body; messages name "<kind> <i>" or the body."""
+    for i, b in enumerate(bodies):
+        if not isinstance(b, Body):
+            raise ValueError(f"{kind} {i}: expected sim.Body, got {type(b).__name__}")
+        b.validate(b.name or f"{kind} {i}")
+
+
+# ---- array-backed scenes: arguments to BodyArrays, BodyArrays to Body objects and dicts ---------
+def _floats(value, what):
+    try:
+        return np.array(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"Scene.from_arrays: {what} must be numbers ({exc})") from None
+
+
+def _per_body(value, n, what):
+    """(n,) float64 from a number or an (n,) array."""
+    a = _floats(value, what)
+    if a.ndim == 0:
+        return np.full(n, float(a))
+    if a.shape != (n,):
+        raise ValueError(f"Scene.from_arrays: {what} must be a number or have shape (N,) = ({n},), "
+                         f"got shape {a.shape}")
+    return a
+
+
+def _per_body_pair(value, n, what):
+    """(n,2) float64 from one pair or an (n,2) array."""
+    a = _floats(value, what)
+    if a.shape == (2,):
+        return np.tile(a, (n, 1))
+    if a.shape != (n, 2):
+        raise ValueError(f"Scene.from_arrays: {what} must be a pair or have shape (N, 2) = ({n}, 2), "
+                         f"got shape {a.shape}")
+    return a
+
+
+def _packed_vertices(vertices, vert_start, n):
+    """(vertices (V,2), vert_start (n+1,) int64, shared): the polygons packed; ``shared`` when one
+    (K,2) polygon was given for every body (it is then checked once)."""
+    v = _floats(vertices, "vertices")
+    if vert_start is not None:
+        try:
+            v, starts = check_packed(v, vert_start)
+        except ValueError as exc:
+            raise ValueError(f"Scene.from_arrays: {exc}") from None
+        if len(starts) != n + 1:
+            raise ValueError(f"Scene.from_arrays: vert_start must have shape (N+1,) = ({n + 1},), "
+                             f"got shape {starts.shape}")
+        return v, starts.copy(), False
+    if v.ndim == 2 and v.shape[1] == 2:
+        k = len(v)
+        return np.tile(v, (n, 1)), np.arange(n + 1, dtype=np.int64) * k, True
+    if v.ndim == 3 and v.shape[0] == n and v.shape[2] == 2:
+        k = v.shape[1]
+        return v.reshape(n * k, 2), np.arange(n + 1, dtype=np.int64) * k, False
+    raise ValueError(f"Scene.from_arrays: vertices must have shape (K, 2) (one polygon for every "
+                     f"body), (N, K, 2) = ({n}, K, 2), or (V, 2) with vert_start, got shape {v.shape}")
+
+
+def _bullets(value, n):
+    """(flags (n,), ok (n,) bool): ok is False where a flag is not a bool (Body's rule; a list
+    is read element by element, so that [True, 1] blames the 1)."""
+    a = value if isinstance(value, np.ndarray) else np.array(value, dtype=object)
+    if a.ndim == 0:
+        a = np.full(n, a[()], dtype=a.dtype)
+    if a.shape != (n,):
+        raise ValueError(f"Scene.from_arrays: bullet must be a bool or have shape (N,) = ({n},), "
+                         f"got shape {a.shape}")
+    if a.dtype == bool:
+        return a, np.ones(n, dtype=bool)
+    if a.dtype == object:
+        return a, np.fromiter((isinstance(x, (bool, np.bool_)) for x in a), dtype=bool, count=n)
+    return a, np.zeros(n, dtype=bool)
+
+
+def _names(names, n):
+    if names is None:
+        return None
+    names = () if isinstance(names, str) else tuple(names)
+    if len(names) != n or not all(isinstance(s, str) for s in names):
+        raise ValueError(f"Scene.from_arrays: names must be None or N = {n} strings")
+    return tuple(map(str, names))
+
+
+def _body_arrays(vertices, vert_start, position, angle, velocity, angular_velocity, density,
+                 friction, restitution, bullet, names):
+    """Validated, read-only BodyArrays from Scene.from_arrays' arguments."""
+    position = _floats(position, "position")
+    if position.ndim != 2 or position.shape[1] != 2:
+        raise ValueError(f"Scene.from_arrays: position must have shape (N, 2), got shape "
+                         f"{position.shape}")
+    n = len(position)
+    if n == 0:
+        raise ValueError("scene: needs at least one body in `bodies`")
+    verts, starts, shared = _packed_vertices(vertices, vert_start, n)
+    angle = _per_body(angle, n, "angle")
+    velocity = _per_body_pair(velocity, n, "velocity")
+    angular_velocity = _per_body(angular_velocity, n, "angular_velocity")
+    density = _per_body(density, n, "density")
+    friction = _per_body(friction, n, "friction")
+    restitution = _per_body(restitution, n, "restitution")
+    bullet, bullet_ok = _bullets(bullet, n)
+    names = _names(names, n)
+    arrays = BodyArrays(verts, starts, position, angle, velocity, angular_velocity, density,
+                        friction, restitution, bullet, names)
+    # Screen every body at once; the one-body checks then give the first failure its message.
+    if shared:
+        suspect = np.repeat(polygon_suspects(verts[starts[0]:starts[1]], starts[:2]), n)
+    else:
+        suspect = polygon_suspects(verts, starts)
+    suspect |= failing_fields(position, velocity, angle, angular_velocity, density, friction,
+                              restitution)
+    suspect |= ~bullet_ok
+    for i in np.flatnonzero(suspect).tolist():
+        name = arrays.body_name(i)
+        validate_polygon(verts[starts[i]:starts[i + 1]], name)
+        check_fields(name, position[i].tolist(), velocity[i].tolist(), float(angle[i]),
+                     float(angular_velocity[i]), float(density[i]), float(friction[i]),
+                     float(restitution[i]), bullet[i] if bullet.dtype == object else bullet[i].item())
+    arrays = arrays._replace(bullet=bullet.astype(bool))
+    for a in arrays[:-1]:
+        a.flags.writeable = False               # validated once: edits must go through `bodies`
+    return arrays
+
+
+def _materialise(a):
+    """Body objects of BodyArrays, without checking again (they were checked as arrays)."""
+    verts = a.vertices.copy()                   # writable; each body gets a view of its rows
+    starts = a.vert_start.tolist()
+    position, velocity = a.position.tolist(), a.velocity.tolist()
+    angle, spin = a.angle.tolist(), a.angular_velocity.tolist()
+    density, friction, restitution = a.density.tolist(), a.friction.tolist(), a.restitution.tolist()
+    bullet = a.bullet.tolist()
+    names = a.names if a.names is not None else ("",) * len(position)
+    return [Body.prevalidated(verts[starts[i]:starts[i + 1]], tuple(position[i]), angle[i],
+                              tuple(velocity[i]), spin[i], density[i], friction[i], restitution[i],
+                              names[i], bullet[i])
+            for i in range(len(position))]
+
+
+def _body_dicts(a):
+    """``Body.to_dict`` of every body of BodyArrays, without creating the bodies."""
+    verts = a.vertices.tolist()
+    starts = a.vert_start.tolist()
+    position, velocity = a.position.tolist(), a.velocity.tolist()
+    angle, spin = a.angle.tolist(), a.angular_velocity.tolist()
+    density, friction, restitution = a.density.tolist(), a.friction.tolist(), a.restitution.tolist()
+    bullet = a.bullet.tolist()
+    names = a.names if a.names is not None else ("",) * len(position)
+    return [{"vertices": verts[starts[i]:starts[i + 1]], "position": position[i], "angle": angle[i],
+             "velocity": velocity[i], "angular_velocity": spin[i], "density": density[i],
+             "friction": friction[i], "restitution": restitution[i],
+             **({"name": names[i]} if names[i] else {}), **({"bullet": True} if bullet[i] else {})}
+            for i in range(len(position))]

@@ -1,34 +1,50 @@
 """``sim.World``: the Python facade. It validates a Scene and the settings, packs the bodies into
-struct-of-arrays, and hands whole runs of steps to the compiled kernel in ``kernel.run``."""
+struct-of-arrays (``sim.packing``), builds the named state the kernels share (``sim.data``), and
+hands whole runs of steps to the compiled step loop (``sim.kernel.run``)."""
 import math
 import numbers
 
 import numpy as np
 
-from . import contacts as C
+from . import data as D
 from . import kernel as K
-from . import layout as L
-from .activity import CAUSES
-from .broadphase import find_pairs, update_geometry
+from . import soft_step
+from .activity import CAUSES, initial_activity
+from .broadphase import grid_buffers
+from .clock import ticks_per_second
+from .contacts import sort_awake, update_manifolds
+from .continuous import toi_scratch
 from .freeze import POLICY_NAMES, resolve
-from .geometry import edge_normals, mass_properties
+from .packing import pack
 from .scene import Scene
 from .state import State
+from .tolerances import body_margin, body_slop, body_speculative, check_step
 
-
-#: Initial-impulse solve stops when no manifold's impulse changes by more than this fraction of the
-#: largest over 10 sweeps (a base-40 pyramid then moves 0.02 mm in 6 s; ~3000 sweeps, 0.6 s).
+#: Initial-impulse solve stops when no contact's impulse changes by more than this fraction of the
+#: largest over 10 sweeps.
 INITIAL_TOLERANCE = 1e-6
+
+#: Room for this many contacts per body (and grid entries per body) when a World is built; the
+#: step loop reports a buffer it outgrows and the World grows it (tests set it small).
+INITIAL_CAPACITY = 4
+
+#: Settings of the solver before soft step, refused with the reason.
+REMOVED = {
+    "position_iterations": "the soft-step solver has no position-correction sweeps (the soft "
+                           "contact pushes bodies apart within the velocity solve); use substeps",
+    "baumgarte": "the soft-step solver has no Baumgarte factor; contact stiffness is "
+                 "contact_hertz and damping_ratio",
+    "max_correction": "the soft-step solver has no position correction; the push-out speed is "
+                      "push_speed (m/s)",
+}
 
 
 class SimulationError(RuntimeError):
     """A run that cannot go on: a body's state became NaN or infinite, or flew out of range."""
 
 
-#: the solver's fast paths (see World's ``fast_paths``): name -> bit of the FAST_PATHS setting
-#: (A box-specific separating-axis test was built and measured too: it saved 2.5-4.9 % of a
-#: pyramid(40) step, under the 5 % rule of experiments/bench_fast_paths.py, so it was removed.)
-FAST_PATHS = {"friction": L.FAST_FRICTION}
+#: the solver's fast paths (see World's ``fast_paths``)
+FAST_PATHS = ("friction",)
 
 
 def _fast_paths(value):
@@ -47,6 +63,8 @@ def _fast_paths(value):
 
 
 def _positive(value, what, allow_zero=False):
+    if isinstance(value, bool):
+        raise ValueError(f"{what} must be a number, got {value!r}")
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -62,231 +80,265 @@ def _count(value, what, minimum):
     return int(value)
 
 
+def _aligned(shape, dtype=np.float64):
+    """A zeroed array whose data starts on a 64-byte boundary (a solver row is one cache line)."""
+    n = int(np.prod(shape))
+    itemsize = np.dtype(dtype).itemsize
+    raw = np.zeros(n * itemsize + 64, np.uint8)
+    offset = (-raw.ctypes.data) % 64
+    return raw[offset:offset + n * itemsize].view(dtype).reshape(shape)
+
+
 class World:
     """A running simulation of a ``sim.Scene``.
 
     Parameters (SI units)
       dt                    time step, s (default 1/60)
-      iterations            velocity iterations per step (default 10)
+      substeps              soft-step substeps per step (default 4): the knob that trades speed
+                            for stiffness and accuracy (``sim.soft_step``)
+      iterations            biased solve sweeps per substep (default 1)
+      relax_iterations      unbiased sweeps per substep (default 1)
       freeze                "off" | "sleep" | "paper" | "extended" (see ``sim.freeze``)
-      position_iterations   position-correction sweeps per step (default 3, >= 1)
-      slop                  penetration left uncorrected, m (default 0.005, pymunk's collision_slop)
-      speculative_distance  contacts are created this far before touching, m (default 0.02)
-      baumgarte             fraction of the penetration removed per correction sweep (default 0.2)
-      max_correction        largest position correction per point and sweep, m (default 0.2)
+      slop                  m, contact tolerance cap (default 0.005, pymunk's collision_slop):
+                            points within a pair's slop count as touching; pairs of small bodies
+                            use a fraction of their size instead (``sim.tolerances``)
+      speculative_distance  m, cap of the distance at which contacts are made before touching
+                            (default 0.02); grows with the approach speed
+      contact_hertz         Hz, stiffness of a contact between moving bodies (default None: an
+                            eighth of the substep rate, 30 Hz at 4 substeps of 1/60 s; raised for
+                            small bodies; never above that eighth; doubled against immovable
+                            bodies)
+      damping_ratio         of the soft contact (default 30)
+      push_speed            m/s, fastest a contact pushes overlapping bodies apart (default 3)
+      load_time             s, how fast a contact's carried load (held rigidly: resting stacks do
+                            not sink) follows the impulse it applies (default 1/3; 0: at once)
       restitution_threshold impacts slower than this do not bounce, m/s (default 1.0)
       warm_starting         start each step from last step's impulses (default True)
+      continuous            sweep fast bodies against static and frozen ones (bullets: against
+                            every body) so they cannot pass through in one step (default True)
       overlap_tolerance     initial overlap allowed between bodies / with the floor, m (default 0.01)
       initial_iterations    most sweeps spent once, before step 1, solving the initial contact
                             impulses to convergence (nothing moves; stops early when converged;
-                            default 5000, 0 disables): a
-                            scene placed at rest starts in equilibrium instead of sagging while the
-                            solver builds up pressure over the first steps. Needs warm_starting.
+                            default 5000, 0 disables): a scene placed at rest starts in
+                            equilibrium. Needs warm_starting.
       fast_paths            True (default), False, or a collection of names from FAST_PATHS:
                             work skipped when the scene does not need it ("friction": no
-                            friction rows for contacts whose friction coefficient is 0, which
-                            is exact). False exists to measure the saving
-                            (experiments/bench_fast_paths.py).
+                            friction rows for batches of frictionless contacts, which is exact).
+                            False exists to measure the saving (experiments/bench_fast_paths.py).
       **policy_parameters   the freeze policy's own parameters (e.g. impulse_threshold)
 
     Arrays read from a World are copies: positions (N,2) m (centres of mass), angles (N,) rad,
     velocities (N,2) m/s, angular_velocities (N,) rad/s, states (N,) int8 ``sim.State``.
+    ``inspect()`` gives a read-only view of the contacts and the solver; ``profile(n)`` runs
+    steps with every stage timed.
     """
 
-    def __init__(self, scene, dt=1 / 60, iterations=10, freeze="off", *, position_iterations=3,
-                 slop=0.005, speculative_distance=0.02, baumgarte=0.2, max_correction=0.2,
-                 restitution_threshold=1.0, warm_starting=True, overlap_tolerance=0.01,
-                 initial_iterations=5000, fast_paths=True, **policy_parameters):
+    def __init__(self, scene, dt=1 / 60, iterations=1, freeze="off", *, substeps=4,
+                 relax_iterations=1, slop=0.005, speculative_distance=0.02,
+                 contact_hertz=None, damping_ratio=soft_step.DAMPING_RATIO,
+                 push_speed=soft_step.PUSH_SPEED, load_time=soft_step.LOAD_TIME,
+                 restitution_threshold=1.0, warm_starting=True,
+                 continuous=True, overlap_tolerance=0.01, initial_iterations=5000,
+                 fast_paths=True, **policy_parameters):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
+        for name in sorted(set(policy_parameters) & set(REMOVED)):
+            raise ValueError(f"World does not take {name}: {REMOVED[name]}")
         scene.validate()
         self.scene = scene
         self.dt = _positive(dt, "dt")
+        self.substeps = _count(substeps, "substeps", 1)
         self.iterations = _count(iterations, "iterations", 1)
-        self.position_iterations = _count(position_iterations, "position_iterations", 1)
+        self.relax_iterations = _count(relax_iterations, "relax_iterations", 0)
         self.slop = _positive(slop, "slop", allow_zero=True)
         self.speculative_distance = _positive(speculative_distance, "speculative_distance",
                                               allow_zero=True)
-        self.baumgarte = _positive(baumgarte, "baumgarte", allow_zero=True)
-        if self.baumgarte > 1.0:
-            raise ValueError(f"baumgarte must be in [0, 1], got {baumgarte!r}")
-        self.max_correction = _positive(max_correction, "max_correction")
+        self.contact_hertz = (None if contact_hertz is None
+                              else _positive(contact_hertz, "contact_hertz"))
+        self.damping_ratio = _positive(damping_ratio, "damping_ratio", allow_zero=True)
+        self.push_speed = _positive(push_speed, "push_speed")
+        self.load_time = _positive(load_time, "load_time", allow_zero=True)
         self.restitution_threshold = _positive(restitution_threshold, "restitution_threshold",
                                                allow_zero=True)
         self.warm_starting = bool(warm_starting)
+        self.continuous = bool(continuous)
         self.fast_paths = _fast_paths(fast_paths)
         self.overlap_tolerance = _positive(overlap_tolerance, "overlap_tolerance", allow_zero=True)
         self.initial_iterations = _count(initial_iterations, "initial_iterations", 0)
         self.freeze = freeze
         self.policy, self.policy_parameters = resolve(freeze, policy_parameters)
 
-        self._pack(scene)
+        packed = pack(scene)
+        self.n_bodies = packed.n_dynamic
+        self.masses = packed.mass                         # (N,) kg
+        self.inertias = packed.inertia                    # (N,) kg m^2 about the COM
+        self.extents = packed.extent                      # (M,) m, COM to farthest vertex
+        self.sizes = packed.size                          # (M,) m, thinnest width
+        g = float(np.hypot(*scene.gravity))
+        check_step(packed.size[:self.n_bodies], self._describe, self.dt, self.substeps, g)
+        self._build(scene, packed)
         self.events = []            # (step, body, from_state, to_state, cause)
         self.max_penetration = 0.0  # m, deepest contact penetration seen since the start
         self.penetration = 0.0      # m, after the last step
-        self._resting = K.rebuild_resting((self._fsettings, self._isettings, self._counters),
-                                          self._bodies, self._geometry, self._activity)
+        self._detect()
         self._check_initial_overlap()
         if self.initial_iterations and self.warm_starting:
             while K.presolve(self.initial_iterations, INITIAL_TOLERANCE,
-                             *self._kernel_state()) == K.GROW:
-                self._allocate_contacts(2 * len(self._pair_keys))
-
-    def _kernel_state(self):
-        """The argument tuples every kernel in ``sim.kernel`` takes (see its docstring)."""
-        return ((self._fsettings, self._isettings, self._counters), self._bodies, self._geometry,
-                self._contacts, self._activity, self._resting)
+                             *self._state()) == K.GROW:
+                self._grow()
 
     # ---- set-up -----------------------------------------------------------------------------
-    def _pack(self, scene):
-        bodies = list(scene.bodies) + list(scene.static_bodies)
-        n = len(scene.bodies)
-        m = len(bodies)
-        self.n_bodies = n
-        counts = np.array([len(b.vertices) for b in bodies], np.int64)
-        self._vert_start = np.zeros(m + 1, np.int64)          # (M+1,) offsets into vertex arrays
-        np.cumsum(counts, out=self._vert_start[1:])
-        v_total = int(self._vert_start[-1])
-        self._local_verts = np.empty((v_total, 2))             # (V,2) m, body frame about the COM
-        self._local_normals = np.empty((v_total, 2))           # (V,2) outward unit edge normals
-        self._position = np.empty((m, 2))                      # (M,2) m, centre of mass
-        self._angle = np.empty(m)                              # (M,) rad
-        self._velocity = np.zeros((m, 2))                      # (M,2) m/s
-        self._angular_velocity = np.zeros(m)                   # (M,) rad/s
-        self._inv_mass = np.zeros(m)                           # (M,) 1/kg, 0 for static
-        self._inv_inertia = np.zeros(m)                        # (M,) 1/(kg m^2), 0 for static
-        self._friction = np.empty(m)                           # (M,) Coulomb mu
-        self._restitution = np.empty(m)                        # (M,) in [0, 1]
-        self.masses = np.empty(n)                              # (N,) kg
-        self.inertias = np.empty(n)                            # (N,) kg m^2 about the COM
-        self.extents = np.empty(m)                             # (M,) m, COM to farthest vertex
-        for i, b in enumerate(bodies):
-            mass, centroid, inertia = mass_properties(b.vertices, b.density)
-            local = b.vertices - centroid
-            s0, s1 = self._vert_start[i], self._vert_start[i + 1]
-            self._local_verts[s0:s1] = local
-            self._local_normals[s0:s1] = edge_normals(local)
-            c, s = math.cos(b.angle), math.sin(b.angle)
-            self._position[i] = (b.position[0] + c * centroid[0] - s * centroid[1],
-                                 b.position[1] + s * centroid[0] + c * centroid[1])
-            self._angle[i] = b.angle
-            self._friction[i] = b.friction
-            self._restitution[i] = b.restitution
-            self.extents[i] = float(np.max(np.hypot(local[:, 0], local[:, 1])))
-            if i < n:
-                self._velocity[i] = b.velocity
-                self._angular_velocity[i] = b.angular_velocity
-                self._inv_mass[i] = 1.0 / mass
-                self._inv_inertia[i] = 1.0 / inertia
-                self.masses[i] = mass
-                self.inertias[i] = inertia
-        self._rotation = np.empty((m, 2))                      # (M,2) cos, sin of angle
-        self._world_verts = np.empty((v_total, 2))             # (V,2) m
-        self._world_normals = np.empty((v_total, 2))
-        self._aabb = np.empty((m, 4))                          # (M,4) m, min x, min y, max x, max y
-        update_geometry(np.arange(m), m, self._position, self._angle, self._vert_start,
-                        self._local_verts, self._local_normals, self._rotation, self._world_verts,
-                        self._world_normals, self._aabb, self.speculative_distance)
-        # Grid cell of the broadphase, m: about two typical bodies wide, but large enough that
-        # the biggest body (a long wall, a plank) covers at most ~32 cells per axis.
-        typical = float(np.quantile(self.extents[:n], 0.9))
+    def _build(self, scene, p):
+        n = p.n_dynamic
+        m = len(p.angle)
+        self._bodies = D.Bodies(
+            position=p.position, angle=p.angle, velocity=p.velocity,
+            angular_velocity=p.angular_velocity, inv_mass=p.inv_mass, inv_inertia=p.inv_inertia,
+            friction=p.friction, restitution=p.restitution, vert_start=p.vert_start,
+            local_verts=p.local_verts, local_normals=p.local_normals, extent=p.extent,
+            size=p.size, slop=body_slop(p.size, self.slop),
+            speculative=body_speculative(p.size, self.speculative_distance),
+            margin=body_margin(p.size, self.speculative_distance), bullet=p.bullet)
+        v_total = len(p.local_verts)
+        fat = np.empty((m, 4))
+        fat[:, :2] = np.inf             # an empty box: every body's first box refits it
+        fat[:, 2:] = -np.inf
+        self._geometry = D.Geometry(
+            rotation=np.empty((m, 2)), world_verts=np.empty((v_total, 2)),
+            world_normals=np.empty((v_total, 2)), aabb=np.empty((m, 4)), fat=fat,
+            moved=np.zeros(n, np.int64), moved_flag=np.zeros(n, bool),
+            toi_scratch=toi_scratch(int(np.diff(p.vert_start).max())))
+        # Grid cell, m: about two typical bodies wide, but large enough that the biggest body (a
+        # long wall, a plank) covers at most ~32 cells per axis.
+        typical = float(np.quantile(p.extent[:n], 0.9))
         cell_size = max(2.0 * typical + 2.0 * self.speculative_distance,
-                        float(self.extents.max()) / 16.0)
+                        float(p.extent.max()) / 16.0)
         g = scene.gravity
         has_floor = scene.floor_y is not None
-        self._fsettings = np.zeros(L.N_FLOAT_SETTINGS)
-        self._fsettings[[L.DT, L.GRAVITY_X, L.GRAVITY_Y, L.FLOOR_Y, L.FLOOR_FRICTION,
-                         L.FLOOR_RESTITUTION, L.SLOP, L.MARGIN, L.BAUMGARTE, L.MAX_CORRECTION,
-                         L.RESTITUTION_THRESHOLD, L.CELL_SIZE]] = (
-            self.dt, g[0], g[1], scene.floor_y if has_floor else 0.0, scene.floor_friction,
-            scene.floor_restitution, self.slop, self.speculative_distance, self.baumgarte,
-            self.max_correction, self.restitution_threshold, cell_size)
-        for name, column in self.policy.FLOAT_SETTINGS.items():
-            self._fsettings[column] = self.policy_parameters[name]
-        self._isettings = np.zeros(L.N_INT_SETTINGS, np.int64)
-        self._isettings[[L.ITERATIONS, L.POSITION_ITERATIONS, L.HAS_FLOOR, L.WARM_START,
-                         L.N_DYNAMIC, L.POLICY, L.FAST_PATHS]] = (
-            self.iterations, self.position_iterations, int(has_floor), int(self.warm_starting), n,
-            POLICY_NAMES.index(self.freeze),
-            sum(FAST_PATHS[name] for name in self.fast_paths))
-        for name, column in self.policy.INT_SETTINGS.items():
-            self._isettings[column] = self.policy_parameters[name]
-        self._counters = np.zeros(L.N_COUNTERS, np.int64)
-        self._counters[L.N_AWAKE] = n                          # every body starts awake
-        self._bodies = (self._position, self._angle, self._velocity, self._angular_velocity,
-                        self._inv_mass, self._inv_inertia, self._friction, self._restitution,
-                        self._vert_start, self._local_verts, self._local_normals, self.extents)
-        self._geometry = (self._rotation, self._world_verts, self._world_normals, self._aabb)
-        self._states = np.full(n, State.FREE, np.int8)         # (N,) int8 sim.State
-        self._activity = (
-            self._states,
-            np.arange(n, dtype=np.int64),                      # awake (N,) body indices
-            np.arange(n, dtype=np.int64),                      # awake_slot (N,), -1 = frozen
-            self._inv_mass.copy(),                             # solver_inv_mass (M,) 1/kg
-            self._inv_inertia.copy(),                          # solver_inv_inertia (M,)
-            np.zeros((4 * n + 64, 5), np.int64),               # events, see sim.activity
-            np.zeros((n, self.policy.REAL_COLUMNS)),           # body_real: policy's own, per body
-            np.zeros((n, self.policy.INT_COLUMNS), np.int64),  # body_int: policy's own, per body
-            np.zeros((max(16, 4 * n), 2), np.int64),           # links: policy's body pairs
-            np.zeros((max(16, 4 * n), 3)))                     # link_load: per link, policy's
-        initial = getattr(self.policy, "initial", None)
-        if initial is not None:
-            initial(self._activity[7])
-        self._allocate_contacts(max(64, 4 * m))
+        params = self.policy_parameters
+        self._settings = D.Settings(
+            dt=self.dt, substeps=self.substeps, iterations=self.iterations,
+            relax_iterations=self.relax_iterations, gravity_x=float(g[0]), gravity_y=float(g[1]),
+            has_floor=has_floor, floor_y=float(scene.floor_y) if has_floor else 0.0,
+            floor_friction=float(scene.floor_friction),
+            floor_restitution=float(scene.floor_restitution), slop=self.slop,
+            speculative_distance=self.speculative_distance,
+            contact_hertz=self.contact_hertz or 0.0, damping_ratio=self.damping_ratio,
+            push_speed=self.push_speed,
+            load_rate=min(1.0, self.dt / self.load_time) if self.load_time > 0 else 1.0,
+            restitution_threshold=self.restitution_threshold, warm_starting=self.warm_starting,
+            fast_friction="friction" in self.fast_paths, continuous=self.continuous,
+            cell_size=cell_size, n_dynamic=n, policy=POLICY_NAMES.index(self.freeze),
+            impulse_threshold=float(params.get("impulse_threshold", 0.0)),
+            sleep_speed=float(params.get("sleep_speed", 0.0)),
+            sleep_time=float(params.get("sleep_time", 0.0)),
+            rest_speed=float(params.get("rest_speed", 0.0)),
+            rest_acceleration=float(params.get("rest_acceleration", 0.0)),
+            rest_steps=int(params.get("rest_steps", 1)), profile=False)
+        self._counters = np.zeros(D.N_COUNTERS, np.int64)
+        self._counters[D.N_AWAKE] = n                        # every body starts awake
+        self._counters[D.FREE_HEAD] = -1
+        self._counters[D.RESTING_DIRTY] = 1
+        self._activity = initial_activity(n, m, p.inv_mass, p.inv_inertia, self.policy)
+        k = INITIAL_CAPACITY
+        small = k < 4                                 # tests: no minimum either
+        self._awake_grid = grid_buffers(k * n + (0 if small else 64),
+                                        k if small else max(4 * k * n, 4096))
+        self._resting_grid = grid_buffers(k * m + (0 if small else 64),
+                                          k if small else max(4 * k * m, 4096))
+        self._scratch = np.zeros(m, np.int64)
+        self._contacts = self._new_contacts(k if small else max(64, k * m), n)
+        self._solver = self._new_solver(len(self._contacts.awake), 1 if small else 4)
+        self._regrown = 0
 
-    def _allocate_contacts(self, capacity):
-        """(Re)allocate pair and contact buffers, keeping the current manifolds (warm start)."""
-        old = getattr(self, "_contacts", None)
-        manifolds = C.allocate(capacity)                           # see sim.contacts
-        if old is not None:
-            k = int(self._counters[L.N_MANIFOLDS])
-            for new_arr, old_arr in zip(manifolds, old[1:5]):
-                new_arr[:k] = old_arr[:k]
-        self._contacts = (np.empty(capacity, np.int64),            # pair_keys (P,) sorted
-                          *manifolds,
-                          np.empty(capacity, np.int64),            # prev_key
-                          np.empty(capacity, np.int64),            # prev_count
-                          np.empty((capacity, 2), np.int64),       # prev_id
-                          np.empty((capacity, 2, 2)))              # prev_impulse, N s
+    @staticmethod
+    def _new_contacts(capacity, n):
+        return D.Contacts(
+            contact_int=np.zeros((capacity, D.CONTACT_INT), np.int64),
+            contact_float=np.zeros((capacity, D.CONTACT_FLOAT)),
+            point_float=np.zeros((capacity, 2, D.POINT_FLOAT)),
+            point_id=np.full((capacity, 2), -1, np.int64),
+            head=np.full(n, -1, np.int64), degree=np.zeros(n, np.int64),
+            awake=np.zeros(capacity, np.int64), active=np.zeros(capacity, np.int64),
+            scratch_points=np.zeros((2, 2)), scratch_separations=np.zeros(2),
+            scratch_ids=np.zeros(2, np.int64), scratch_normal=np.zeros(2))
 
-    @property
-    def _pair_keys(self):
-        return self._contacts[0]
+    def _new_solver(self, n_contacts, max_degree):
+        n = self.n_bodies
+        batches = soft_step.capacity(n_contacts, max_degree)
+        words = soft_step.mask_words(max_degree)
+        old = getattr(self, "_solver", None)
+        return D.Solver(
+            state=_aligned((n + 1, D.STATE_COLUMNS)),
+            colour_mask=np.zeros((n + 1, words), np.uint64),
+            colour_batches=np.zeros(64 * words + 1, np.int64),
+            colour_cursor=np.zeros(64 * words, np.int64),
+            order=np.zeros(n_contacts, np.int64),
+            wide=_aligned((batches * soft_step.STRIDE,)),
+            lane_row=np.zeros(batches * 2 * soft_step.LANES, np.uint64),
+            lane_slot=np.full(batches * soft_step.LANES, -1, np.int64),
+            profile=old.profile if old is not None else np.zeros(D.N_STAGES, np.int64),
+            steps_profiled=(old.steps_profiled if old is not None
+                            else np.zeros(1, np.int64)))
 
-    @property
-    def _manifolds(self):
-        return self._contacts[1:5]
+    def _state(self, settings=None):
+        """The arguments every step-level kernel in ``sim.kernel`` takes."""
+        return (settings or self._settings, self._counters, self._bodies, self._geometry,
+                self._awake_grid, self._resting_grid, self._contacts, self._solver,
+                self._activity, self._scratch)
+
+    def _grow(self):
+        """Grow what the kernel reported too small (counters[GROW_NEEDED]); it then retries."""
+        self._regrown += 1
+        need = int(self._counters[D.GROW_NEEDED])
+        self._counters[D.GROW_NEEDED] = 0
+        c = self._counters
+        if need & D.GROW_CONTACTS:
+            old = self._contacts
+            cap = 2 * len(old.awake)
+            new = self._new_contacts(cap, self.n_bodies)
+            k = int(c[D.N_SLOTS])
+            for name in ("contact_int", "contact_float", "point_float", "point_id"):
+                getattr(new, name)[:k] = getattr(old, name)[:k]
+            new.head[:] = old.head
+            new.degree[:] = old.degree
+            na = int(c[D.N_AWAKE_CONTACTS])
+            new.awake[:na] = old.awake[:na]
+            self._contacts = new
+        if need & (D.GROW_CONTACTS | D.GROW_SOLVER):
+            self._solver = self._new_solver(len(self._contacts.awake),
+                                            2 * max(1, int(c[D.MAX_DEGREE])))
+        for bit, attr in ((D.GROW_AWAKE_GRID, "_awake_grid"),
+                          (D.GROW_RESTING_GRID, "_resting_grid")):
+            if need & bit:
+                info = getattr(self, attr).info
+                setattr(self, attr, grid_buffers(2 * int(info[D.NEEDED_ENTRIES]),
+                                                 2 * int(info[D.NEEDED_BUCKETS])))
+        if not need:
+            raise AssertionError("the kernel asked to grow but named no buffer")
+
+    def _detect(self):
+        """Pairs and manifolds of the start poses (the first step would make the same)."""
+        while not K.broadphase(*self._state()):
+            self._grow()
+        sort_awake(len(self._bodies.angle), self._contacts, self._counters)
+        update_manifolds(self._settings, self._bodies, self._geometry, self._contacts,
+                         self._counters)
 
     def _check_initial_overlap(self):
         """Refuse scenes whose bodies start interpenetrated beyond ``overlap_tolerance``: the
-        position correction would launch them apart and the run would measure nothing real."""
-        scratch = C.allocate(len(self._pair_keys))
-        keys = np.empty(len(self._pair_keys), np.int64)
-        pair_args = (np.arange(self.n_bodies), self.n_bodies, self._aabb,
-                     self.scene.floor_y is not None, self._fsettings[L.FLOOR_Y],
-                     self._fsettings[L.CELL_SIZE], self._resting)
-        n_pairs = find_pairs(*pair_args, keys)
-        if n_pairs < 0:
-            keys = np.empty(-n_pairs, np.int64)
-            scratch = C.allocate(-n_pairs)
-            n_pairs = find_pairs(*pair_args, keys)
-        empty = np.empty(0, np.int64)
-        count = C.collide_pairs(n_pairs, keys, len(self._angle), self._position, self._rotation,
-                                self._vert_start, self._local_verts, self._local_normals,
-                                self._world_verts, self._world_normals, self._friction,
-                                self._restitution, self._fsettings[L.FLOOR_Y], 0.0, 0.0, 0.0,
-                                *scratch, 0, empty, empty, np.empty((0, 2), np.int64),
-                                np.empty((0, 2, 2)), False, *C.scratch())
-        manifold_int, _, point_float, _ = scratch
-        for c in range(count):
-            k = manifold_int[c, C.POINT_COUNT]
-            depth = -float(point_float[c, :k, C.SEPARATION].min())
-            if depth > self.overlap_tolerance:
-                a, b = int(manifold_int[c, C.BODY_A]), int(manifold_int[c, C.BODY_B])
-                what_b = self._describe(b)
-                what = (f"{what_b} starts {depth:.4g} m below the floor" if a < 0 else
-                        f"{self._describe(a)} and {what_b} start overlapping by {depth:.4g} m")
-                raise ValueError(f"{what} (overlap_tolerance is {self.overlap_tolerance} m)")
+        contacts would launch them apart and the run would measure nothing real."""
+        points = self._points()
+        if not len(points["separation"]):
+            return
+        k = int(np.argmin(points["separation"]))
+        depth = -float(points["separation"][k])
+        if depth > self.overlap_tolerance:
+            a, b = int(points["body_a"][k]), int(points["body_b"][k])
+            what_b = self._describe(b)
+            what = (f"{what_b} starts {depth:.4g} m below the floor" if a < 0 else
+                    f"{self._describe(a)} and {what_b} start overlapping by {depth:.4g} m")
+            raise ValueError(f"{what} (overlap_tolerance is {self.overlap_tolerance} m)")
 
     def _describe(self, i):
         if i < self.n_bodies:
@@ -297,37 +349,54 @@ class World:
     # ---- stepping ---------------------------------------------------------------------------
     def step(self, n=1):
         """Advance ``n`` steps (default 1). Raises SimulationError if a body goes non-finite."""
-        n = _count(n, "n", 0)
+        return self._run(_count(n, "n", 0), self._settings)
+
+    def _run(self, n, settings):
         if n == 0:
             return self
         min_sep = np.zeros(n)
         done = 0
         while done < n:
-            status, steps, self._resting = K.run(n - done, *self._kernel_state(), min_sep[done:])
+            status, steps = K.run(n - done, *self._state(settings), min_sep[done:])
             done += steps
             self._flush_events()
             if status == K.GROW:
-                self._allocate_contacts(2 * len(self._pair_keys))
+                self._grow()
             elif status == K.NON_FINITE:
                 self._record_penetration(min_sep[:done])
-                i = int(self._counters[L.BAD_BODY])
+                i = int(self._counters[D.BAD_BODY])
                 raise SimulationError(
                     f"step {self.step_count}: {self._describe(i)} diverged (non-finite, or "
                     f"farther than {K.MAX_COORDINATE:g} m) "
-                    f"(position {self._position[i].tolist()}, angle {self._angle[i]}, velocity "
-                    f"{self._velocity[i].tolist()}, angular velocity {self._angular_velocity[i]}); "
-                    f"try a smaller dt or check the scene")
+                    f"(position {self._bodies.position[i].tolist()}, angle "
+                    f"{self._bodies.angle[i]}, velocity {self._bodies.velocity[i].tolist()}, "
+                    f"angular velocity {self._bodies.angular_velocity[i]}); "
+                    f"try a smaller dt, more substeps, or check the scene")
         self._record_penetration(min_sep)
         return self
 
+    def profile(self, n=1):
+        """Run ``n`` steps with every stage timed; returns {stage: ms per step} (``data.STAGES``)
+        for these steps, plus "total"."""
+        n = _count(n, "n", 1)
+        self._solver.profile[:] = 0
+        self._solver.steps_profiled[0] = 0
+        self._run(n, self._settings._replace(profile=True))
+        rate = ticks_per_second()
+        steps = max(1, int(self._solver.steps_profiled[0]))
+        out = {name: 1e3 * float(t) / rate / steps
+               for name, t in zip(D.STAGES, self._solver.profile)}
+        out["total"] = sum(out.values())
+        return out
+
     def _flush_events(self):
         """Move the kernel's event buffer into ``self.events`` as (step, body, from, to, cause)."""
-        k = int(self._counters[L.N_EVENTS])
+        k = int(self._counters[D.N_EVENTS])
         if k:
-            rows = self._activity[5][:k].tolist()
+            rows = self._activity.events[:k].tolist()
             self.events.extend((step, body, State(a), State(b), CAUSES[cause])
                                for step, body, a, b, cause in rows)
-            self._counters[L.N_EVENTS] = 0
+            self._counters[D.N_EVENTS] = 0
 
     def _record_penetration(self, min_sep):
         if len(min_sep):
@@ -337,39 +406,39 @@ class World:
     # ---- observables (copies, so callers cannot corrupt the state) ---------------------------
     @property
     def positions(self):
-        return self._position[:self.n_bodies].copy()
+        return self._bodies.position[:self.n_bodies].copy()
 
     @property
     def angles(self):
-        return self._angle[:self.n_bodies].copy()
+        return self._bodies.angle[:self.n_bodies].copy()
 
     @property
     def velocities(self):
-        return self._velocity[:self.n_bodies].copy()
+        return self._bodies.velocity[:self.n_bodies].copy()
 
     @property
     def angular_velocities(self):
-        return self._angular_velocity[:self.n_bodies].copy()
+        return self._bodies.angular_velocity[:self.n_bodies].copy()
 
     @property
     def states(self):
-        return self._states.copy()
+        return self._activity.states.copy()
 
     @property
     def frozen(self):
         """(N,) bool: bodies out of the awake list this step: not integrated, not solved, not
         collided against each other (what "frozen" costs nothing means). Under ``paper`` a body
         can be VERTICAL_STABLE or a sliding ROTATION_STABLE and still be awake."""
-        return self._activity[2][:self.n_bodies] < 0
+        return self._activity.awake_slot[:self.n_bodies] < 0
 
     @property
     def n_awake(self):
         """Number of bodies in the awake list."""
-        return int(self._counters[L.N_AWAKE])
+        return int(self._counters[D.N_AWAKE])
 
     @property
     def step_count(self):
-        return int(self._counters[L.STEP_COUNT])
+        return int(self._counters[D.STEP_COUNT])
 
     @property
     def time(self):
@@ -378,38 +447,99 @@ class World:
 
     def kinetic_energy(self):
         """Total kinetic energy, J (translational + rotational)."""
-        v = self._velocity[:self.n_bodies]
-        w = self._angular_velocity[:self.n_bodies]
+        v = self._bodies.velocity[:self.n_bodies]
+        w = self._bodies.angular_velocity[:self.n_bodies]
         return 0.5 * float(self.masses @ np.einsum("ij,ij->i", v, v) + self.inertias @ (w * w))
 
     def potential_energy(self):
         """Gravitational potential energy relative to the origin, J."""
         g = np.asarray(self.scene.gravity)
-        return -float(self.masses @ (self._position[:self.n_bodies] @ g))
+        return -float(self.masses @ (self._bodies.position[:self.n_bodies] @ g))
 
     def vertices(self, i):
         """World vertices (K,2) of dynamic body ``i`` at the current pose, m."""
-        c, s = math.cos(self._angle[i]), math.sin(self._angle[i])
-        local = self._local_verts[self._vert_start[i]:self._vert_start[i + 1]]
-        return local @ np.array([[c, s], [-s, c]]) + self._position[i]
+        b = self._bodies
+        c, s = math.cos(b.angle[i]), math.sin(b.angle[i])
+        local = b.local_verts[b.vert_start[i]:b.vert_start[i + 1]]
+        return local @ np.array([[c, s], [-s, c]]) + b.position[i]
+
+    def _points(self):
+        """Every point of this step's active contacts (see ``contacts``)."""
+        c = self._contacts
+        slots = c.active[:int(self._counters[D.N_ACTIVE])]
+        n_pts = c.contact_int[slots, D.POINT_COUNT]
+        rows = np.repeat(slots, n_pts)
+        cols = (np.concatenate([np.arange(k) for k in n_pts]) if len(slots)
+                else np.zeros(0, int))
+        b = c.contact_int[rows, D.BODY_B]
+        pf = c.point_float[rows, cols]
+        return {"body_a": c.contact_int[rows, D.BODY_A].copy(), "body_b": b.copy(),
+                "point": pf[:, [D.ANCHOR_BX, D.ANCHOR_BY]] + self._bodies.position[b],
+                "normal": c.contact_float[rows][:, [D.NORMAL_X, D.NORMAL_Y]].copy(),
+                "separation": pf[:, D.SEPARATION].copy(),
+                "end_separation": pf[:, D.END_SEPARATION].copy(),
+                "slop": c.contact_float[rows, D.SLOP].copy(),
+                "normal_impulse": pf[:, D.NORMAL_IMPULSE].copy(),
+                "tangent_impulse": pf[:, D.TANGENT_IMPULSE].copy()}
 
     def contacts(self):
         """The contact points of the last step: dict of arrays over points —
-        body_a, body_b (-1 = floor) (P,) int; point (P,2) m (anchor on B); normal (P,2) A->B;
-        separation (P,) m; normal_impulse, tangent_impulse (P,) N s."""
-        count = int(self._counters[L.N_MANIFOLDS])
-        mi, mf, pf, _ = self._manifolds
-        n_pts = mi[:count, C.POINT_COUNT]
-        rows = np.repeat(np.arange(count), n_pts)
-        cols = np.concatenate([np.arange(k) for k in n_pts]) if count else np.zeros(0, int)
-        b = mi[rows, C.BODY_B]
-        return {"body_a": mi[rows, C.BODY_A].copy(), "body_b": b.copy(),
-                "point": pf[rows, cols][:, [C.ANCHOR_BX, C.ANCHOR_BY]] + self._position[b],
-                "normal": mf[rows][:, [C.NORMAL_X, C.NORMAL_Y]].copy(),
-                "separation": pf[rows, cols, C.SEPARATION].copy(),
-                "normal_impulse": pf[rows, cols, C.NORMAL_IMPULSE].copy(),
-                "tangent_impulse": pf[rows, cols, C.TANGENT_IMPULSE].copy()}
+        body_a, body_b (-1 = floor) (P,) int; point (P,2) m (on B's surface at the start of the
+        step); normal (P,2) A->B; separation (P,) m at the start of the step, end_separation (P,)
+        m at its end; slop (P,) m, the pair's contact tolerance (points within it touch,
+        ``sim.tolerances``); normal_impulse, tangent_impulse (P,) N s applied over the whole
+        step."""
+        return self._points()
+
+    def inspect(self):
+        """A read-only snapshot of the solver's bookkeeping (copies), for tests, benchmarks and
+        recordings: see ``Inspection``."""
+        return Inspection(self)
 
     def __repr__(self):
         return (f"World(scene={self.scene.name!r}, bodies={self.n_bodies}, dt={self.dt}, "
-                f"iterations={self.iterations}, freeze={self.freeze!r}, step={self.step_count})")
+                f"substeps={self.substeps}, iterations={self.iterations}, "
+                f"freeze={self.freeze!r}, step={self.step_count})")
+
+
+class Inspection:
+    """What a World's solver holds after its last step, as plain copies (changing them changes
+    nothing in the World).
+
+      contacts             the active contacts' points (``World.contacts()``)
+      n_contacts           live contact slots: pairs whose fat boxes overlap
+      n_awake_contacts     of those, the ones with an awake body (looked at every step)
+      n_active             of those, the ones with points this step (solved)
+      awake                (n_awake,) indices of the awake bodies
+      solver_inv_mass      (N,) 1/kg the solver used (0 for frozen and held bodies)
+      n_colours, n_batches the last step's constraint colours and batches of ``LANES``
+      lanes                soft_step.LANES
+      batch_fill           fraction of the batch lanes that hold a contact
+      resting_rebuilds     how many times the resting grid was rebuilt since the start
+      presolve_sweeps      sweeps the initial-impulse solve took
+      regrown              how many times a buffer the step loop outgrew was grown
+      sweeps, impacts      fast bodies swept (stage ``continuous``), and cut back to an impact
+    """
+
+    def __init__(self, world):
+        c = world._counters
+        self.contacts = world.contacts()
+        self.n_contacts = int(c[D.N_LIVE])
+        self.n_awake_contacts = int(c[D.N_AWAKE_CONTACTS])
+        self.n_active = int(c[D.N_ACTIVE])
+        self.awake = world._activity.awake[:int(c[D.N_AWAKE])].copy()
+        self.solver_inv_mass = world._activity.solver_inv_mass[:world.n_bodies].copy()
+        self.n_colours = int(c[D.N_COLOURS])
+        self.n_batches = int(c[D.N_BATCHES])
+        self.lanes = soft_step.LANES
+        self.batch_fill = (self.n_active / (self.n_batches * self.lanes)
+                           if self.n_batches else 1.0)
+        self.resting_rebuilds = int(c[D.N_REBUILDS])
+        self.presolve_sweeps = int(c[D.PRESOLVE_SWEEPS])
+        self.regrown = world._regrown
+        self.sweeps = int(c[D.N_SWEPT])
+        self.impacts = int(c[D.N_IMPACTS])
+
+    def __repr__(self):
+        return (f"Inspection(contacts={self.n_contacts}, awake_contacts={self.n_awake_contacts}, "
+                f"active={self.n_active}, colours={self.n_colours}, batches={self.n_batches})")

@@ -18,7 +18,7 @@ def transitions(world, body=None):
 
 
 def awake_count(world):
-    return int(world._counters[sim.layout.N_AWAKE])
+    return world.n_awake
 
 
 # ---- the seed's figures under `paper` -----------------------------------------------------------
@@ -85,9 +85,10 @@ DETERMINATE = {
 
 # Measured, not hidden: `paper` stops a body's rotation the step its second vertex touches (RS),
 # so a box that lands on a corner ends a little tilted and short of where `off` lets it rock and
-# slide: 2.9 cm on seed_fig1 (body C), 1.2 cm on seed_fig2 (body A). strict: if the model changes
-# and they pass, the mark must go.
-PAPER_MISSES = {("seed_fig1", "paper"), ("seed_fig2", "paper")}
+# slide: 2.9 cm and 0.010 rad on seed_fig1 (body C). (seed_fig2's body A, 1.2 cm short with the
+# solver before soft step, now ends 3.9 mm from `off`.) strict: if the model changes and it
+# passes, the mark must go.
+PAPER_MISSES = {("seed_fig1", "paper")}
 
 
 @pytest.mark.parametrize("name,policy", [
@@ -125,17 +126,19 @@ def test_chaotic_scenes_keep_their_outcome(policy):
 def test_sliding_box_slides_the_analytic_distance(policy):
     speed, mu = 3.0, 0.4
     world = sim.World(sim.scenes.sliding_box(speed=speed, friction=mu), freeze=policy)
-    world.step(120)
+    world.step(240)          # 0.76 s of sliding, then 3.2 s to stand (test_physics, slide)
     assert world.positions[0, 0] == pytest.approx(speed ** 2 / (2 * mu * G), rel=0.03)
-    assert abs(world.velocities[0, 0]) < 1e-9
+    assert abs(world.velocities[0, 0]) < 1e-7
 
 
 # ---- the seed's limits, shown honestly ----------------------------------------------------------
 def knocked_stack(distance=4.0):
     """Two boxes stacked; a heavy projectile, ``distance`` m away, knocks the bottom one out from
-    under the top one (it flies 15 m/s, so at 4 m it hits before anything could fall asleep)."""
+    under the top one (it flies 25 m/s, so at 4 m it hits before anything could fall asleep).
+    (At 15 m/s `paper` let the base go only 0.86 m: the frozen top box it slides out under is an
+    immovable lid that its friction drags on; the base must leave the top box's footprint, 1 m.)"""
     base, top = sim.scenes.stack(2).bodies
-    shot = sim.Body.box(0.4, 0.4, position=(-distance, 0.25), velocity=(15.0, 0.0), density=40.0,
+    shot = sim.Body.box(0.4, 0.4, position=(-distance, 0.25), velocity=(25.0, 0.0), density=40.0,
                         name="shot")
     return sim.Scene(bodies=[base, top, shot], name="knocked_stack")
 
@@ -273,7 +276,7 @@ def test_sleep_puts_an_island_to_sleep_after_sleep_time():
 
 
 def test_sleep_touch_wakes_the_whole_island():
-    world = sim.World(knocked_stack(distance=15.0), freeze="sleep", sleep_time=0.5)
+    world = sim.World(knocked_stack(distance=25.0), freeze="sleep", sleep_time=0.5)
     world.step(40)
     assert awake_count(world) == 1                      # the stack is asleep, the shot flies
     world.step(80)
@@ -286,11 +289,15 @@ def test_sleep_touch_wakes_the_whole_island():
 def test_frozen_bodies_leave_the_awake_list_and_come_back():
     world = sim.World(knocked_stack(), freeze="extended").step(5)
     assert awake_count(world) == 1                             # only the projectile
-    awake = world._activity[1][:1]
-    assert list(awake) == [2]
-    assert np.all(world._activity[3][:2] == 0.0)               # frozen: zero solver mass
+    view = world.inspect()
+    assert list(view.awake) == [2]
+    assert np.all(view.solver_inv_mass[:2] == 0.0)             # frozen: zero solver mass
+    # their contacts with each other and the floor left the awake contacts: only the
+    # projectile's are looked at
+    assert view.n_awake_contacts < view.n_contacts
     world.step(60)
-    assert world._activity[3][0] == world._inv_mass[0] or world.states[0] != State.FREE
+    view = world.inspect()
+    assert view.solver_inv_mass[0] == 1.0 / world.masses[0] or world.states[0] != State.FREE
 
 
 @pytest.mark.parametrize("policy", ("off",) + FROZEN_POLICIES)

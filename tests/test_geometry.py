@@ -600,7 +600,7 @@ def test_packed_row_kernels_match_per_polygon_wrappers(pair, other, margin_frac,
     normal = np.full(2, np.nan)
     count, flip, edge = geometry.collide_polygon_rows(
         verts, normals, starts[ia], starts[ia + 1], starts[ib], starts[ib + 1], float(margin),
-        pts, seps, ids, normal)
+        1e-4, pts, seps, ids, normal)
     want = kernel_collide(a, b, margin)
     assert (count, flip, edge) == (want["count"], want["flip"], want["edge"])
     assert ids[:count].tolist() == want["ids"]

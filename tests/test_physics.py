@@ -9,14 +9,19 @@ import sim
 from conftest import G, run_until, tilted_box
 
 
-def test_free_fall_is_exact_semi_implicit_euler():
+@pytest.mark.parametrize("substeps", [1, 4, 7])
+def test_free_fall_is_exact_semi_implicit_euler(substeps):
     dt = 1 / 60
-    world = sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(0.0, 100.0))]), dt=dt)
+    h = dt / substeps
+    world = sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(0.0, 100.0))]), dt=dt,
+                      substeps=substeps)
     for n in (1, 10, 60):
         world.step(n - world.step_count)
-        # semi-implicit Euler: v_n = -g n dt, y_n = y_0 - g dt^2 n (n + 1) / 2
-        assert world.velocities[0, 1] == pytest.approx(-G * n * dt, rel=1e-12)
-        assert world.positions[0, 1] == pytest.approx(100.0 - G * dt * dt * n * (n + 1) / 2,
+        # semi-implicit Euler over k = n * substeps substeps of h:
+        # v_k = -g k h, y_k = y_0 - g h^2 k (k + 1) / 2
+        k = n * substeps
+        assert world.velocities[0, 1] == pytest.approx(-G * k * h, rel=1e-12)
+        assert world.positions[0, 1] == pytest.approx(100.0 - G * h * h * k * (k + 1) / 2,
                                                       rel=1e-12)
     assert world.velocities[0, 0] == 0.0 and world.angular_velocities[0] == 0.0
 
@@ -42,15 +47,28 @@ def test_dropped_box_settles_with_small_penetration():
                                          (2.0, 0.8, 1 / 240)])
 def test_friction_slide_distance(speed, mu, dt):
     world = sim.World(sim.scenes.sliding_box(speed=speed, friction=mu), dt=dt)
-    run_until(world, 2 * speed / (mu * G) + 1.0)
-    # Coulomb: v0^2 / (2 mu g). Semi-implicit Euler falls short of it by about v0 dt / 2, so each
-    # case uses a dt that keeps that under 1% and the 3% bound tests the friction, not the step.
-    assert world.positions[0, 0] == pytest.approx(speed ** 2 / (2 * mu * G), rel=0.03)
-    # ...and the discrete answer exactly: v_k = v0 - k mu g dt while positive, x = dt sum v_k
-    v = speed - mu * G * dt * np.arange(1, int(speed / (mu * G * dt)) + 1)
-    assert world.positions[0, 0] == pytest.approx(dt * v.sum(), rel=1e-5)
-    assert abs(world.velocities[0, 0]) < 1e-9            # stopped, not creeping
+    h = dt / world.substeps
+    # The discrete answer, up to the step in which the box stops: over substeps of h,
+    # v_k = v0 - k mu g h (friction at its limit from the first substep: the initial impulse
+    # solve found it, the warm start carries it), x = h sum v_k. Not to the last bit, as the
+    # rigid solver before soft step: the soft contacts share the box's weight between its two
+    # corners a little differently from substep to substep while friction tips it forward, and
+    # the friction limit follows (measured: 4e-5 to 2.1e-4 of the distance, 1e-5 of the speed).
+    while world.velocities[0, 0] > 0.0:
+        world.step()
+    k = world.step_count * world.substeps
+    x_stop = h * (speed * k - mu * G * h * k * (k + 1) / 2)
+    assert world.positions[0, 0] == pytest.approx(x_stop, rel=3e-4)
+    # When friction lets go, the weight shifts back from the front corner: the box rocks back
+    # on its contacts as they take the new load (load_time, 1/3 s), and then stands, not creeping,
+    # where it stopped.
+    run_until(world, 3.0)
+    assert abs(world.positions[0, 0] - x_stop) < 5e-4
+    assert abs(world.velocities[0, 0]) < 1e-7
     assert abs(world.angles[0]) < 1e-6                   # slid flat, did not tip
+    # Coulomb: v0^2 / (2 mu g). Semi-implicit Euler falls short of it by about v0 h / 2 (h the
+    # substep), under 1% in each case: the 3% bound tests the friction, not the step.
+    assert world.positions[0, 0] == pytest.approx(speed ** 2 / (2 * mu * G), rel=0.03)
 
 
 @pytest.mark.parametrize("e", [0.5, 0.7, 0.9])
@@ -121,8 +139,8 @@ def test_tall_box_tips_past_critical_angle(offset_deg, falls):
         assert world.positions[0, 1] == pytest.approx(h / 2, abs=0.006)
 
 
-def test_pyramid_20_stands_ten_seconds_at_ten_iterations():
-    world = sim.World(sim.scenes.pyramid(20), iterations=10)
+def test_pyramid_20_stands_ten_seconds():
+    world = sim.World(sim.scenes.pyramid(20))
     start = world.positions
     run_until(world, 10.0)
     assert np.linalg.norm(world.positions[-1] - start[-1]) < 0.02      # the top box

@@ -1,4 +1,4 @@
-"""Freeze policies behind one dispatch point (DESIGN section 3).
+"""Freeze policies behind one dispatch point (``dispatch.py``).
 
 Each policy is a module with ``NAME`` and ``PARAMETERS`` (name -> default). ``resolve`` validates a
 policy name and its parameters for ``sim.World``.
@@ -30,7 +30,7 @@ def resolve(name, params):
         raise ValueError(f"freeze={name!r} does not take {', '.join(unknown)} (it takes {takes})")
     values = {**policy.PARAMETERS, **params}
     for key, value in values.items():
-        integral = key in policy.INT_SETTINGS
+        integral = key in policy.INT_PARAMETERS
         try:
             x = float(value)
         except (TypeError, ValueError):

@@ -2,28 +2,32 @@
 
 Each policy has two hooks: ``before_solve`` (after collision detection: wake bodies that this
 step's contacts disturb, so the collision is solved with them moving; returns how many woke) and
-``after_solve`` (positions final: decide transitions, record events, freeze bodies)."""
+``after_solve`` (positions final: decide transitions, record events, freeze bodies). Both take
+(settings, counters, bodies, contacts, activity) and walk this step's active contacts,
+``contacts.active[:counters[N_ACTIVE]]``."""
 from ..jit import kernel
-from ..layout import EXTENDED, PAPER, SLEEP
 from . import extended, paper, sleep
+from .codes import EXTENDED, PAPER, SLEEP
 
 
 @kernel
-def freeze_before_solve(policy, count, settings, bodies, contacts, activity):
+def freeze_before_solve(settings, counters, bodies, contacts, activity):
+    policy = settings.policy
     if policy == SLEEP:
-        return sleep.before_solve(count, settings, bodies, contacts, activity)
+        return sleep.before_solve(settings, counters, bodies, contacts, activity)
     if policy == EXTENDED:
-        return extended.before_solve(count, settings, bodies, contacts, activity)
+        return extended.before_solve(settings, counters, bodies, contacts, activity)
     if policy == PAPER:
-        return paper.before_solve(count, settings, bodies, contacts, activity)
+        return paper.before_solve(settings, counters, bodies, contacts, activity)
     return 0
 
 
 @kernel
-def freeze_after_solve(policy, count, settings, bodies, contacts, activity):
+def freeze_after_solve(settings, counters, bodies, contacts, activity):
+    policy = settings.policy
     if policy == SLEEP:
-        sleep.after_solve(count, settings, bodies, contacts, activity)
+        sleep.after_solve(settings, counters, bodies, contacts, activity)
     elif policy == EXTENDED:
-        extended.after_solve(count, settings, bodies, contacts, activity)
+        extended.after_solve(settings, counters, bodies, contacts, activity)
     elif policy == PAPER:
-        paper.after_solve(count, settings, bodies, contacts, activity)
+        paper.after_solve(settings, counters, bodies, contacts, activity)

@@ -11,7 +11,8 @@ Freezing (the general rest test), checked every step for awake bodies:
      solver leaves some at the limit in a pyramid that holds.) A body accelerating more slowly
      than ``rest_acceleration`` is indistinguishable from one at rest over the test and can be
      frozen: that is the accuracy the study trades for speed;
-  3. settled: none of its contacts is deeper than twice the slop (position correction is done);
+  3. settled: none of its contacts is deeper than twice its pair's slop (``sim.tolerances``; the
+     soft contact is still pushing it out otherwise);
   4. whole groups only: every body it touches is the floor, static, frozen, or itself passes 1-3
      and is freezing in this step (iterated to a fixed point). An awake body that is still moving
      keeps its neighbours awake, so nothing freezes against something that pushes it.
@@ -42,20 +43,17 @@ Per-body state: body_int[:, REST_COUNT] steps slow in a row; body_real columns b
 import numpy as np
 
 from ..activity import CAUSE, freeze, record, wake
-from ..contacts import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, NORMAL_IMPULSE, NORMAL_X,
-                        NORMAL_Y, POINT_COUNT, SEPARATION, TANGENT_IMPULSE)
+from ..data import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, N_ACTIVE, N_AWAKE, N_LINKS,
+                    NORMAL_IMPULSE, NORMAL_X, NORMAL_Y, POINT_COUNT, END_SEPARATION, SLOP,
+                    TANGENT_IMPULSE)
 from ..jit import inline_kernel, kernel
-from ..layout import (DT, GRAVITY_X, GRAVITY_Y, IMPULSE_THRESHOLD, N_AWAKE, N_DYNAMIC, N_LINKS,
-                      REST_ACCELERATION, REST_SPEED, REST_STEPS, SLOP)
 from ..state import State
-from .contact_math import stopping_impulse
+from .contact_math import arrives, stopping_impulse, touching
 
 NAME = "extended"
 PARAMETERS = {"impulse_threshold": 0.5, "rest_speed": 0.02, "rest_acceleration": 0.1,
               "rest_steps": 2}
-FLOAT_SETTINGS = {"impulse_threshold": IMPULSE_THRESHOLD, "rest_speed": REST_SPEED,
-                  "rest_acceleration": REST_ACCELERATION}
-INT_SETTINGS = {"rest_steps": REST_STEPS}
+INT_PARAMETERS = ("rest_steps",)
 # body_real columns: support summary and equilibrium load (see module docstring), and this step's
 # impulses from awake bodies (scratch)
 (SUPPORT_NX, SUPPORT_NY, SUPPORT_LO, SUPPORT_HI, SUPPORT_H, SUPPORT_MU, LOAD_X, LOAD_Y, LOAD_M,
@@ -79,15 +77,16 @@ _SUPPORT_LOST = CAUSE["support_lost"]
 
 
 @inline_kernel
-def _impulse_on(body, c, j, manifold_int, manifold_float, point_float):
-    """Impulse (x, y) that point j of manifold c applies to ``body`` (normal and friction)."""
-    nx = manifold_float[c, NORMAL_X]
-    ny = manifold_float[c, NORMAL_Y]
-    pn = point_float[c, j, NORMAL_IMPULSE]
-    pt = point_float[c, j, TANGENT_IMPULSE]
+def _impulse_on(body, c, j, contacts):
+    """Impulse (x, y) that point j of contact c applied to ``body`` over the step (normal and
+    friction, N s)."""
+    nx = contacts.contact_float[c, NORMAL_X]
+    ny = contacts.contact_float[c, NORMAL_Y]
+    pn = contacts.point_float[c, j, NORMAL_IMPULSE]
+    pt = contacts.point_float[c, j, TANGENT_IMPULSE]
     px = pn * nx + pt * ny            # tangent = (ny, -nx), as in the solver
     py = pn * ny - pt * nx
-    if manifold_int[c, BODY_B] == body:
+    if contacts.contact_int[c, BODY_B] == body:
         return px, py
     return -px, -py
 
@@ -99,7 +98,7 @@ def _is_movable(i, n_dyn, awake_slot):
 
 
 @kernel
-def before_solve(count, settings, bodies, contacts, activity):
+def before_solve(settings, counters, bodies, contacts, activity):
     """Impacts and pushes, judged *before* the solve so that the collision is solved between
     moving bodies and momentum is passed on, not reflected off an immovable body (a body woken
     after the step would have stopped its pusher dead first).
@@ -111,20 +110,20 @@ def before_solve(count, settings, bodies, contacts, activity):
     support graph, all it carries) if the estimates add up to more than ``impulse_threshold``
     (an impact), or if its load plus the estimated push breaks its equilibrium (a push, or
     tipping). Returns the number of bodies woken."""
-    fsettings, isettings, counters = settings
-    position, velocity, angular_velocity = bodies[0], bodies[2], bodies[3]
-    inv_mass, inv_inertia = bodies[4], bodies[5]
-    manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
-    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
-        links, link_load = activity
-    n_dyn = isettings[N_DYNAMIC]
+    position = bodies.position
+    ci = contacts.contact_int
+    cf = contacts.contact_float
+    awake_slot, body_real, body_int = activity.awake_slot, activity.body_real, activity.body_int
+    n_dyn = settings.n_dynamic
+    count = counters[N_ACTIVE]
     touched = np.empty(min(2 * count, n_dyn) + 1, np.int64)
     n_touched = 0
-    for c in range(count):
-        a = manifold_int[c, BODY_A]
-        b = manifold_int[c, BODY_B]
-        nx = manifold_float[c, NORMAL_X]
-        ny = manifold_float[c, NORMAL_Y]
+    for k in range(count):
+        c = contacts.active[k]
+        a = ci[c, BODY_A]
+        b = ci[c, BODY_B]
+        nx = cf[c, NORMAL_X]
+        ny = cf[c, NORMAL_Y]
         for frozen_body, mover in ((a, b), (b, a)):
             if not (0 <= frozen_body < n_dyn and awake_slot[frozen_body] < 0
                     and _is_movable(mover, n_dyn, awake_slot)):
@@ -132,10 +131,10 @@ def before_solve(count, settings, bodies, contacts, activity):
             n_touched = _touch(frozen_body, touched, n_touched, body_real, body_int)
             # n points from a to b: a push on the frozen body is along +n if it is b, -n if a
             sign = 1.0 if frozen_body == b else -1.0
-            for j in range(manifold_int[c, POINT_COUNT]):
-                p, wx, wy = stopping_impulse(c, j, mover, position, velocity, angular_velocity,
-                                             inv_mass, inv_inertia, manifold_int, manifold_float,
-                                             point_float)
+            for j in range(ci[c, POINT_COUNT]):
+                if not arrives(c, j, settings.dt, bodies, contacts):
+                    continue                # made ahead: the mover reaches it in a later step
+                p, wx, wy = stopping_impulse(c, j, mover, bodies, contacts)
                 if p > 0.0:
                     px = sign * p * nx
                     py = sign * p * ny
@@ -149,19 +148,16 @@ def before_solve(count, settings, bodies, contacts, activity):
     for k in range(n_touched):
         i = touched[k]
         body_int[i, TOUCHED] = 0
-        if body_real[i, PUSH_NORMAL] > fsettings[IMPULSE_THRESHOLD]:
+        if body_real[i, PUSH_NORMAL] > settings.impulse_threshold:
             cause = _IMPACT
         elif body_real[i, PUSH_NORMAL] > 0.0:
             cause = _equilibrium_broken(i, body_real, position)
         else:
             cause = -1
         if cause >= 0:
-            n_queue = _wake_one(i, cause, n_queue, queue, states, awake, awake_slot, counters,
-                                inv_mass, inv_inertia, solver_inv_mass, solver_inv_inertia,
-                                events, body_int)
-    return _wake_supported(n_queue, queue, states, awake, awake_slot, counters, inv_mass,
-                           inv_inertia, solver_inv_mass, solver_inv_inertia, events, body_int,
-                           links, link_load, body_real)
+            n_queue = _wake_one(i, cause, n_queue, queue, settings, counters, bodies, contacts,
+                                activity)
+    return _wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity)
 
 
 @inline_kernel
@@ -179,62 +175,65 @@ def _touch(i, touched, n_touched, body_real, body_int):
 
 
 @kernel
-def _wake_supported(n_queue, queue, states, awake, awake_slot, counters, inv_mass, inv_inertia,
-                    solver_inv_mass, solver_inv_inertia, events, body_int, links, link_load,
-                    body_real):
+def _wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity):
     """Support removed: everything the bodies in queue[0..n_queue-1] carry wakes too, in this
     same step, transitively (breadth first over the links). Returns the number woken in all."""
+    links, awake_slot = activity.links, activity.awake_slot
     head = 0
     while head < n_queue:
         s = queue[head]
         head += 1
         for k in range(counters[N_LINKS]):
             if links[k, 0] == s and awake_slot[links[k, 1]] < 0:
-                n_queue = _wake_one(links[k, 1], _SUPPORT_LOST, n_queue, queue, states, awake,
-                                    awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
-                                    solver_inv_inertia, events, body_int)
+                n_queue = _wake_one(links[k, 1], _SUPPORT_LOST, n_queue, queue, settings, counters,
+                                    bodies, contacts, activity)
     if n_queue > 0:
-        _drop_links_of_awake(links, link_load, counters, awake_slot, body_real)
+        _drop_links_of_awake(counters, activity)
     return n_queue
 
 
 @kernel
-def after_solve(count, settings, bodies, contacts, activity):
+def after_solve(settings, counters, bodies, contacts, activity):
     """Loads on frozen bodies from this step's solved impulses (the weight of awake bodies
     resting on them, which the approach estimate before the solve does not see), then the rest
     test and freezing (see the module docstring)."""
-    fsettings, isettings, counters = settings
-    position, velocity, angular_velocity = bodies[0], bodies[2], bodies[3]
-    inv_mass, inv_inertia, extent = bodies[4], bodies[5], bodies[11]
-    manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
-    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
-        links, link_load = activity
-    n_dyn = isettings[N_DYNAMIC]
-    dt = fsettings[DT]
-    gx = fsettings[GRAVITY_X]
-    gy = fsettings[GRAVITY_Y]
+    position, velocity, angular_velocity = bodies.position, bodies.velocity, bodies.angular_velocity
+    inv_mass, extent = bodies.inv_mass, bodies.extent
+    ci = contacts.contact_int
+    cf = contacts.contact_float
+    pf = contacts.point_float
+    states, awake, awake_slot, events = (activity.states, activity.awake, activity.awake_slot,
+                                         activity.events)
+    body_real, body_int = activity.body_real, activity.body_int
+    links, link_load = activity.links, activity.link_load
+    n_dyn = settings.n_dynamic
+    dt = settings.dt
+    gx = settings.gravity_x
+    gy = settings.gravity_y
     g = np.hypot(gx, gy)
     up_x = -gx / g if g > 0 else 0.0
     up_y = -gy / g if g > 0 else 1.0
+    count = counters[N_ACTIVE]
 
     # ---- 1. pushes and tipping: frozen bodies touched by awake bodies ---------------------------------
     n_touched = 0
     touched = np.empty(min(2 * count, n_dyn) + 1, np.int64)
-    for c in range(count):
-        a = manifold_int[c, BODY_A]
-        b = manifold_int[c, BODY_B]
+    for kk in range(count):
+        c = contacts.active[kk]
+        a = ci[c, BODY_A]
+        b = ci[c, BODY_B]
         for frozen_body, other in ((a, b), (b, a)):
             if not (0 <= frozen_body < n_dyn and awake_slot[frozen_body] < 0
                     and _is_movable(other, n_dyn, awake_slot)):
                 continue
             n_touched = _touch(frozen_body, touched, n_touched, body_real, body_int)
-            for j in range(manifold_int[c, POINT_COUNT]):
-                px, py = _impulse_on(frozen_body, c, j, manifold_int, manifold_float, point_float)
+            for j in range(ci[c, POINT_COUNT]):
+                px, py = _impulse_on(frozen_body, c, j, contacts)
                 body_real[frozen_body, PUSH_X] += px
                 body_real[frozen_body, PUSH_Y] += py
                 # the anchor relative to B's centre; A's anchor is the same world point
-                wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
-                wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
+                wx = pf[c, j, ANCHOR_BX] + position[b, 0]
+                wy = pf[c, j, ANCHOR_BY] + position[b, 1]
                 rx = wx - position[frozen_body, 0]
                 ry = wy - position[frozen_body, 1]
                 body_real[frozen_body, PUSH_M] += rx * py - ry * px
@@ -245,19 +244,16 @@ def after_solve(count, settings, bodies, contacts, activity):
         body_int[i, TOUCHED] = 0
         cause = _equilibrium_broken(i, body_real, position)
         if cause >= 0:
-            n_queue = _wake_one(i, cause, n_queue, queue, states, awake, awake_slot, counters,
-                                inv_mass, inv_inertia, solver_inv_mass, solver_inv_inertia,
-                                events, body_int)
-    _wake_supported(n_queue, queue, states, awake, awake_slot, counters, inv_mass, inv_inertia,
-                    solver_inv_mass, solver_inv_inertia, events, body_int, links, link_load,
-                    body_real)
+            n_queue = _wake_one(i, cause, n_queue, queue, settings, counters, bodies, contacts,
+                                activity)
+    _wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity)
 
     # ---- 2. the rest test -----------------------------------------------------------------
     n_awake = counters[N_AWAKE]
     if n_awake == 0:
         return
-    limit = fsettings[REST_SPEED]
-    change_limit = fsettings[REST_ACCELERATION] * dt
+    limit = settings.rest_speed
+    change_limit = settings.rest_acceleration * dt
     any_candidate = False
     for k in range(n_awake):
         i = awake[k]
@@ -283,29 +279,33 @@ def after_solve(count, settings, bodies, contacts, activity):
             body_int[i, REST_COUNT] = 0
         # MARK = 1: candidate (slow and steady long enough); cleared below when a neighbour
         # cannot rest
-        if body_int[i, REST_COUNT] >= isettings[REST_STEPS]:
+        if body_int[i, REST_COUNT] >= settings.rest_steps:
             body_int[i, MARK] = 1
             any_candidate = True
     if not any_candidate:
         return
-    # settled: a candidate with a contact deeper than twice the slop is still being pushed out
-    # by position correction (which works on positions, not velocities, so the body looks at
-    # rest); frozen now, it would keep that overlap for good
-    too_deep = -2.0 * fsettings[SLOP]
-    for c in range(count):
-        for j in range(manifold_int[c, POINT_COUNT]):
-            if point_float[c, j, SEPARATION] < too_deep:
-                for body in (manifold_int[c, BODY_A], manifold_int[c, BODY_B]):
+    # settled: a candidate with a contact deeper than twice its pair's slop is still being pushed
+    # out by its contact (the soft contact works over several steps, the body looks at rest);
+    # frozen now, it would keep that overlap for good
+    for kk in range(count):
+        c = contacts.active[kk]
+        too_deep = -2.0 * cf[c, SLOP]
+        for j in range(ci[c, POINT_COUNT]):
+            if pf[c, j, END_SEPARATION] < too_deep:
+                for body in (ci[c, BODY_A], ci[c, BODY_B]):
                     if 0 <= body < n_dyn:
                         body_int[body, MARK] = 0
     changed = True
     while changed:                       # a candidate touching an awake non-candidate is out
         changed = False
-        for c in range(count):
-            a = manifold_int[c, BODY_A]
-            b = manifold_int[c, BODY_B]
+        for kk in range(count):
+            c = contacts.active[kk]
+            a = ci[c, BODY_A]
+            b = ci[c, BODY_B]
             if not (_is_movable(a, n_dyn, awake_slot) and _is_movable(b, n_dyn, awake_slot)):
                 continue
+            if not touching(c, contacts):
+                continue                # made ahead for a fast body that did not arrive
             if body_int[a, MARK] != body_int[b, MARK]:
                 body_int[a, MARK] = 0
                 body_int[b, MARK] = 0
@@ -320,28 +320,28 @@ def after_solve(count, settings, bodies, contacts, activity):
             body_real[i, SUPPORT_NX] = 0.0
             body_real[i, SUPPORT_NY] = 0.0
             body_real[i, SUPPORT_MU] = np.inf
-    for c in range(count):
-        a = manifold_int[c, BODY_A]
-        b = manifold_int[c, BODY_B]
+    for kk in range(count):
+        c = contacts.active[kk]
+        a = ci[c, BODY_A]
+        b = ci[c, BODY_B]
         for i, other in ((a, b), (b, a)):
             if not (_is_movable(i, n_dyn, awake_slot) and body_int[i, MARK] == 1):
                 continue
             sx = 0.0
             sy = 0.0
             onto_frozen = 0 <= other < n_dyn and awake_slot[other] < 0
-            for j in range(manifold_int[c, POINT_COUNT]):
-                px, py = _impulse_on(i, c, j, manifold_int, manifold_float, point_float)
+            for j in range(ci[c, POINT_COUNT]):
+                px, py = _impulse_on(i, c, j, contacts)
                 if px * up_x + py * up_y > 0.1 * np.hypot(px, py):       # a support
                     sx += px
                     sy += py
                     if onto_frozen:
                         # resting on an already frozen body: that body now carries this push,
                         # the opposite of the support impulse, at this very point
-                        _add_load(other, -px, -py, c, j, manifold_int, point_float, position,
-                                  body_real)
+                        _add_load(other, -px, -py, c, j, contacts, position, body_real)
                 else:                                                    # a load
-                    wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
-                    wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
+                    wx = pf[c, j, ANCHOR_BX] + position[b, 0]
+                    wy = pf[c, j, ANCHOR_BY] + position[b, 1]
                     body_real[i, LOAD_X] += px
                     body_real[i, LOAD_Y] += py
                     body_real[i, LOAD_M] += ((wx - position[i, 0]) * py
@@ -349,20 +349,18 @@ def after_solve(count, settings, bodies, contacts, activity):
             if sx != 0.0 or sy != 0.0:
                 body_real[i, SUPPORT_NX] += sx          # impulse-weighted support direction
                 body_real[i, SUPPORT_NY] += sy
-                body_real[i, SUPPORT_MU] = min(body_real[i, SUPPORT_MU],
-                                               manifold_float[c, FRICTION])
+                body_real[i, SUPPORT_MU] = min(body_real[i, SUPPORT_MU], cf[c, FRICTION])
                 if 0 <= other < n_dyn:
                     n_links = counters[N_LINKS]
                     if n_links == links.shape[0]:
-                        _drop_links_of_awake(links, link_load, counters, awake_slot, body_real)
+                        _drop_links_of_awake(counters, activity)
                         n_links = counters[N_LINKS]
                     if n_links < links.shape[0]:
                         links[n_links, 0] = other
                         links[n_links, 1] = i
                         # what i puts on its support (the support's load holds it, whether the
                         # support froze before or with i): taken back when i wakes
-                        fx, fy, m = _push_on_support(i, other, c, manifold_int, manifold_float,
-                                                     point_float, position, up_x, up_y)
+                        fx, fy, m = _push_on_support(i, other, c, contacts, position, up_x, up_y)
                         link_load[n_links, 0] = fx
                         link_load[n_links, 1] = fy
                         link_load[n_links, 2] = m
@@ -384,19 +382,20 @@ def after_solve(count, settings, bodies, contacts, activity):
             body_real[i, SUPPORT_HI] = -np.inf
             body_real[i, SUPPORT_H] = 0.0
             body_int[i, TOUCHED] = 0          # scratch: number of support points
-    for c in range(count):
-        a = manifold_int[c, BODY_A]
-        b = manifold_int[c, BODY_B]
+    for kk in range(count):
+        c = contacts.active[kk]
+        a = ci[c, BODY_A]
+        b = ci[c, BODY_B]
         for i in (a, b):
             if not (_is_movable(i, n_dyn, awake_slot) and body_int[i, MARK] == 1):
                 continue
             tx = -body_real[i, SUPPORT_NY]
             ty = body_real[i, SUPPORT_NX]
-            for j in range(manifold_int[c, POINT_COUNT]):
-                px, py = _impulse_on(i, c, j, manifold_int, manifold_float, point_float)
+            for j in range(ci[c, POINT_COUNT]):
+                px, py = _impulse_on(i, c, j, contacts)
                 if px * up_x + py * up_y > 0.1 * np.hypot(px, py):
-                    wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
-                    wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
+                    wx = pf[c, j, ANCHOR_BX] + position[b, 0]
+                    wy = pf[c, j, ANCHOR_BY] + position[b, 1]
                     s = wx * tx + wy * ty
                     body_real[i, SUPPORT_LO] = min(body_real[i, SUPPORT_LO], s)
                     body_real[i, SUPPORT_HI] = max(body_real[i, SUPPORT_HI], s)
@@ -411,8 +410,7 @@ def after_solve(count, settings, bodies, contacts, activity):
             body_int[i, TOUCHED] = 0
             body_int[i, MARK] = 0
             body_int[i, REST_COUNT] = 0
-            freeze(i, awake, awake_slot, counters, solver_inv_mass, solver_inv_inertia, velocity,
-                   angular_velocity)
+            freeze(i, settings, counters, bodies, contacts, activity)
             states[i] = _FROZEN
             record(events, counters, i, _FREE, _FROZEN, _RESTED)
             continue                 # freeze() moved the last awake body into slot k
@@ -420,11 +418,11 @@ def after_solve(count, settings, bodies, contacts, activity):
 
 
 @inline_kernel
-def _add_load(i, fx, fy, c, j, manifold_int, point_float, position, body_real):
-    """Add impulse (fx, fy), applied at point j of manifold c, to frozen body i's load."""
-    b = manifold_int[c, BODY_B]
-    wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
-    wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
+def _add_load(i, fx, fy, c, j, contacts, position, body_real):
+    """Add impulse (fx, fy), applied at point j of contact c, to frozen body i's load."""
+    b = contacts.contact_int[c, BODY_B]
+    wx = contacts.point_float[c, j, ANCHOR_BX] + position[b, 0]
+    wy = contacts.point_float[c, j, ANCHOR_BY] + position[b, 1]
     body_real[i, LOAD_X] += fx
     body_real[i, LOAD_Y] += fy
     body_real[i, LOAD_M] += (wx - position[i, 0]) * fy - (wy - position[i, 1]) * fx
@@ -464,22 +462,22 @@ def _equilibrium_broken(i, body_real, position):
 
 
 @inline_kernel
-def _wake_one(i, cause, n_queue, queue, states, awake, awake_slot, counters, inv_mass,
-              inv_inertia, solver_inv_mass, solver_inv_inertia, events, body_int):
-    wake(i, awake, awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
-         solver_inv_inertia)
-    record(events, counters, i, states[i], _FREE, cause)
-    states[i] = _FREE
-    body_int[i, REST_COUNT] = 0
+def _wake_one(i, cause, n_queue, queue, settings, counters, bodies, contacts, activity):
+    wake(i, settings, counters, bodies, contacts, activity)
+    record(activity.events, counters, i, activity.states[i], _FREE, cause)
+    activity.states[i] = _FREE
+    activity.body_int[i, REST_COUNT] = 0
     queue[n_queue] = i
     return n_queue + 1
 
 
 @kernel
-def _drop_links_of_awake(links, link_load, counters, awake_slot, body_real):
+def _drop_links_of_awake(counters, activity):
     """Compact the link list, keeping only links whose supported body is still frozen. A dropped
     link's push leaves its support's load: the awake body's contacts now push live (else the
     support would count that weight twice and could not see the body tip or leave)."""
+    links, link_load = activity.links, activity.link_load
+    awake_slot, body_real = activity.awake_slot, activity.body_real
     kept = 0
     for k in range(counters[N_LINKS]):
         support = links[k, 0]
@@ -498,20 +496,19 @@ def _drop_links_of_awake(links, link_load, counters, awake_slot, body_real):
 
 
 @inline_kernel
-def _push_on_support(i, support, c, manifold_int, manifold_float, point_float, position, up_x,
-                     up_y):
-    """The impulse body i exerts on ``support`` through manifold c at the points where it is
+def _push_on_support(i, support, c, contacts, position, up_x, up_y):
+    """The impulse body i exerts on ``support`` through contact c at the points where it is
     supported (the same points whose push enters the support's load), and its moment about the
     support's centre of mass."""
-    b = manifold_int[c, BODY_B]
+    b = contacts.contact_int[c, BODY_B]
     fx = 0.0
     fy = 0.0
     m = 0.0
-    for j in range(manifold_int[c, POINT_COUNT]):
-        px, py = _impulse_on(i, c, j, manifold_int, manifold_float, point_float)
+    for j in range(contacts.contact_int[c, POINT_COUNT]):
+        px, py = _impulse_on(i, c, j, contacts)
         if px * up_x + py * up_y > 0.1 * np.hypot(px, py):
-            wx = point_float[c, j, ANCHOR_BX] + position[b, 0]
-            wy = point_float[c, j, ANCHOR_BY] + position[b, 1]
+            wx = contacts.point_float[c, j, ANCHOR_BX] + position[b, 0]
+            wy = contacts.point_float[c, j, ANCHOR_BY] + position[b, 1]
             fx -= px
             fy -= py
             m -= (wx - position[support, 0]) * py - (wy - position[support, 1]) * px

@@ -27,8 +27,9 @@ Section 4, staying in contact:
 RS: rotation and vertical motion stop (held at the pose reached, set down on the surface: CHOICE,
 the step's solve may have begun a bounce the threshold has just ruled out); the body is no longer solved
 against anything (its solver masses are zero: to others it is immovable); horizontal motion goes on
-under Coulomb friction with its support, v_x reduced by mu g dt per step, until it stops; then it is
-frozen outright (taken out of the awake list).
+under Coulomb friction with its support, v_x reduced by mu g h in each substep h (CHOICE: exactly
+as the solver applies friction to a sliding body, so an RS body slides as far as under `off`),
+until it stops; then it is frozen outright (taken out of the awake list).
 
 Section 5.1: a VS body in contact with an RS body for two consecutive steps -> both held at rest
 (frozen), until another body collides with them.
@@ -54,18 +55,16 @@ that is knocked away stays where it was, floating; VS never returns to FREE.
 import numpy as np
 
 from ..activity import CAUSE, freeze, record, wake
-from ..contacts import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, INCIDENT, LOCAL_FACE_X,
-                        LOCAL_FACE_Y, LOCAL_X, LOCAL_Y, NORMAL_IMPULSE, NORMAL_Y,
-                        POINT_COUNT, REFERENCE, SEPARATION)
+from ..data import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, INCIDENT, LOCAL_FACE_X,
+                    LOCAL_FACE_Y, LOCAL_X, LOCAL_Y, N_ACTIVE, N_AWAKE, NORMAL_Y,
+                    POINT_COUNT, REFERENCE, END_SEPARATION, SLOP)
 from ..jit import inline_kernel, kernel
-from ..layout import DT, GRAVITY_Y, IMPULSE_THRESHOLD, N_AWAKE, N_DYNAMIC, SLOP
 from ..state import State
-from .contact_math import stopping_impulse
+from .contact_math import arrives, stopping_impulse, touching
 
 NAME = "paper"
 PARAMETERS = {"impulse_threshold": 1.0}
-FLOAT_SETTINGS = {"impulse_threshold": IMPULSE_THRESHOLD}
-INT_SETTINGS = {}
+INT_PARAMETERS = ()
 # body_real columns
 HELD_Y, HELD_ANGLE, PIVOT_LX, PIVOT_LY, PIVOT_Y, SLIDE_MU, FLOOR_IMPACT = range(7)
 REAL_COLUMNS = 7
@@ -113,32 +112,37 @@ def _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float):
 
 
 @kernel
-def before_solve(count, settings, bodies, contacts, activity):
+def before_solve(settings, counters, bodies, contacts, activity):
     """Section 3: a moving body colliding with a held body (frozen, or RS and sliding) anywhere
     but its floor-parallel top edge makes it FREE before the solve. Returns the number woken."""
-    fsettings, isettings, counters = settings
-    position, velocity, angular_velocity = bodies[0], bodies[2], bodies[3]
-    inv_mass, inv_inertia = bodies[4], bodies[5]
-    manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
-    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
-        _, _ = activity
-    n_dyn = isettings[N_DYNAMIC]
+    inv_mass, inv_inertia = bodies.inv_mass, bodies.inv_inertia
+    manifold_int = contacts.contact_int
+    manifold_float = contacts.contact_float
+    states, awake, awake_slot = activity.states, activity.awake, activity.awake_slot
+    solver_inv_mass, solver_inv_inertia = activity.solver_inv_mass, activity.solver_inv_inertia
+    events, body_real, body_int = activity.events, activity.body_real, activity.body_int
+    n_dyn = settings.n_dynamic
+    count = counters[N_ACTIVE]
     # Section 2's collision impulse of each moving body against its floor-like surfaces, judged
     # by after_solve: the impulse that stops its approach, from the velocities before gravity
     for k in range(counters[N_AWAKE]):
         body_real[awake[k], FLOOR_IMPACT] = 0.0
-    for c in range(count):
+    for kk in range(count):
+        c = contacts.active[kk]
         a = manifold_int[c, BODY_A]
         b = manifold_int[c, BODY_B]
         for i, other in ((b, a), (a, b)):
             if 0 <= i < n_dyn and awake_slot[i] >= 0 \
                     and _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float):
                 for j in range(manifold_int[c, POINT_COUNT]):
-                    body_real[i, FLOOR_IMPACT] += stopping_impulse(
-                        c, j, i, position, velocity, angular_velocity, inv_mass, inv_inertia,
-                        manifold_int, manifold_float, point_float)[0]
+                    # CHOICE: only points that reach the surface in this step collide in it (a
+                    # speculative point further away, made early for a fast body, does not)
+                    if arrives(c, j, settings.dt, bodies, contacts):
+                        body_real[i, FLOOR_IMPACT] += stopping_impulse(c, j, i, bodies,
+                                                                       contacts)[0]
     woken = 0
-    for c in range(count):
+    for kk in range(count):
+        c = contacts.active[kk]
         a = manifold_int[c, BODY_A]
         b = manifold_int[c, BODY_B]
         for held, mover in ((a, b), (b, a)):
@@ -152,18 +156,16 @@ def before_solve(count, settings, bodies, contacts, activity):
             # before gravity, so merely resting or sliding along it is not a collision)
             impulse = 0.0
             for j in range(manifold_int[c, POINT_COUNT]):
-                impulse += stopping_impulse(c, j, mover, position, velocity, angular_velocity,
-                                            inv_mass, inv_inertia, manifold_int, manifold_float,
-                                            point_float)[0]
-            if impulse <= fsettings[IMPULSE_THRESHOLD]:
+                if arrives(c, j, settings.dt, bodies, contacts):
+                    impulse += stopping_impulse(c, j, mover, bodies, contacts)[0]
+            if impulse <= settings.impulse_threshold:
                 continue
             # both bodies of the collision end their rest: the held one wakes, and a sliding RS
             # mover (itself immovable to the solver) is released too
             for body in (held, mover):
                 if states[body] == _FREE or (body == mover and states[body] != _RS):
                     continue                    # (a VS mover stays VS: the seed's 2nd limit)
-                wake(body, awake, awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
-                     solver_inv_inertia)
+                wake(body, settings, counters, bodies, contacts, activity)
                 solver_inv_mass[body] = inv_mass[body]        # also for an awake RS body
                 solver_inv_inertia[body] = inv_inertia[body]
                 record(events, counters, body, states[body], _FREE, _IMPACT)
@@ -175,24 +177,31 @@ def before_solve(count, settings, bodies, contacts, activity):
 
 
 @kernel
-def after_solve(count, settings, bodies, contacts, activity):
-    fsettings, isettings, counters = settings
-    position, angle, velocity, angular_velocity = bodies[0], bodies[1], bodies[2], bodies[3]
-    inv_mass, inv_inertia = bodies[4], bodies[5]
-    vert_start, local_verts = bodies[8], bodies[9]
-    manifold_int, manifold_float, point_float = contacts[1], contacts[2], contacts[3]
-    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
-        _, _ = activity
-    n_dyn = isettings[N_DYNAMIC]
-    dt = fsettings[DT]
-    g = abs(fsettings[GRAVITY_Y])
+def after_solve(settings, counters, bodies, contacts, activity):
+    position, angle, velocity, angular_velocity = (bodies.position, bodies.angle, bodies.velocity,
+                                                   bodies.angular_velocity)
+    inv_mass, inv_inertia = bodies.inv_mass, bodies.inv_inertia
+    vert_start, local_verts = bodies.vert_start, bodies.local_verts
+    manifold_int = contacts.contact_int
+    manifold_float = contacts.contact_float
+    point_float = contacts.point_float
+    states, awake, awake_slot = activity.states, activity.awake, activity.awake_slot
+    solver_inv_mass, solver_inv_inertia = activity.solver_inv_mass, activity.solver_inv_inertia
+    events, body_real, body_int = activity.events, activity.body_real, activity.body_int
+    n_dyn = settings.n_dynamic
+    count = counters[N_ACTIVE]
+    dt = settings.dt
+    g = abs(settings.gravity_y)
     n_awake = counters[N_AWAKE]
     for k in range(n_awake):
         body_int[awake[k], FLOOR_MANIFOLD] = -1
         body_int[awake[k], RS_PARTNER] = -1
     # each moving or sliding body's floor-like manifold this step (the one with most points)
     # and lasting contact between VS and RS bodies (section 5.1)
-    for c in range(count):
+    for kk in range(count):
+        c = contacts.active[kk]
+        if not touching(c, contacts):
+            continue                        # made ahead for a fast body that did not arrive
         a = manifold_int[c, BODY_A]
         b = manifold_int[c, BODY_B]
         for i, other in ((b, a), (a, b)):
@@ -221,10 +230,8 @@ def after_solve(count, settings, bodies, contacts, activity):
         c = body_int[i, FLOOR_MANIFOLD]
         state = states[i]
         if state == _RS:
-            if _slide_or_stop(i, c, dt, g, position, angle, velocity, angular_velocity,
-                              manifold_int, point_float, body_real, body_int, states, awake,
-                              awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
-                              solver_inv_inertia, events):
+            if _slide_or_stop(i, c, dt, g, settings, counters, bodies, contacts,
+                              activity, True):
                 k -= 1                      # the body left the awake list; its slot was refilled
             continue
         if c < 0:
@@ -238,15 +245,17 @@ def after_solve(count, settings, bodies, contacts, activity):
         n_touch = 0
         b = manifold_int[c, BODY_B]
         for j in range(manifold_int[c, POINT_COUNT]):
-            if point_float[c, j, SEPARATION] <= fsettings[SLOP] \
-                    and point_float[c, j, NORMAL_IMPULSE] > 0.0:
+            # CHOICE: a vertex touches when it ends the step within the pair's slop of the
+            # surface, pressing or not (a corner that has just landed and swings the body round
+            # lifts by a fraction of a millimetre for a step: it is still on the surface)
+            if point_float[c, j, END_SEPARATION] <= manifold_float[c, SLOP]:
                 x = point_float[c, j, ANCHOR_BX] + position[b, 0]
                 lo = min(lo, x)
                 hi = max(hi, x)
                 n_touch += 1
         support = manifold_int[c, BODY_A] if b == i else b
         if state == _FREE:
-            if n_touch == 0 or body_real[i, FLOOR_IMPACT] > fsettings[IMPULSE_THRESHOLD]:
+            if n_touch == 0 or body_real[i, FLOOR_IMPACT] > settings.impulse_threshold:
                 continue                    # bouncing by its impulse: stays FREE
         com_x = position[i, 0]
         if n_touch >= 2 and lo <= com_x <= hi:
@@ -254,7 +263,7 @@ def after_solve(count, settings, bodies, contacts, activity):
             # *stays in contact*: set it down on the surface (this step's solve may already have
             # started a bounce, or left it pressed in by up to the slop)
             for j in range(manifold_int[c, POINT_COUNT]):
-                if point_float[c, j, SEPARATION] <= fsettings[SLOP]:
+                if point_float[c, j, END_SEPARATION] <= manifold_float[c, SLOP]:
                     surface = _surface_height(c, j, i, position, angle, manifold_int,
                                               manifold_float, point_float)
             cs = np.cos(angle[i])
@@ -274,10 +283,8 @@ def after_solve(count, settings, bodies, contacts, activity):
             record(events, counters, i, state, _RS, _TWO_VERTICES_ON_FLOOR)
             states[i] = _RS
             body_int[i, LEFT_SUPPORT] = -2
-            if _slide_or_stop(i, c, dt, g, position, angle, velocity, angular_velocity,
-                              manifold_int, point_float, body_real, body_int, states, awake,
-                              awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
-                              solver_inv_inertia, events):
+            if _slide_or_stop(i, c, dt, g, settings, counters, bodies, contacts,
+                              activity, False):
                 k -= 1
             continue
         if n_touch >= 1:
@@ -312,8 +319,7 @@ def after_solve(count, settings, bodies, contacts, activity):
         partner = body_int[i, RS_PARTNER]
         for body in (i, partner):
             if awake_slot[body] >= 0:
-                freeze(body, awake, awake_slot, counters, solver_inv_mass, solver_inv_inertia,
-                       velocity, angular_velocity)
+                freeze(body, settings, counters, bodies, contacts, activity)
                 record(events, counters, body, states[body], states[body],
                        _HELD_BY_CONTACT)
         body_int[i, RS_CONTACT_STEPS] = 0
@@ -380,12 +386,18 @@ def _hold_pivot(i, position, angle, velocity, angular_velocity, inv_mass, inv_in
 
 
 @inline_kernel
-def _slide_or_stop(i, c, dt, g, position, angle, velocity, angular_velocity, manifold_int,
-                   point_float, body_real, body_int, states, awake, awake_slot, counters,
-                   inv_mass, inv_inertia, solver_inv_mass, solver_inv_inertia, events):
+def _slide_or_stop(i, c, dt, g, settings, counters, bodies, contacts, activity, slowed_here):
     """RS: hold the pose's rotation and height, slow the horizontal motion by Coulomb friction,
     freeze the body when it stops, free it when its centre of mass leaves its support (figure 3).
+    ``slowed_here``: friction is applied here (the body was RS, immovable to the solver, during
+    the step); not in the step a body becomes RS, which the solver solved with friction.
     Returns True when the body left the awake list."""
+    position, angle, velocity, angular_velocity = (bodies.position, bodies.angle, bodies.velocity,
+                                                   bodies.angular_velocity)
+    manifold_int = contacts.contact_int
+    point_float = contacts.point_float
+    body_real, body_int, states = activity.body_real, activity.body_int, activity.states
+    events = activity.events
     position[i, 1] = body_real[i, HELD_Y]
     angle[i] = body_real[i, HELD_ANGLE]
     velocity[i, 1] = 0.0
@@ -402,20 +414,37 @@ def _slide_or_stop(i, c, dt, g, position, angle, velocity, angular_velocity, man
                 lo = min(lo, x)
                 hi = max(hi, x)
         if not (lo <= position[i, 0] <= hi):
-            solver_inv_mass[i] = inv_mass[i]
-            solver_inv_inertia[i] = inv_inertia[i]
+            activity.solver_inv_mass[i] = bodies.inv_mass[i]
+            activity.solver_inv_inertia[i] = bodies.inv_inertia[i]
             record(events, counters, i, _RS, _FREE, _COM_OUTSIDE_SUPPORT)
             states[i] = _FREE
             body_int[i, LEFT_SUPPORT] = support     # it tips off that edge, not onto it
             body_int[i, SUPPORT] = -2
             return False
-    dv = body_real[i, SLIDE_MU] * g * dt
+    # Coulomb friction as the solver applies it, substep by substep: this step the solver moved
+    # the body at its speed u (it is immovable to the solver), while friction would have slowed
+    # it by mu g h in each of the substeps: take back the difference, so that a sliding RS body
+    # goes exactly as far as the same body under `off`
+    n_sub = settings.substeps
+    h = dt / n_sub
+    a = body_real[i, SLIDE_MU] * g * h
     vx = velocity[i, 0]
-    if abs(vx) > dv:
+    speed = abs(vx)
+    dv = a * n_sub
+    if not slowed_here:
+        # the solver slowed it this step: it stops now if one more step of friction would
+        if speed > dv:
+            return False
+        velocity[i, 0] = 0.0
+        speed = 0.0
+    travelled = 0.0
+    for j in range(1, n_sub + 1):
+        travelled += h * max(speed - j * a, 0.0)
+    position[i, 0] += (travelled - dt * speed) if vx > 0 else (dt * speed - travelled)
+    if speed > dv:
         velocity[i, 0] = vx - dv if vx > 0 else vx + dv
         return False
     velocity[i, 0] = 0.0
-    freeze(i, awake, awake_slot, counters, solver_inv_mass, solver_inv_inertia, velocity,
-           angular_velocity)
+    freeze(i, settings, counters, bodies, contacts, activity)
     record(events, counters, i, _RS, _RS, _STOPPED_SLIDING)
     return True

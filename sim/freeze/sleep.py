@@ -15,15 +15,14 @@ awake), body_int[:, PARENT] union-find scratch.
 import numpy as np
 
 from ..activity import CAUSE, freeze, record, wake
-from ..contacts import BODY_A, BODY_B
+from ..data import BODY_A, BODY_B, N_ACTIVE, N_AWAKE
 from ..jit import inline_kernel, kernel
-from ..layout import DT, N_AWAKE, N_DYNAMIC, SLEEP_SPEED, SLEEP_TIME
+from .contact_math import arriving, touching
 from ..state import State
 
 NAME = "sleep"
 PARAMETERS = {"sleep_speed": 0.05, "sleep_time": 0.5}
-FLOAT_SETTINGS = {"sleep_speed": SLEEP_SPEED, "sleep_time": SLEEP_TIME}
-INT_SETTINGS = {}
+INT_PARAMETERS = ()          # parameters that are counts (the rest are reals)
 TIMER = 0
 REAL_COLUMNS = 1
 NEXT, PARENT = 0, 1
@@ -54,19 +53,20 @@ def _find(parent, i):
 
 
 @kernel
-def before_solve(count, settings, bodies, contacts, activity):
+def before_solve(settings, counters, bodies, contacts, activity):
     """An awake body touching a sleeping one wakes that body's whole island, before the solve, so
     the touch is solved between moving bodies. Returns the number of bodies woken."""
-    fsettings, isettings, counters = settings
-    inv_mass, inv_inertia = bodies[4], bodies[5]
-    manifold_int = contacts[1]
-    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
-        _, _ = activity
-    n_dyn = isettings[N_DYNAMIC]
+    ci = contacts.contact_int
+    states, awake_slot, events = activity.states, activity.awake_slot, activity.events
+    body_real, body_int = activity.body_real, activity.body_int
+    n_dyn = settings.n_dynamic
     woken = 0
-    for c in range(count):
-        a = manifold_int[c, BODY_A]
-        b = manifold_int[c, BODY_B]
+    for k in range(counters[N_ACTIVE]):
+        c = contacts.active[k]
+        if not arriving(c, settings.dt, bodies, contacts):
+            continue                        # made ahead: the mover reaches it in a later step
+        a = ci[c, BODY_A]
+        b = ci[c, BODY_B]
         for sleeper, other in ((a, b), (b, a)):
             if 0 <= sleeper < n_dyn and awake_slot[sleeper] < 0 and 0 <= other < n_dyn \
                     and awake_slot[other] >= 0:
@@ -75,8 +75,7 @@ def before_solve(count, settings, bodies, contacts, activity):
                     nxt = body_int[i, NEXT]
                     body_int[i, NEXT] = -1
                     body_real[i, TIMER] = 0.0
-                    wake(i, awake, awake_slot, counters, inv_mass, inv_inertia, solver_inv_mass,
-                         solver_inv_inertia)
+                    wake(i, settings, counters, bodies, contacts, activity)
                     states[i] = _FREE
                     record(events, counters, i, _SLEEPING, _FREE,
                            _TOUCHED if i == sleeper else _BY_ISLAND)
@@ -88,20 +87,20 @@ def before_solve(count, settings, bodies, contacts, activity):
 
 
 @kernel
-def after_solve(count, settings, bodies, contacts, activity):
+def after_solve(settings, counters, bodies, contacts, activity):
     """Idle timers, islands, and islands falling asleep."""
-    fsettings, isettings, counters = settings
-    velocity, angular_velocity, extent = bodies[2], bodies[3], bodies[11]
-    manifold_int = contacts[1]
-    states, awake, awake_slot, solver_inv_mass, solver_inv_inertia, events, body_real, body_int, \
-        _, _ = activity
-    n_dyn = isettings[N_DYNAMIC]
-    dt = fsettings[DT]
+    velocity, angular_velocity, extent = bodies.velocity, bodies.angular_velocity, bodies.extent
+    ci = contacts.contact_int
+    states, awake, awake_slot, events = (activity.states, activity.awake, activity.awake_slot,
+                                         activity.events)
+    body_real, body_int = activity.body_real, activity.body_int
+    n_dyn = settings.n_dynamic
+    dt = settings.dt
     n_awake = counters[N_AWAKE]
     if n_awake == 0:
         return
     # idle timers
-    limit = fsettings[SLEEP_SPEED]
+    limit = settings.sleep_speed
     longest = 0.0
     for k in range(n_awake):
         i = awake[k]
@@ -115,14 +114,16 @@ def after_solve(count, settings, bodies, contacts, activity):
         else:
             body_real[i, TIMER] = 0.0
         body_int[i, PARENT] = i
-    if longest < fsettings[SLEEP_TIME]:
+    if longest < settings.sleep_time:
         return                   # no island can sleep: skip building them
     # islands of touching awake bodies (union-find over this step's manifolds)
     parent = body_int[:, PARENT]
-    for c in range(count):
-        a = manifold_int[c, BODY_A]
-        b = manifold_int[c, BODY_B]
-        if 0 <= a < n_dyn and b < n_dyn and awake_slot[a] >= 0 and awake_slot[b] >= 0:
+    for k in range(counters[N_ACTIVE]):
+        c = contacts.active[k]
+        a = ci[c, BODY_A]
+        b = ci[c, BODY_B]
+        if 0 <= a < n_dyn and b < n_dyn and awake_slot[a] >= 0 and awake_slot[b] >= 0 \
+                and touching(c, contacts):
             ra = _find(parent, a)
             rb = _find(parent, b)
             if ra != rb:
@@ -140,7 +141,7 @@ def after_solve(count, settings, bodies, contacts, activity):
     sleeper_island = np.empty(n_awake, np.int64)
     n_sleep = 0
     for k in range(n_awake):
-        if island_min[root_slot[k]] >= fsettings[SLEEP_TIME]:
+        if island_min[root_slot[k]] >= settings.sleep_time:
             sleepers[n_sleep] = awake[k]
             sleeper_island[n_sleep] = root_slot[k]
             n_sleep += 1
@@ -165,7 +166,6 @@ def after_solve(count, settings, bodies, contacts, activity):
             first[s] = -1
     for k in range(n_sleep):
         i = sleepers[k]
-        freeze(i, awake, awake_slot, counters, solver_inv_mass, solver_inv_inertia, velocity,
-               angular_velocity)
+        freeze(i, settings, counters, bodies, contacts, activity)
         states[i] = _SLEEPING
         record(events, counters, i, _FREE, _SLEEPING, _TIMER)

@@ -1,0 +1,107 @@
+"""Stage ``continuous``: fast bodies swept through the step, so that none passes through a body.
+
+Speculative contacts (``contacts.update_manifolds`` makes them as far ahead as a pair can close in
+one step) stop most fast bodies. They can miss: a contact is made from the poses at the start of
+the step, and a body that turns, or passes a corner, meets features no manifold held. So after
+the solve, every awake body that moved more than FAST_FRACTION of its own size in the step is
+swept from its start pose to its end pose (linear in position and angle) against the static and
+frozen bodies its swept box reaches, and a *bullet* (``Body(bullet=True)``) against the awake
+bodies too, each moving along its own sweep. The body is put back to the earliest time of impact
+(``continuous.time_of_impact``), keeping its velocity: the next step's contact stops it there.
+
+A pair the contact solver has handled is left alone: one already within its slop at the start of
+the step (touching, not tunnelling: the sweep would stop the body dead on every resting contact),
+and one that first meets during the step but ends it touching, or overlapping by less than
+OVERLAP_FRACTION of the thinner body (a speculative contact stopped it there; cutting it back to
+the first touch would leave it a slop short of where the same body lands against a body that
+moves, and a frozen body must change nothing the solver would have done). The body is cut back
+only when it ended the step apart again, having passed through, or deep inside.
+"""
+import numpy as np
+
+from .broadphase import query_box
+from .continuous import swept_aabb, time_of_impact
+from .data import DPX, DPY, N_AWAKE, N_IMPACTS, N_SWEPT, TURN
+from .jit import inline_kernel, kernel
+
+#: a body is swept when it moved more than this fraction of its size (thinnest width) in a step
+FAST_FRACTION = 0.5
+#: conservative-advancement iterations allowed per pair (the result is safe when they run out)
+MAX_ITERATIONS = 60
+#: a body that ends the step inside another by more than this fraction of the thinner body's size
+#: is cut back to its time of impact (see the module docstring)
+OVERLAP_FRACTION = 0.25
+
+
+@inline_kernel
+def _pose(bodies, solver, i, row, end):
+    """(x, y, angle) of body i at the start (end=0) or the end (end=1) of this step; rows of
+    awake bodies hold the step's displacement (``soft_step``), resting bodies do not move."""
+    x = bodies.position[i, 0]
+    y = bodies.position[i, 1]
+    a = bodies.angle[i]
+    if end == 1 and row > 0:
+        x += solver.state[row, DPX]
+        y += solver.state[row, DPY]
+        a += solver.state[row, TURN]
+    return (x, y, a)
+
+
+@kernel
+def sweep_fast_bodies(settings, counters, bodies, geometry, awake_grid, resting_grid, activity,
+                      solver, found):
+    """Sweep every fast awake body (see the module docstring) and cut its displacement this step
+    (solver row) back to its first time of impact. Returns the number of bodies cut back."""
+    state = solver.state
+    vs = bodies.vert_start
+    cut = 0
+    for k in range(counters[N_AWAKE]):
+        i = activity.awake[k]
+        r = k + 1
+        dx = state[r, DPX]
+        dy = state[r, DPY]
+        turn = state[r, TURN]
+        travel = np.sqrt(dx * dx + dy * dy) + abs(turn) * bodies.extent[i]
+        if not (travel > FAST_FRACTION * bodies.size[i]) or not np.isfinite(travel):
+            continue                       # slow, or non-finite (the divergence check's job)
+        counters[N_SWEPT] += 1
+        start = _pose(bodies, solver, i, r, 0)
+        end = _pose(bodies, solver, i, r, 1)
+        lo_x, lo_y, hi_x, hi_y = swept_aabb(bodies.local_verts, vs[i], vs[i + 1], start, end,
+                                            bodies.speculative[i])
+        first = 1.0
+        for grid_kind in range(2):
+            if grid_kind == 1 and not bodies.bullet[i]:
+                break
+            grid = resting_grid if grid_kind == 0 else awake_grid
+            n = query_box(grid, geometry.fat, lo_x, lo_y, hi_x, hi_y, settings.cell_size, found)
+            for q in range(n):
+                j = found[q]
+                if j == i:
+                    continue
+                rj = 0
+                if j < settings.n_dynamic and activity.awake_slot[j] >= 0:
+                    rj = activity.awake_slot[j] + 1
+                target = min(bodies.slop[i], bodies.slop[j])
+                j_end = _pose(bodies, solver, j, rj, 1)
+                t, _ = time_of_impact(bodies.local_verts, bodies.local_normals, vs[i], vs[i + 1],
+                                      vs[j], vs[j + 1], start, end, _pose(bodies, solver, j, rj, 0),
+                                      j_end, target, 0.25 * target, MAX_ITERATIONS,
+                                      geometry.toi_scratch)
+                if not 0.0 < t < first:
+                    continue
+                # where the step left them: a sweep of zero length measures it
+                _, apart = time_of_impact(bodies.local_verts, bodies.local_normals, vs[i],
+                                          vs[i + 1], vs[j], vs[j + 1], end, end, j_end, j_end,
+                                          target, 0.25 * target, 1, geometry.toi_scratch)
+                deep = OVERLAP_FRACTION * min(bodies.size[i], bodies.size[j])
+                if apart > target or apart < -deep:
+                    first = t
+        if first < 1.0:
+            state[r, DPX] = first * dx
+            state[r, DPY] = first * dy
+            state[r, TURN] = first * turn
+            counters[N_IMPACTS] += 1
+            cut += 1
+    return cut
+

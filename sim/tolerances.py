@@ -1,0 +1,74 @@
+"""Length tolerances that scale with the bodies, and the limit of what a time step can resolve.
+
+The solver's length tolerances were absolute (5 mm slop, 2 cm speculative distance): fine for 1 m
+boxes, 50-200 times a 0.1 mm box. Each is now a fraction of the *smaller* body's size (its thinnest
+width), with the World's setting as the cap, so a 1 m box sees exactly the old values and a 1 mm box
+a thousandth of them:
+
+  contact slop        min(slop, SLOP_FRACTION * size)         touching within this counts as touching
+  speculative reach   min(speculative_distance, SPECULATIVE_FRACTION * size)
+                      + the distance the pair can close in one step (relative speed * dt): a
+                      contact exists before bodies meet, however fast they approach
+  face-choice bias    FACE_FRACTION * contact slop            (reference face kept unless the other
+                                                              polygon's face is better by this)
+  fat-box margin      min(speculative_distance, MARGIN_FRACTION * size)   a pair persists while the
+                                                              boxes grown by this overlap
+
+What no tolerance can fix is a body too small for the step: its contacts must be stiff relative to
+gravity at its size, and a contact's stiffness is bounded by the substep rate (``soft_step``).
+``check_step`` refuses such a scene, naming the body and the substeps or dt that would resolve it.
+"""
+import math
+
+import numpy as np
+
+from .jit import inline_kernel
+
+SLOP_FRACTION = 0.005          # of size: 5 mm at 1 m (the cap)
+SPECULATIVE_FRACTION = 0.02    # of size: 2 cm at 1 m (the cap)
+FACE_FRACTION = 0.02           # of the pair slop: 1e-4 m at 5 mm, today's value
+MARGIN_FRACTION = 0.02         # of size: 2 cm at 1 m (the cap)
+
+
+@inline_kernel
+def pair_size(size, a, b):
+    """The size that sets a pair's tolerances: the smaller body's (a = -1 is the floor)."""
+    if a < 0:
+        return size[b]
+    return min(size[a], size[b])
+
+
+def body_slop(size, slop):
+    """(M,) m: each body's own contact slop (vectorised; the pair takes the smaller)."""
+    return np.minimum(slop, SLOP_FRACTION * np.asarray(size))
+
+
+def body_speculative(size, speculative_distance):
+    """(M,) m: each body's resting speculative reach."""
+    return np.minimum(speculative_distance, SPECULATIVE_FRACTION * np.asarray(size))
+
+
+def body_margin(size, speculative_distance):
+    """(M,) m: each body's fat-box margin."""
+    return np.minimum(speculative_distance, MARGIN_FRACTION * np.asarray(size))
+
+
+def check_step(sizes, names, dt, substeps, gravity):
+    """Raise ValueError if the smallest dynamic body is too small for the step: its contacts
+    must be stiff relative to gravity at its size (omega^2 >= STIFFNESS_RATIO g / size, see
+    ``soft_step``) and no stiffer than DYNAMIC_CAP of the substep rate. ``names(i)`` names body
+    i; the message says which substeps (or dt) would resolve it."""
+    from .soft_step import DYNAMIC_CAP, STIFFNESS_RATIO
+    if len(sizes) == 0 or gravity == 0.0:
+        return
+    i = int(np.argmin(sizes))
+    need = math.sqrt(STIFFNESS_RATIO * gravity / sizes[i]) / (2.0 * math.pi)      # Hz
+    rate = substeps / dt                                                           # Hz
+    if need > DYNAMIC_CAP * rate:
+        raise ValueError(
+            f"{names(i)} is {sizes[i]:.3g} m thick: its contacts would need {need:.3g} Hz "
+            f"of stiffness to hold it up without rocking, and at dt={dt:.4g} s with {substeps} "
+            f"substeps a contact can be at most {DYNAMIC_CAP * rate:.3g} Hz stiff (1/"
+            f"{1 / DYNAMIC_CAP:.0f} of the substep rate). Use substeps >= "
+            f"{math.ceil(need / DYNAMIC_CAP * dt)} (or dt <= {substeps * DYNAMIC_CAP / need:.3g} "
+            f"s), or larger bodies")

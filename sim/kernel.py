@@ -136,7 +136,7 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
         t = _lap(settings, solver, STAGE_WARM_START, t)
         for _ in range(settings.iterations):
             solve(n_colours, solver.colour_batches, solver.wide, solver.lane_row, solver.state,
-                  inv_h, settings.push_speed, settings.fast_friction)
+                  inv_h, settings.push_speed)
         t = _lap(settings, solver, STAGE_SOLVE, t)
         integrate_positions(n_awake, solver.state, h)
         t = _lap(settings, solver, STAGE_INTEGRATE, t)

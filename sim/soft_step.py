@@ -74,23 +74,23 @@ LOAD_TIME = 1.0 / 3.0
 MAX_CONDITION = 1000.0
 #: Restitution sweeps after the substeps (see ``restitution``).
 RESTITUTION_SWEEPS = 4
-FRICTION_IN_SOLVE = True
 _U = np.uint64
 _L = _U(LANES)
-_FIELDS = ("NX NY MU E MA IA MB IB BIAS_RATE MASS_SCALE IMPULSE_SCALE K12 IK11 IK12 IK22 BLOCK "
-           "RAX1 RAY1 RBX1 RBY1 BASE1 NMASS1 TMASS1 PN1 PT1 TN1 TT1 RELV1 LN1 "
-           "RAX2 RAY2 RBX2 RBY2 BASE2 NMASS2 TMASS2 PN2 PT2 TN2 TT2 RELV2 LN2 "
+_FIELDS = ("NX NY MU E MA IA MB IB BIAS_RATE MASS_SCALE IMPULSE_SCALE "
+           "RAX1 RAY1 RBX1 RBY1 BASE1 NMASS1 ON1 PN1 PT1 TN1 TT1 RELV1 LN1 "
+           "RAX2 RAY2 RBX2 RBY2 BASE2 NMASS2 ON2 PN2 PT2 TN2 TT2 RELV2 LN2 "
            "VAX VAY WA DPAX DPAY QCA QSA VBX VBY WB DPBX DPBY QCB QSB").split()
 #: number of fields of a batch; field F of lane l of batch b is wide[b * STRIDE + F + l]
 N_FIELDS = len(_FIELDS)
 STRIDE = N_FIELDS * LANES
-(NX, NY, MU, E, MA, IA, MB, IB, BIAS_RATE, MASS_SCALE, IMPULSE_SCALE, K12, IK11, IK12, IK22, BLOCK,
- RAX1, RAY1, RBX1, RBY1, BASE1, NMASS1, TMASS1, PN1, PT1, TN1, TT1, RELV1, LN1,
- RAX2, RAY2, RBX2, RBY2, BASE2, NMASS2, TMASS2, PN2, PT2, TN2, TT2, RELV2, LN2,
+(NX, NY, MU, E, MA, IA, MB, IB, BIAS_RATE, MASS_SCALE, IMPULSE_SCALE,
+ RAX1, RAY1, RBX1, RBY1, BASE1, NMASS1, ON1, PN1, PT1, TN1, TT1, RELV1, LN1,
+ RAX2, RAY2, RBX2, RBY2, BASE2, NMASS2, ON2, PN2, PT2, TN2, TT2, RELV2, LN2,
  VAX, VAY, WA, DPAX, DPAY, QCA, QSA, VBX, VBY, WB, DPBX, DPBY, QCB, QSB) = [
     _U(k * LANES) for k in range(N_FIELDS)]
-#: offset of point 2's fields from point 1's
+#: offset of point 2's fields from point 1's, and the number of fields per point
 _P2 = _U((RAX2 - RAX1))
+_POINT_FIELDS = int(RAX2 - RAX1) // LANES
 _STRIDE = _U(STRIDE)
 
 
@@ -293,29 +293,25 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
         o = _U(b) * _STRIDE
         for lane in range(LANES):
             l = _U(lane)
-            for f in range(N_FIELDS):
-                wide[o + _U(f) * _L + l] = 0.0
             e = b * LANES + lane
             ob = _U(2 * b * LANES + lane)
             s = solver.lane_slot[e]
-            if s < 0:
+            if s < 0:                              # padding: every field zero, no effect
                 solver.lane_row[ob] = _U(0)
                 solver.lane_row[ob + _L] = _U(0)
+                for f in range(N_FIELDS):
+                    wide[o + _U(f) * _L + l] = 0.0
                 continue
             a = ci[s, BODY_A]
             bb = ci[s, BODY_B]
-            ra = row_of(a, n_dyn, awake_slot)
-            rb = row_of(bb, n_dyn, awake_slot)
-            solver.lane_row[ob] = _U(ra)
-            solver.lane_row[ob + _L] = _U(rb)
+            solver.lane_row[ob] = _U(row_of(a, n_dyn, awake_slot))
+            solver.lane_row[ob + _L] = _U(row_of(bb, n_dyn, awake_slot))
             ma = inv_mass[a] if a >= 0 else 0.0
             ia = inv_inertia[a] if a >= 0 else 0.0
             mb = inv_mass[bb]
             ib = inv_inertia[bb]
             nx = cf[s, NORMAL_X]
             ny = cf[s, NORMAL_Y]
-            tx = ny
-            ty = -nx
             wide[o + NX + l] = nx
             wide[o + NY + l] = ny
             wide[o + MU + l] = cf[s, FRICTION]
@@ -324,8 +320,6 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
             wide[o + IA + l] = ia
             wide[o + MB + l] = mb
             wide[o + IB + l] = ib
-            immovable = (ma == 0.0 and ia == 0.0) or (mb == 0.0 and ib == 0.0)
-            size = bodies.size[bb] if a < 0 else min(bodies.size[a], bodies.size[bb])
             if a >= 0:
                 vax = velocity[a, 0]
                 vay = velocity[a, 1]
@@ -337,8 +331,13 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
             vbx = velocity[bb, 0]
             vby = velocity[bb, 1]
             wb = angular_velocity[bb]
-            for j in range(ci[s, POINT_COUNT]):
+            n_points = ci[s, POINT_COUNT]
+            for j in range(2):
                 p = _P2 * _U(j)
+                if j >= n_points:                  # a one-point lane: its second point is void
+                    for f in range(_POINT_FIELDS):
+                        wide[o + p + RAX1 + _U(f) * _L + l] = 0.0
+                    continue
                 rax = pf[s, j, ANCHOR_AX]
                 ray = pf[s, j, ANCHOR_AY]
                 rbx = pf[s, j, ANCHOR_BX]
@@ -353,45 +352,25 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
                 rna = rax * ny - ray * nx
                 rnb = rbx * ny - rby * nx
                 k_normal = ma + mb + ia * rna * rna + ib * rnb * rnb
+                # the point's mass at the start of the step (restitution's; the rows recompute
+                # theirs from their arms each sweep)
                 wide[o + p + NMASS1 + l] = 1.0 / k_normal if k_normal > 0.0 else 0.0
-                rta = rax * ty - ray * tx
-                rtb = rbx * ty - rby * tx
-                k_tangent = ma + mb + ia * rta * rta + ib * rtb * rtb
-                wide[o + p + TMASS1 + l] = 1.0 / k_tangent if k_tangent > 0.0 else 0.0
+                wide[o + p + ON1 + l] = 1.0 if k_normal > 0.0 else 0.0   # the point exists
                 wide[o + p + PN1 + l] = warm * pf[s, j, WARM_NORMAL]
                 wide[o + p + PT1 + l] = warm * pf[s, j, WARM_TANGENT]
+                wide[o + p + TN1 + l] = 0.0
+                wide[o + p + TT1 + l] = 0.0
                 wide[o + p + LN1 + l] = warm * pf[s, j, CARRIED]
                 dvx = vbx - wb * rby - vax + wa * ray
                 dvy = vby + wb * rbx - vay - wa * rax
                 wide[o + p + RELV1 + l] = dvx * nx + dvy * ny
-            if ci[s, POINT_COUNT] == 2:
-                _block(wide, o, l, ma, mb, ia, ib, nx, ny)
+            immovable = (ma == 0.0 and ia == 0.0) or (mb == 0.0 and ib == 0.0)
+            size = bodies.size[bb] if a < 0 else min(bodies.size[a], bodies.size[bb])
             hertz = pair_hertz(settings.contact_hertz, size, g, h, immovable)
             bias_rate, mass_scale, impulse_scale = softness(hertz, settings.damping_ratio, h)
             wide[o + BIAS_RATE + l] = bias_rate
             wide[o + MASS_SCALE + l] = mass_scale
             wide[o + IMPULSE_SCALE + l] = impulse_scale
-
-
-@inline_kernel
-def _block(wide, o, l, ma, mb, ia, ib, nx, ny):
-    """A two-point lane's normal-mass matrix K (1/kg): its coupling K12 (the second point's
-    normal velocity change per unit impulse at the first) and, when K is well conditioned, its
-    inverse, for solving both points at once (see ``_normal_rows``)."""
-    rn1a = wide[o + RAX1 + l] * ny - wide[o + RAY1 + l] * nx
-    rn1b = wide[o + RBX1 + l] * ny - wide[o + RBY1 + l] * nx
-    rn2a = wide[o + RAX2 + l] * ny - wide[o + RAY2 + l] * nx
-    rn2b = wide[o + RBX2 + l] * ny - wide[o + RBY2 + l] * nx
-    k11 = ma + mb + ia * rn1a * rn1a + ib * rn1b * rn1b
-    k22 = ma + mb + ia * rn2a * rn2a + ib * rn2b * rn2b
-    k12 = ma + mb + ia * rn1a * rn2a + ib * rn1b * rn2b
-    det = k11 * k22 - k12 * k12
-    wide[o + K12 + l] = k12
-    if det > 0.0 and k11 * k11 < MAX_CONDITION * det:
-        wide[o + IK11 + l] = k22 / det
-        wide[o + IK12 + l] = -k12 / det
-        wide[o + IK22 + l] = k11 / det
-        wide[o + BLOCK + l] = 1.0
 
 
 # ---- the batch kernels --------------------------------------------------------------------------
@@ -622,7 +601,7 @@ def _friction_point(wide, o, l, p, nx, ny):
     rtb = rbx * ty - rby * tx
     k = (wide[o + MA + l] + wide[o + MB + l] + wide[o + IA + l] * rta * rta
          + wide[o + IB + l] * rtb * rtb)
-    tm = 1.0 / k if (k > 0.0 and wide[o + p + TMASS1 + l] > 0.0) else 0.0
+    tm = 1.0 / k if (k > 0.0 and wide[o + p + ON1 + l] > 0.0) else 0.0
     old = wide[o + p + PT1 + l]
     limit = wide[o + MU + l] * wide[o + p + PN1 + l]
     new = _fmin(limit, _fmax(-limit, old - tm * vt))
@@ -667,11 +646,13 @@ def _solve_batches(first, last, wide, lane_row, state, inv_h, push, use_bias, fr
 
 
 @wide_kernel
-def solve(n_colours, colour_batches, wide, lane_row, state, inv_h, push, skip_frictionless):
-    """One biased sweep over every batch, colour by colour (normal and friction rows)."""
+def solve(n_colours, colour_batches, wide, lane_row, state, inv_h, push):
+    """One biased sweep over every batch, colour by colour: normal rows only (friction is solved
+    in the relax sweeps, as Box2D v3 does: with it here too a sweep cost ~40% more, and no
+    test of the physics got better)."""
     for c in range(n_colours):
         _solve_batches(colour_batches[c], colour_batches[c + 1], wide, lane_row, state, inv_h,
-                       push, True, FRICTION_IN_SOLVE, skip_frictionless)
+                       push, True, False, False)
 
 
 @wide_kernel

@@ -7,7 +7,7 @@ new partners or loses old ones. A resting pile refits nothing and costs one box 
 
 Bodies are indexed 0..M-1, the N dynamic ones first. Awake bodies are found through a grid of their
 fat boxes, rebuilt in a step in which any of them moved; static and frozen bodies through the
-*resting grid*, rebuilt only when the frozen set changes (DESIGN: frozen bodies cost nothing per
+*resting grid*, rebuilt only when the frozen set changes (ARCHITECTURE §3: frozen bodies cost nothing per
 step). Grids live in preallocated buffers (``data.Grid``): a build that does not fit reports the
 sizes it needs, and the step returns GROW before anything else has changed.
 """

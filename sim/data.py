@@ -56,8 +56,8 @@ class Settings(NamedTuple):
 # ---- counters (int64 array, persisting across World.step calls) --------------------------------
 (STEP_COUNT, N_ACTIVE, BAD_BODY, PRESOLVE_SWEEPS, N_AWAKE, N_EVENTS, RESTING_DIRTY, N_LINKS,
  N_SLOTS, FREE_HEAD, N_LIVE, N_AWAKE_CONTACTS, N_MOVED, MAX_DEGREE, N_BATCHES, N_COLOURS,
- N_SWEPT, N_IMPACTS, GROW_NEEDED, N_REBUILDS, AWAKE_UNSORTED, N_REFRESHED) = range(22)
-N_COUNTERS = 22
+ N_SWEPT, N_IMPACTS, GROW_NEEDED, N_REBUILDS, AWAKE_UNSORTED, N_REFRESHED, N_HARD) = range(23)
+N_COUNTERS = 23
 # GROW_NEEDED bits: which buffer the kernel found too small (the World grows it and retries)
 GROW_CONTACTS, GROW_AWAKE_GRID, GROW_RESTING_GRID, GROW_SOLVER = 1, 2, 4, 8
 
@@ -177,6 +177,8 @@ class Solver(NamedTuple):
     wide: np.ndarray              # flat float64: constraint batches (see soft_step.py)
     lane_row: np.ndarray          # flat uint64: solver rows of each lane's bodies A, B
     lane_slot: np.ndarray         # flat int64: contact slot of each lane, -1 padding
+    batch_hard: np.ndarray        # (B,) bool: the batch touches a body in a high mass ratio contact
+    row_mark: np.ndarray          # (N+1,) bool scratch: rows in a high mass ratio contact
     profile: np.ndarray           # (N_STAGES,) int64 cycle counts per stage (settings.profile)
     steps_profiled: np.ndarray    # (1,) int64
 

@@ -28,7 +28,7 @@ from .broadphase import build_grid, drop_stale_pairs, find_new_pairs, update_geo
 from .clock import cycles
 from .contacts import sort_awake, update_manifolds
 from .data import (BAD_BODY, GROW_AWAKE_GRID, GROW_NEEDED, GROW_RESTING_GRID, GROW_SOLVER,
-                   MAX_DEGREE, N_AWAKE, N_BATCHES, N_COLOURS, N_EVENTS, N_LIVE,
+                   MAX_DEGREE, N_AWAKE, N_BATCHES, N_COLOURS, N_EVENTS, N_HARD, N_LIVE,
                    N_MOVED, N_REBUILDS, PRESOLVE_SWEEPS, RESTING_DIRTY, STAGE_BROADPHASE,
                    STAGE_COLOUR, STAGE_CONTINUOUS, STAGE_FINALIZE, STAGE_FREEZE_AFTER,
                    STAGE_FREEZE_BEFORE, STAGE_INTEGRATE, STAGE_NARROWPHASE, STAGE_PREPARE,
@@ -37,9 +37,9 @@ from .data import (BAD_BODY, GROW_AWAKE_GRID, GROW_NEEDED, GROW_RESTING_GRID, GR
 from .freeze.dispatch import freeze_after_solve, freeze_before_solve
 from .sweep import sweep_fast_bodies
 from .jit import inline_kernel, kernel
-from .soft_step import (LANES, colour, deepest_separation, integrate_positions,
+from .soft_step import (HARD_SWEEPS, LANES, colour, deepest_separation, integrate_positions,
                         integrate_velocities, lane_normal_impulse, load_bodies, prepare, relax,
-                        restitution, solve, store, unload_bodies, warm_start)
+                        relax_hard, restitution, solve, store, unload_bodies, warm_start)
 
 OK, GROW, NON_FINITE, FLUSH = 0, 1, 2, 3
 
@@ -143,6 +143,10 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
         for _ in range(settings.relax_iterations):
             relax(n_colours, solver.colour_batches, solver.wide, solver.lane_row, solver.state,
                   inv_h, settings.fast_friction)
+        if counters[N_HARD] > 0:
+            for _ in range(HARD_SWEEPS):
+                relax_hard(n_colours, solver.colour_batches, solver.wide, solver.lane_row,
+                           solver.state, inv_h, settings.fast_friction, solver.batch_hard)
         t = _lap(settings, solver, STAGE_RELAX, t)
     restitution(n_colours, solver.colour_batches, solver.wide, solver.lane_row, solver.state,
                 settings.restitution_threshold)

@@ -37,7 +37,7 @@ from numba.cpython.unsafe.numbers import trailing_zeros
 
 from .data import (ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, CARRIED, DPX, DPY,
                    DQC, DQS, END_SEPARATION,
-                   FRICTION, N_ACTIVE, N_AWAKE, N_BATCHES, N_COLOURS, NORMAL_IMPULSE,
+                   FRICTION, N_ACTIVE, N_AWAKE, N_BATCHES, N_COLOURS, N_HARD, NORMAL_IMPULSE,
                    NORMAL_VELOCITY, NORMAL_X, NORMAL_Y, POINT_COUNT, RESTITUTION, SEPARATION,
                    TANGENT_IMPULSE, TURN, VX, VY, W, WARM_NORMAL, WARM_TANGENT)
 from .jit import inline_kernel, lean_kernel, wide_inline, wide_kernel
@@ -72,6 +72,14 @@ LOAD_TIME = 1.0 / 3.0
 #: A two-point manifold is solved as one 2x2 block unless K's condition number is worse than this
 #: (the points nearly coincide): then point by point.
 MAX_CONDITION = 1000.0
+#: A contact between movable bodies whose masses differ more than this is "hard": Gauss-Seidel
+#: converges on it at ~M/(M+m) per sweep (a heavy box on a light one sinks into it while the
+#: light one is pushed into the floor). HARD_SWEEPS more relax sweeps per substep go to the batches
+#: that touch a body in such a contact, and only to them: a 1000:1 stack dropped onto the floor
+#: toppled with one relax sweep and stands with three (final overlap 4 mm), at no cost to scenes
+#: without mass ratios.
+HARD_RATIO = 10.0
+HARD_SWEEPS = 2
 #: Restitution sweeps after the substeps (see ``restitution``).
 RESTITUTION_SWEEPS = 4
 _U = np.uint64
@@ -371,6 +379,43 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
             wide[o + BIAS_RATE + l] = bias_rate
             wide[o + MASS_SCALE + l] = mass_scale
             wide[o + IMPULSE_SCALE + l] = impulse_scale
+    counters[N_HARD] = _mark_hard(counters[N_BATCHES], wide, solver)
+
+
+@inline_kernel
+def _mark_hard(n_batches, wide, solver):
+    """Flag the batches that touch a body in a contact of mass ratio > HARD_RATIO (both bodies
+    movable); returns how many."""
+    found = False
+    for b in range(n_batches):
+        o = _U(b) * _STRIDE
+        for lane in range(LANES):
+            l = _U(lane)
+            ma = wide[o + MA + l]
+            mb = wide[o + MB + l]
+            if ma > 0.0 and mb > 0.0 and (ma > HARD_RATIO * mb or mb > HARD_RATIO * ma):
+                ob = _U(2 * b * LANES + lane)
+                solver.row_mark[solver.lane_row[ob]] = True
+                solver.row_mark[solver.lane_row[ob + _L]] = True
+                found = True
+    n_hard = 0
+    for b in range(n_batches):
+        hard = False
+        if found:
+            for lane in range(LANES):
+                ob = _U(2 * b * LANES + lane)
+                ra = solver.lane_row[ob]
+                rb = solver.lane_row[ob + _L]
+                hard = hard or (ra > 0 and solver.row_mark[ra]) or (rb > 0 and solver.row_mark[rb])
+        solver.batch_hard[b] = hard
+        n_hard += 1 if hard else 0
+    if found:
+        for b in range(n_batches):
+            for lane in range(LANES):
+                ob = _U(2 * b * LANES + lane)
+                solver.row_mark[solver.lane_row[ob]] = False
+                solver.row_mark[solver.lane_row[ob + _L]] = False
+    return n_hard
 
 
 # ---- the batch kernels --------------------------------------------------------------------------
@@ -623,8 +668,10 @@ def _frictionless(wide, o):
 
 @wide_inline
 def _solve_batches(first, last, wide, lane_row, state, inv_h, push, use_bias, friction,
-                   skip_frictionless):
+                   skip_frictionless, only_hard, batch_hard):
     for b in range(_U(first), _U(last)):
+        if only_hard and not batch_hard[b]:
+            continue
         o = b * _STRIDE
         ob = b * _U(2) * _L
         _gather(wide, o, lane_row, ob, state)
@@ -652,7 +699,7 @@ def solve(n_colours, colour_batches, wide, lane_row, state, inv_h, push):
     test of the physics got better)."""
     for c in range(n_colours):
         _solve_batches(colour_batches[c], colour_batches[c + 1], wide, lane_row, state, inv_h,
-                       push, True, False, False)
+                       push, True, False, False, False, lane_row)
 
 
 @wide_kernel
@@ -661,7 +708,16 @@ def relax(n_colours, colour_batches, wide, lane_row, state, inv_h, skip_friction
     ``skip_frictionless``: the "friction" fast path (see ``_frictionless``)."""
     for c in range(n_colours):
         _solve_batches(colour_batches[c], colour_batches[c + 1], wide, lane_row, state, inv_h,
-                       0.0, False, True, skip_frictionless)
+                       0.0, False, True, skip_frictionless, False, lane_row)
+
+
+@wide_kernel
+def relax_hard(n_colours, colour_batches, wide, lane_row, state, inv_h, skip_frictionless,
+               batch_hard):
+    """One more unbiased sweep over the batches flagged hard only (see HARD_RATIO)."""
+    for c in range(n_colours):
+        _solve_batches(colour_batches[c], colour_batches[c + 1], wide, lane_row, state, inv_h,
+                       0.0, False, True, skip_frictionless, True, batch_hard)
 
 
 @wide_inline

@@ -1,4 +1,4 @@
-"""Freeze states of a body (DESIGN section 3). Stored as int8 in ``World.states``."""
+"""Freeze states of a body (docs/ARCHITECTURE.md §3). Stored as int8 in ``World.states``."""
 from enum import IntEnum
 
 

@@ -1,4 +1,4 @@
-"""``paper``: the seed's state machine, as written (``shared/seed/translation.md``), with its
+"""``paper``: the seed's state machine, as written (``docs/seed/translation.md``), with its
 limits left visible. Where the seed is vague, the choice made here is marked CHOICE.
 
 States: FREE (the seed's vertical-unstable), VERTICAL_STABLE (VS), ROTATION_STABLE (RS).

@@ -1,21 +1,24 @@
-"""Stage ``continuous``: fast bodies swept through the step, so that none passes through a body.
+"""Stage ``continuous``: fast bodies swept through the step, so that none passes through a body
+or buries itself in one.
 
 Speculative contacts (``contacts.update_manifolds`` makes them as far ahead as a pair can close in
 one step) stop most fast bodies. They can miss: a contact is made from the poses at the start of
-the step, and a body that turns, or passes a corner, meets features no manifold held. So after
-the solve, every awake body that moved more than FAST_FRACTION of its own size in the step is
-swept from its start pose to its end pose (linear in position and angle) against the static and
-frozen bodies its swept box reaches, and a *bullet* (``Body(bullet=True)``) against the awake
-bodies too, each moving along its own sweep. The body is put back to the earliest time of impact
-(``continuous.time_of_impact``), keeping its velocity: the next step's contact stops it there.
+the step, and a body that turns, or passes a corner, meets features no manifold held (a box falling
+at 27 m/s onto a box spinning at 15 rad/s ended 10 cm inside it). So after the solve, every awake
+body that moved more than FAST_FRACTION of its own size in the step is swept from its start pose
+to its end pose (linear in position and angle) against what its swept box reaches, each at its
+own end pose, and put back to the earliest time of impact (``continuous.time_of_impact``),
+keeping its velocity: the next step's contact stops it there.
 
-A pair the contact solver has handled is left alone: one already within its slop at the start of
-the step (touching, not tunnelling: the sweep would stop the body dead on every resting contact),
-and one that first meets during the step but ends it touching, or overlapping by less than
-OVERLAP_FRACTION of the thinner body (a speculative contact stopped it there; cutting it back to
-the first touch would leave it a slop short of where the same body lands against a body that
-moves, and a frozen body must change nothing the solver would have done). The body is cut back
-only when it ended the step apart again, having passed through, or deep inside.
+Only where the contact solver failed: a pair already within its slop at the start of the step
+(touching, not tunnelling: the sweep would stop the body dead on every resting contact), and one
+that first meets during the step but ends it touching or overlapping by less than
+OVERLAP_FRACTION of the thinner body (a speculative contact stopped it: cutting it back would
+leave it a slop short of where the same body lands against a body that moves), are left alone. A
+body is cut back when it ends the step deeper inside another than that, or, against a static or
+frozen body, apart again, having passed through it. Passing through a body that moves is caught
+only for a *bullet* (``Body(bullet=True)``), as in Box2D: the sweep does not follow the other
+body's own path, so "apart at the end" is not proof that they crossed.
 """
 import numpy as np
 
@@ -29,8 +32,9 @@ FAST_FRACTION = 0.5
 #: conservative-advancement iterations allowed per pair (the result is safe when they run out)
 MAX_ITERATIONS = 60
 #: a body that ends the step inside another by more than this fraction of the thinner body's size
-#: is cut back to its time of impact (see the module docstring)
-OVERLAP_FRACTION = 0.25
+#: is cut back to its time of impact (see the module docstring); a pile dropped from 35 m reached
+#: 31 cm of overlap without the sweep against awake bodies, 4.9 cm with it at this fraction
+OVERLAP_FRACTION = 0.1
 
 
 @inline_kernel
@@ -71,8 +75,6 @@ def sweep_fast_bodies(settings, counters, bodies, geometry, awake_grid, resting_
                                             bodies.speculative[i])
         first = 1.0
         for grid_kind in range(2):
-            if grid_kind == 1 and not bodies.bullet[i]:
-                break
             grid = resting_grid if grid_kind == 0 else awake_grid
             n = query_box(grid, geometry.fat, lo_x, lo_y, hi_x, hi_y, settings.cell_size, found)
             for q in range(n):
@@ -83,11 +85,10 @@ def sweep_fast_bodies(settings, counters, bodies, geometry, awake_grid, resting_
                 if j < settings.n_dynamic and activity.awake_slot[j] >= 0:
                     rj = activity.awake_slot[j] + 1
                 target = min(bodies.slop[i], bodies.slop[j])
-                j_end = _pose(bodies, solver, j, rj, 1)
+                j_end = _pose(bodies, solver, j, rj, 1)       # where the step left it
                 t, _ = time_of_impact(bodies.local_verts, bodies.local_normals, vs[i], vs[i + 1],
-                                      vs[j], vs[j + 1], start, end, _pose(bodies, solver, j, rj, 0),
-                                      j_end, target, 0.25 * target, MAX_ITERATIONS,
-                                      geometry.toi_scratch)
+                                      vs[j], vs[j + 1], start, end, j_end, j_end, target,
+                                      0.25 * target, MAX_ITERATIONS, geometry.toi_scratch)
                 if not 0.0 < t < first:
                     continue
                 # where the step left them: a sweep of zero length measures it
@@ -95,7 +96,8 @@ def sweep_fast_bodies(settings, counters, bodies, geometry, awake_grid, resting_
                                           vs[i + 1], vs[j], vs[j + 1], end, end, j_end, j_end,
                                           target, 0.25 * target, 1, geometry.toi_scratch)
                 deep = OVERLAP_FRACTION * min(bodies.size[i], bodies.size[j])
-                if apart > target or apart < -deep:
+                passed = apart > target and (rj == 0 or bodies.bullet[i])
+                if passed or apart < -deep:
                     first = t
         if first < 1.0:
             state[r, DPX] = first * dx

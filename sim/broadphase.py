@@ -14,10 +14,17 @@ sizes it needs, and the step returns GROW before anything else has changed.
 import numpy as np
 
 from .contacts import create, destroy, find
-from .data import (Grid, BODY_A, BODY_B, DENSE, GRID_INFO, NEXT_A, NEXT_B, LO_CX, LO_CY,
+from .data import (Grid, BODY_A, BODY_B, DENSE, GRID_INFO, HEIGHT, NEXT_A, NEXT_B, LO_CX, LO_CY,
                    MASK, MAX_X, MAX_Y, MIN_X, MIN_Y, N_BUCKETS, N_ENTRIES, N_MOVED,
                    NEEDED_BUCKETS, NEEDED_ENTRIES, WIDTH)
 from .jit import inline_kernel, lean_kernel
+
+#: a box covering more grid cells than this is a *large* box: entered once, in a list every query
+#: tests, instead of in each cell (a body moving 1.7e6 m in a step, 1e8 m/s, asked for 1e10 grid
+#: entries; a long static floor would fill thousands of cells)
+LARGE_CELLS = 256
+#: cells beyond this index (either sign) are clamped (see ``_cell``)
+CELL_LIMIT = 2.0 ** 40
 
 
 @inline_kernel
@@ -92,7 +99,22 @@ def update_geometry(which, count, dt, bodies, geometry, counters):
 
 @inline_kernel
 def _cell(x, inv_cell):
-    return np.int64(np.floor(x * inv_cell))
+    # clamped: converting a float beyond the int64 range is undefined (a body flung 1e19 m in a
+    # step made the cell loops read outside the table); 2**40 cells is far beyond any scene
+    return np.int64(np.floor(min(max(x * inv_cell, -CELL_LIMIT), CELL_LIMIT)))
+
+
+@inline_kernel
+def _cells(boxes, i, inv_cell):
+    """The cell range (c0, c1, r0, r1) that box i covers."""
+    return (_cell(boxes[i, MIN_X], inv_cell), _cell(boxes[i, MAX_X], inv_cell),
+            _cell(boxes[i, MIN_Y], inv_cell), _cell(boxes[i, MAX_Y], inv_cell))
+
+
+@inline_kernel
+def _is_large(c0, c1, r0, r1):
+    # in floats: the product of two clamped ranges can exceed int64
+    return float(c1 - c0 + 1) * float(r1 - r0 + 1) > LARGE_CELLS
 
 
 @inline_kernel
@@ -106,83 +128,90 @@ def _bucket(cx, cy, info):
 @lean_kernel
 def build_grid(which, count, boxes, cell_size, grid):
     """Enter the boxes of bodies which[0..count-1] into ``grid``: each box in every cell it
-    covers; cells map to buckets of a table filled by counting sort (dense when the occupied cells
-    are compact, hashed otherwise). Returns False, with the sizes it needs in
-    info[NEEDED_ENTRIES] and info[NEEDED_BUCKETS], when the buffers are too small."""
+    covers, or, if large (``LARGE_CELLS``), once in the large bucket; cells map to buckets of a
+    table filled by counting sort (dense when the occupied cells are compact, hashed otherwise).
+    Returns False, with the sizes it needs in info[NEEDED_ENTRIES] and info[NEEDED_BUCKETS], when
+    the buffers are too small."""
     info = grid.info
     inv_cell = 1.0 / cell_size
     n_entries = 0
+    n_large = 0
     lo_cx = lo_cy = np.int64(2 ** 62)
     hi_cx = hi_cy = -np.int64(2 ** 62)
     for k in range(count):
-        i = which[k]
-        c0 = _cell(boxes[i, MIN_X], inv_cell)
-        c1 = _cell(boxes[i, MAX_X], inv_cell)
-        r0 = _cell(boxes[i, MIN_Y], inv_cell)
-        r1 = _cell(boxes[i, MAX_Y], inv_cell)
+        c0, c1, r0, r1 = _cells(boxes, which[k], inv_cell)
+        if _is_large(c0, c1, r0, r1):
+            n_large += 1
+            continue
         n_entries += (c1 - c0 + 1) * (r1 - r0 + 1)
         lo_cx = min(lo_cx, c0)
         hi_cx = max(hi_cx, c1)
         lo_cy = min(lo_cy, r0)
         hi_cy = max(hi_cy, r1)
-    if count == 0:
-        info[DENSE] = 1
-        info[WIDTH] = 1
-        info[LO_CX] = 0
-        info[LO_CY] = 0
-        info[N_ENTRIES] = 0
-        info[N_BUCKETS] = 1
-        grid.start[0] = 0
-        grid.start[1] = 0
-        return True
+    if n_entries == 0:                     # no box in cells: a one-cell table, never matched
+        lo_cx = hi_cx = lo_cy = hi_cy = 0
     width = hi_cx - lo_cx + 1
+    height = hi_cy - lo_cy + 1
     # A compact set gets a dense table, one bucket per cell (no hash collisions); a sparse one
     # (bodies flung far apart) a hash table twice the entry count.
-    if width * (hi_cy - lo_cy + 1) <= max(4 * n_entries, 4096):
+    if float(width) * float(height) <= max(4 * n_entries, 4096):
         dense = 1
-        size = width * (hi_cy - lo_cy + 1)
+        size = width * height
     else:
         dense = 0
         size = 1
         while size < 2 * n_entries:
             size *= 2
-    if n_entries > grid.entry_body.shape[0] or size + 1 > grid.start.shape[0]:
-        info[NEEDED_ENTRIES] = n_entries
+    total = n_entries + n_large
+    # buckets 0..size-1 hold cells, bucket ``size`` the large boxes: start has size + 2 entries
+    if total > grid.entry_body.shape[0] or size + 2 > grid.start.shape[0]:
+        info[NEEDED_ENTRIES] = total
         info[NEEDED_BUCKETS] = size + 1
         return False
     info[LO_CX] = lo_cx
     info[LO_CY] = lo_cy
     info[WIDTH] = width
+    info[HEIGHT] = height
     info[DENSE] = dense
     info[MASK] = size - 1
-    info[N_ENTRIES] = n_entries
+    info[N_ENTRIES] = total
     info[N_BUCKETS] = size
     start = grid.start
-    for h in range(size + 1):
+    for h in range(size + 2):
         start[h] = 0
     for k in range(count):
-        i = which[k]
-        for cx in range(_cell(boxes[i, MIN_X], inv_cell), _cell(boxes[i, MAX_X], inv_cell) + 1):
-            for cy in range(_cell(boxes[i, MIN_Y], inv_cell), _cell(boxes[i, MAX_Y], inv_cell) + 1):
+        c0, c1, r0, r1 = _cells(boxes, which[k], inv_cell)
+        if _is_large(c0, c1, r0, r1):
+            start[size + 1] += 1
+            continue
+        for cx in range(c0, c1 + 1):
+            for cy in range(r0, r1 + 1):
                 start[_bucket(cx, cy, info) + 1] += 1
-    for h in range(size):
+    for h in range(size + 1):
         start[h + 1] += start[h]
     # start[h + 1] is now the end of bucket h. Fill each bucket from its end down, with start[h + 1]
     # as the cursor (no second array): afterwards start[h + 1] holds the start of bucket h.
     for k in range(count - 1, -1, -1):
         i = which[k]
-        for cx in range(_cell(boxes[i, MAX_X], inv_cell), _cell(boxes[i, MIN_X], inv_cell) - 1, -1):
-            for cy in range(_cell(boxes[i, MAX_Y], inv_cell), _cell(boxes[i, MIN_Y], inv_cell) - 1,
-                            -1):
+        c0, c1, r0, r1 = _cells(boxes, i, inv_cell)
+        if _is_large(c0, c1, r0, r1):
+            e = start[size + 1] - 1
+            grid.entry_body[e] = i
+            grid.entry_cx[e] = 0
+            grid.entry_cy[e] = 0
+            start[size + 1] = e
+            continue
+        for cx in range(c1, c0 - 1, -1):
+            for cy in range(r1, r0 - 1, -1):
                 h = _bucket(cx, cy, info)
                 e = start[h + 1] - 1
                 grid.entry_body[e] = i
                 grid.entry_cx[e] = cx
                 grid.entry_cy[e] = cy
                 start[h + 1] = e
-    for h in range(size):                  # shift back: start[h] = start of bucket h
+    for h in range(size + 1):              # shift back: start[h] = start of bucket h
         start[h] = start[h + 1]
-    start[size] = n_entries
+    start[size + 1] = total
     return True
 
 
@@ -196,35 +225,67 @@ def _overlap(boxes, i, other_boxes, j):
 def query_box(grid, boxes, lo_x, lo_y, hi_x, hi_y, cell_size, out):
     """Write into ``out`` each body of ``grid`` whose box (rows of ``boxes``) overlaps the box
     (lo_x, lo_y, hi_x, hi_y), once each; returns how many. A body met in several cells is
-    reported from the cell of the lower-left corner of the overlap only."""
+    reported from the cell of the lower-left corner of the overlap only. The cost is bounded by
+    the grid, not by the query: a query box reaching beyond a dense table is cut to it, and one
+    covering more cells of a hashed table than it has entries scans the entries instead."""
     info = grid.info
     if info[N_ENTRIES] == 0:
         return 0
+    start = grid.start
     inv_cell = 1.0 / cell_size
     n_buckets = info[N_BUCKETS]
     n = 0
-    for cx in range(_cell(lo_x, inv_cell), _cell(hi_x, inv_cell) + 1):
-        if info[DENSE] == 1 and (cx < info[LO_CX] or cx >= info[LO_CX] + info[WIDTH]):
-            continue
-        for cy in range(_cell(lo_y, inv_cell), _cell(hi_y, inv_cell) + 1):
-            if info[DENSE] == 1 and cy < info[LO_CY]:
-                continue
+    for e in range(start[n_buckets], start[n_buckets + 1]):       # the large boxes
+        j = grid.entry_body[e]
+        if not (lo_x > boxes[j, MAX_X] or hi_x < boxes[j, MIN_X] or lo_y > boxes[j, MAX_Y]
+                or hi_y < boxes[j, MIN_Y]):
+            out[n] = j
+            n += 1
+    c0 = _cell(lo_x, inv_cell)
+    c1 = _cell(hi_x, inv_cell)
+    r0 = _cell(lo_y, inv_cell)
+    r1 = _cell(hi_y, inv_cell)
+    scan = False
+    if info[DENSE] == 1:
+        c0 = max(c0, info[LO_CX])
+        c1 = min(c1, info[LO_CX] + info[WIDTH] - 1)
+        r0 = max(r0, info[LO_CY])
+        r1 = min(r1, info[LO_CY] + info[HEIGHT] - 1)
+    else:
+        scan = float(c1 - c0 + 1) * float(r1 - r0 + 1) > start[n_buckets]
+    if c1 < c0 or r1 < r0:
+        return n
+    if scan:
+        for e in range(start[n_buckets]):
+            n = _report(grid, e, boxes, lo_x, lo_y, hi_x, hi_y, c0, c1, r0, r1, inv_cell, out, n)
+        return n
+    for cx in range(c0, c1 + 1):
+        for cy in range(r0, r1 + 1):
             h = _bucket(cx, cy, info)
-            if h >= n_buckets:
-                continue
-            for e in range(grid.start[h], grid.start[h + 1]):
-                if grid.entry_cx[e] != cx or grid.entry_cy[e] != cy:
-                    continue                  # another cell that hashed to the same bucket
-                j = grid.entry_body[e]
-                if (lo_x > boxes[j, MAX_X] or hi_x < boxes[j, MIN_X] or lo_y > boxes[j, MAX_Y]
-                        or hi_y < boxes[j, MIN_Y]):
-                    continue
-                if (_cell(max(lo_x, boxes[j, MIN_X]), inv_cell) != cx
-                        or _cell(max(lo_y, boxes[j, MIN_Y]), inv_cell) != cy):
-                    continue
-                out[n] = j
-                n += 1
+            for e in range(start[h], start[h + 1]):
+                if grid.entry_cx[e] == cx and grid.entry_cy[e] == cy:   # else: a cell sharing h
+                    n = _report(grid, e, boxes, lo_x, lo_y, hi_x, hi_y, c0, c1, r0, r1, inv_cell,
+                                out, n)
     return n
+
+
+@inline_kernel
+def _report(grid, e, boxes, lo_x, lo_y, hi_x, hi_y, c0, c1, r0, r1, inv_cell, out, n):
+    """Report the body of entry e (into out[n]) if its box overlaps the query box and e is the
+    entry of the cell holding the lower-left corner of the overlap; returns the new count."""
+    cx = grid.entry_cx[e]
+    cy = grid.entry_cy[e]
+    if cx < c0 or cx > c1 or cy < r0 or cy > r1:
+        return n
+    j = grid.entry_body[e]
+    if (lo_x > boxes[j, MAX_X] or hi_x < boxes[j, MIN_X] or lo_y > boxes[j, MAX_Y]
+            or hi_y < boxes[j, MIN_Y]):
+        return n
+    if (_cell(max(lo_x, boxes[j, MIN_X]), inv_cell) != cx
+            or _cell(max(lo_y, boxes[j, MIN_Y]), inv_cell) != cy):
+        return n
+    out[n] = j
+    return n + 1
 
 
 @inline_kernel

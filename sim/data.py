@@ -102,16 +102,19 @@ MIN_X, MIN_Y, MAX_X, MAX_Y = 0, 1, 2, 3
 
 class Grid(NamedTuple):
     """A uniform grid of boxes (``broadphase.build_grid``), in preallocated buffers.
-    Bucket h holds entries start[h]..start[h+1]-1; ``info`` holds the layout."""
-    start: np.ndarray             # (T+1,) int64
+    Bucket h holds entries start[h]..start[h+1]-1; ``info`` holds the layout. One extra bucket
+    after the N_BUCKETS of cells holds the *large* boxes (more than ``broadphase.LARGE_CELLS``
+    cells), each entered once and tested by every query."""
+    start: np.ndarray             # (T+2,) int64
     entry_body: np.ndarray        # (E,) int64
     entry_cx: np.ndarray          # (E,) int64 cell column
     entry_cy: np.ndarray          # (E,) int64 cell row
     info: np.ndarray              # (GRID_INFO,) int64, columns below
 
 # grid info columns
-LO_CX, LO_CY, WIDTH, MASK, DENSE, N_ENTRIES, N_BUCKETS, NEEDED_ENTRIES, NEEDED_BUCKETS = range(9)
-GRID_INFO = 9
+(LO_CX, LO_CY, WIDTH, HEIGHT, MASK, DENSE, N_ENTRIES, N_BUCKETS, NEEDED_ENTRIES,
+ NEEDED_BUCKETS) = range(10)
+GRID_INFO = 10
 
 
 class Contacts(NamedTuple):

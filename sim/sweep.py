@@ -22,6 +22,7 @@ body's own path, so "apart at the end" is not proof that they crossed.
 """
 import numpy as np
 
+from .body import MAX_COORDINATE
 from .broadphase import query_box
 from .continuous import swept_aabb, time_of_impact
 from .data import DPX, DPY, N_AWAKE, N_IMPACTS, N_SWEPT, TURN
@@ -66,8 +67,8 @@ def sweep_fast_bodies(settings, counters, bodies, geometry, awake_grid, resting_
         dy = state[r, DPY]
         turn = state[r, TURN]
         travel = np.sqrt(dx * dx + dy * dy) + abs(turn) * bodies.extent[i]
-        if not (travel > FAST_FRACTION * bodies.size[i]) or not np.isfinite(travel):
-            continue                       # slow, or non-finite (the divergence check's job)
+        if not (FAST_FRACTION * bodies.size[i] < travel < MAX_COORDINATE):
+            continue                       # slow, or diverged (the divergence check's job)
         counters[N_SWEPT] += 1
         start = _pose(bodies, solver, i, r, 0)
         end = _pose(bodies, solver, i, r, 1)

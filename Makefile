@@ -30,7 +30,9 @@ GEN  := $(PAPER_OUT)/generated
 RECS := $(RESULTS_DIR)/recordings
 
 # One experiment script (experiments/<name>.py) and one analysis script (analysis/<name>.py) each.
-TABLES  := bench_step bench_freeze peer_agreement bench_fast_paths
+# (bench_step also writes $(DATA)/bench_step_profile.csv, read by analysis/bench_step.py;
+# bench_kernels reads the solver's compiled code: packed vector instructions, ns per contact.)
+TABLES  := bench_step bench_freeze peer_agreement bench_fast_paths bench_kernels
 STUDY   := fig_states fig_edge_as_floor fig_overhang fig_speedup fig_scaling fig_time_to_rest \
            fig_tradeoff table_failures table_extremes
 ALL     := $(TABLES) $(STUDY)

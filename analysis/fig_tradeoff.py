@@ -1,5 +1,6 @@
 """Figure 7 "fig_tradeoff": speed-up against error for every freezing / sleeping setting, with the
-Pareto front per system.
+Pareto front per system, and on the same axes sim-off's own solver knobs (substeps, iterations per
+substep; freezing off): the trade a user makes with the solver, beside the one freezing makes.
 
 One row of panels per scene, one column per error measure (the largest distance between a body's
 final centre of mass and the fine-dt reference's; the deepest overlap between two bodies or a body
@@ -9,9 +10,12 @@ the speed-up of the whole run over the same engine with sleeping off at the same
 error (log; an error at or below the experiment's ``error_floor`` (1e-9: round-off, or exactly 0,
 as for bodies frozen before they ever touched) is drawn hollow at the bottom of its panel, a
 third of the panel's smallest larger value). The engines' sleeping-off
-runs at dt (speed-up 1) are the baselines: their error is the time step's own, and a horizontal
-line at it shows what freezing adds on top. A system's Pareto front (no other of its settings is
-both faster and more accurate) is a step line; its default setting has a black edge.
+runs at dt and their default settings (speed-up 1) are the baselines: their error is the time
+step's and the default iterations' own, and a horizontal line at it shows what freezing adds on
+top. A system's Pareto front (no other of its settings is both faster and more accurate) is a
+step line; its default setting has a black edge. sim-off's solver settings are two more series
+(``SOLVER_SERIES``: substeps, iterations), each with its own front; their default is the
+baseline itself.
 
 Writes paper/figures/fig_tradeoff.svg, paper/generated/fig_tradeoff.csv (the Pareto points) and
 returns the headline numbers (paper/generated/fig_tradeoff.json): per scene, each engine's baseline
@@ -21,7 +25,16 @@ both measures: pose error at most the baseline's plus the reference's resolution
 dt/(fine/2) run against the dt/fine reference: closer than that cannot be told apart), final
 overlap at most the baseline's plus a tenth of the slop. ``never_froze_speedups`` are the
 speed-ups of settings under which no body ever froze: they do the baseline's work, so their
-distance from 1 is the run's timing noise."""
+distance from 1 is the run's timing noise.
+
+Per scene the numbers also hold ``solver`` (every sim-off solver setting: value, speed-up, errors)
+and ``defaults_comparison``: each engine's pose error at its defaults with sleeping off (sim-off,
+pymunk, pybullet; the baselines) beside its reference's resolution, the same engines' errors
+against the exact final pose (``exact_error_max_m``; the references' own too), the best peer,
+whether
+sim-off's error is at most the best peer's (``sim_off_within_best_peer``; the issue's done-when on
+the landing scene), and the fastest sim-off solver setting whose error is (``sim_off_fastest_
+setting_within_best_peer``, "none" if no swept setting is)."""
 import math
 
 import matplotlib.pyplot as plt
@@ -38,12 +51,21 @@ MEASURES = (("pose_error_max_m", "largest pose error (m)", "pose"),
             ("penetration_final_m", "deepest overlap at the end (m)", "penetration"))
 FREEZING = ("sim-paper", "sim-extended", "sim-sleep", "pymunk-sleep", "pybullet-sleep")
 OFF = {"sim": "sim-off", "pymunk": "pymunk", "pybullet": "pybullet"}
+#: sim-off's solver knobs (role "solver"): series name -> (system, parameter, style)
+SOLVER_SERIES = {
+    "sim-off substeps": ("sim-off", "substeps",
+                         {"color": "#000000", "marker": "o", "linestyle": "-"}),
+    "sim-off iterations": ("sim-off", "iterations",
+                           {"color": "#666666", "marker": "X", "linestyle": (0, (1, 1.5))}),
+}
+PEERS = ("pymunk", "pybullet")
 #: a setting "matches the baseline" in penetration when the overlap it leaves at the end exceeds the
 #: baseline's by at most this fraction of the slop (0.5 mm at slop 5 mm)
 PENETRATION_MARGIN = 0.1
 REQUIRED = {"scene", "system", "engine", "role", "parameter", "value", "is_default", "speedup",
             "speedup_min", "awake_fraction", "bodies",
-            "pose_error_max_m", "pose_error_mean_m", "penetration_max_m", "penetration_final_m"}
+            "pose_error_max_m", "pose_error_mean_m", "exact_error_max_m", "penetration_max_m",
+            "penetration_final_m"}
 
 
 def pareto(points, column):
@@ -65,6 +87,57 @@ def _setting(row):
     return f"{row['parameter']}={row['value']:.3g}"
 
 
+def _errors(row):
+    return {"speedup": row["speedup"], "speedup_min": row["speedup_min"],
+            "pose_error_max_m": row["pose_error_max_m"],
+            "pose_error_mean_m": row["pose_error_mean_m"],
+            "angle_error_max_rad": row["angle_error_max_rad"],
+            "exact_error_max_m": row["exact_error_max_m"],
+            "penetration_max_m": row["penetration_max_m"],
+            "penetration_final_m": row["penetration_final_m"]}
+
+
+def solver_numbers(rows):
+    """{parameter: [{value, is_default, speed-up and errors}, ...] by value} of sim-off's solver
+    settings among ``rows`` (one scene's timed rows)."""
+    out = {}
+    for _, (system, parameter, _) in SOLVER_SERIES.items():
+        pts = rows[(rows["role"] == "solver") & (rows["system"] == system)
+                   & (rows["parameter"] == parameter)].sort_values("value")
+        out[parameter] = [{"value": int(p["value"]), "is_default": bool(p["is_default"]),
+                           **_errors(p)} for _, p in pts.iterrows()]
+    return out
+
+
+def defaults_comparison(scene_numbers, rows):
+    """sim-off's pose error at its defaults against each peer's at theirs (all sleeping off,
+    each against its own engine's reference), and the fastest sim-off solver setting that is as
+    accurate as the best peer."""
+    base = scene_numbers["baseline"]
+    pose = {off: base[off]["pose_error_max_m"] for off in OFF.values() if off in base}
+    out = {"pose_error_max_m": pose,
+           "reference_resolution_m": {off: r["pose_error_max_m"] for off, r in
+                                      scene_numbers["reference_resolution"].items()},
+           "exact_error_max_m": {off: base[off]["exact_error_max_m"] for off in pose},
+           "reference_exact_error_max_m": dict(scene_numbers["reference_exact_error_max_m"])}
+    peers = {p: pose[p] for p in PEERS if p in pose and math.isfinite(pose[p])}
+    if "sim-off" not in pose or not peers:
+        return out
+    best = min(peers, key=peers.get)
+    out.update(best_peer=best, best_peer_pose_error_max_m=peers[best],
+               sim_off_over_best_peer=pose["sim-off"] / peers[best] if peers[best] > 0
+               else math.inf,
+               sim_off_within_best_peer=bool(pose["sim-off"] <= peers[best]))
+    solver = rows[(rows["role"] == "solver") & (rows["pose_error_max_m"] <= peers[best])]
+    if solver.empty:
+        out["sim_off_fastest_setting_within_best_peer"] = "none"
+    else:
+        p = solver.loc[solver["speedup"].idxmax()]
+        out["sim_off_fastest_setting_within_best_peer"] = _setting(p)
+        out["sim_off_fastest_within_best_peer"] = _errors(p)
+    return out
+
+
 def draw(table, meta):
     missing = REQUIRED - set(table.columns)
     if missing:
@@ -74,10 +147,10 @@ def draw(table, meta):
     floor = float(meta.get("parameters", {}).get("error_floor", 1e-9))
     slop = float(meta["parameters"]["slop"])
     scenes = list(dict.fromkeys(table["scene"]))
-    timed = table[table["role"].isin(["baseline", "sweep"])]
+    timed = table[table["role"].isin(["baseline", "sweep", "solver"])]
 
     fig, axes = plt.subplots(len(scenes), len(MEASURES), squeeze=False,
-                             figsize=(style.WIDTH, 2.6 * len(scenes) + 0.6))
+                             figsize=(style.WIDTH, 2.6 * len(scenes) + 0.9))
     numbers = {"error_floor": floor, "scenes": {}}
     fronts = []
     for r, scene in enumerate(scenes):
@@ -85,7 +158,7 @@ def draw(table, meta):
         ref = table[(table["scene"] == scene) & (table["role"] == "resolution")]
         scene_numbers = numbers["scenes"][scene] = {
             "bodies": int(rows["bodies"].iloc[0]), "baseline": {}, "reference_resolution": {},
-            "match_limit": {}, "systems": {}}
+            "reference_exact_error_max_m": {}, "match_limit": {}, "systems": {}}
         for engine, off in OFF.items():
             base = rows[(rows["system"] == off) & (rows["role"] == "baseline")]
             if base.empty:
@@ -95,16 +168,25 @@ def draw(table, meta):
                 "pose_error_max_m": b["pose_error_max_m"], "pose_error_mean_m":
                     b["pose_error_mean_m"], "angle_error_max_rad": b["angle_error_max_rad"],
                 "penetration_max_m": b["penetration_max_m"],
-                "penetration_final_m": b["penetration_final_m"], "wall_s": b["wall_s_median"]}
+                "penetration_final_m": b["penetration_final_m"],
+                "exact_error_max_m": b["exact_error_max_m"], "wall_s": b["wall_s_median"]}
+            own = table[(table["scene"] == scene) & (table["role"] == "reference")
+                        & (table["system"] == off)]
+            if not own.empty:
+                scene_numbers["reference_exact_error_max_m"][off] = own.iloc[0][
+                    "exact_error_max_m"]
             res = ref[ref["system"] == off]
             resolution = res.iloc[0]["pose_error_max_m"] if not res.empty else math.nan
             if not res.empty:
                 scene_numbers["reference_resolution"][off] = {
-                    "dt_s": res.iloc[0]["dt_s"], "pose_error_max_m": resolution,
+                    "dt_s": res.iloc[0]["dt_s"], "iterations": res.iloc[0]["value"],
+                    "pose_error_max_m": resolution,
                     "penetration_max_m": res.iloc[0]["penetration_max_m"]}
             scene_numbers["match_limit"][off] = {
                 "pose": b["pose_error_max_m"] + resolution,
                 "penetration": b["penetration_final_m"] + PENETRATION_MARGIN * slop}
+        scene_numbers["solver"] = solver_numbers(rows)
+        scene_numbers["defaults_comparison"] = defaults_comparison(scene_numbers, rows)
         # settings under which no body ever froze do the baseline's work: their speed-up should
         # be ~1, so its spread is the timing noise of this run (the machine is shared)
         idle = rows[(rows["role"] == "sweep") & (rows["awake_fraction"] >= 1.0)]
@@ -165,11 +247,14 @@ def draw(table, meta):
                 ax.axhline(y, color=st["color"], lw=0.7, ls=(0, (4, 3)), alpha=0.6, zorder=1)
                 ax.plot([1.0], [y], marker="*", ms=9, color=st["color"], mec="black", mew=0.5,
                         ls="none", zorder=5)
-            for system in FREEZING:
-                pts = rows[rows["system"] == system]
+            series = [(system, rows[rows["system"] == system], style.system_style(system))
+                      for system in FREEZING]
+            series += [(name, rows[(rows["role"] == "solver") & (rows["system"] == system)
+                                   & (rows["parameter"] == parameter)], st)
+                       for name, (system, parameter, st) in SOLVER_SERIES.items()]
+            for name, pts, st in series:
                 if pts.empty:
                     continue
-                st = style.system_style(system)
                 zero = pts[column] <= floor
                 ax.scatter(pts.loc[~zero, "speedup"], pts.loc[~zero, column], marker=st["marker"],
                            s=14, color=st["color"], alpha=0.75, zorder=3, linewidths=0)
@@ -183,7 +268,8 @@ def draw(table, meta):
                 ax.step(front["speedup"], front[column].clip(lower=bottom), where="pre",
                         color=st["color"], ls=st["linestyle"], lw=1.0, zorder=2)
                 for _, p in front.iterrows():
-                    fronts.append({"scene": scene, "measure": short, "system": system,
+                    fronts.append({"scene": scene, "measure": short, "series": name,
+                                   "system": p["system"],
                                    "parameter": p["parameter"], "value": p["value"],
                                    "unit": p["unit"], "is_default": bool(p["is_default"]),
                                    "speedup": p["speedup"], "error_m": p[column]})
@@ -199,11 +285,14 @@ def draw(table, meta):
             ax.set_ylabel(ylabel)
             ax.set_title(f"{scene}, {int(rows['bodies'].iloc[0])} bodies: {short}")
             if r == len(scenes) - 1:
-                ax.set_xlabel("speed-up over sleeping off, same engine and dt")
+                ax.set_xlabel("speed-up over its engine at defaults, sleeping off")
 
     handles = [Line2D([], [], marker=style.system_style(s)["marker"],
                       color=style.system_style(s)["color"], ls=style.system_style(s)["linestyle"],
                       label=s) for s in FREEZING]
+    handles += [Line2D([], [], marker=st["marker"], color=st["color"], ls=st["linestyle"],
+                       label=f"{name} (freezing off)")
+                for name, (_, _, st) in SOLVER_SERIES.items()]
     handles += [Line2D([], [], marker="*", ms=9, color=style.system_style(off)["color"],
                        mec="black", mew=0.5, ls=(0, (4, 3)), label=f"{off} at dt (baseline)")
                 for off in OFF.values()]
@@ -213,11 +302,11 @@ def draw(table, meta):
                           label=f"error <= {floor:g} (at panel floor)"))
     fig.legend(handles=handles, loc="lower center", ncol=4, frameon=False,
                bbox_to_anchor=(0.5, 0.0))
-    fig.tight_layout(rect=(0, 0.09, 1, 1))
+    fig.tight_layout(rect=(0, 0.12, 1, 1))
     style.save_figure(fig, NAME)
-    style.write_table(pd.DataFrame(fronts, columns=["scene", "measure", "system", "parameter",
-                                                    "value", "unit", "is_default", "speedup",
-                                                    "error_m"]), NAME)
+    style.write_table(pd.DataFrame(fronts, columns=["scene", "measure", "series", "system",
+                                                    "parameter", "value", "unit", "is_default",
+                                                    "speedup", "error_m"]), NAME)
     return numbers
 
 

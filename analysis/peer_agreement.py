@@ -1,6 +1,8 @@
 """Table "peer_agreement": do sim, pymunk and pybullet agree on the known answers (free fall, rest,
 sliding distance, bounce, tipping, a stack)? paper/generated/peer_agreement.csv lists every check
-against an analytic answer or sim-off with its tolerance; the numbers count the agreements."""
+against an analytic answer or sim-off with its tolerance; the numbers count the agreements and say
+how much solving each system did per step (each at its own defaults: sim's substeps and sweeps,
+the peers' iterations)."""
 from analysis import style
 
 NAME = "peer_agreement"
@@ -24,7 +26,8 @@ def draw(table, meta):
                            for s, r in per_system.iterrows()},
             "slide_distance_m": {s: float(v) for s, v in slide["value"].items()},
             "slide_distance_analytic_m": float(slide["reference"].iloc[0]),
-            "disagreements": disagreements}
+            "disagreements": disagreements,
+            "solver": meta["parameters"].get("solver_summary", {})}
 
 
 main = style.entry(NAME, draw)

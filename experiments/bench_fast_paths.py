@@ -2,44 +2,58 @@
 
 Question (issue "extremes", model only what a scene requires): which work can the solver skip
 when a scene does not need it, and does skipping pay? Each candidate is measured, in this one
-process run, and kept only when it saves at least PAYS (5 %) of a step on a scene where it applies:
+process run, and kept only when it saves at least PAYS (5 %) of a step on a scene where it applies.
+Everything here goes through sim's public API: ``World(fast_paths=...)``, ``World.profile`` (ms
+per step of each stage, ``sim.data.STAGES``) and ``World.inspect()``; every World runs sim's
+defaults (soft step, 4 substeps, 1 iteration and 1 relax sweep per substep; recorded in the
+metadata).
 
-1. ``friction`` (built, ``World(fast_paths=...)``): no friction rows for contacts whose friction
-   coefficient is zero. Scenes: ``columns`` (100 columns of 10 unit boxes, 1000 bodies, so the
+1. ``friction`` (built, ``World(fast_paths=...)``): batches of frictionless contacts skip their
+   friction rows (in the solve and relax sweeps; exact, since those rows would clamp every
+   impulse to zero). Scenes: ``columns`` (100 columns of 10 unit boxes, 1000 bodies, so the
    contacts are box-box and box-floor) frictionless and with mu 0.6 (where nothing may change),
-   sim-off with fast paths on and off, interleaved repeats.
-2. ``box_sat`` (built, measured, removed): a separating-axis test specialised to box pairs. It
-   saved 2.5-4.9 % of a pyramid(40) step on a quiet machine (two runs at commit c38ae49), under
-   the rule, so it is no longer in sim. Measured here: the upper bound of any SAT saving, the
-   general SAT on every box pair of the step (timed in a loop over the step's own pairs) as a
-   share of the step: a specialised test can save at most all of it.
+   sim-off with fast paths on and off, interleaved repeats; the saving is 1 - on/off of the
+   median ms per step. The profile of both says where it comes from (solve + relax stages).
+2. ``box_sat`` (built, measured, removed): a separating-axis test specialised to box pairs. With
+   the previous solver it saved 2.5-4.9 % of a pyramid(40) step on a quiet machine (two runs at
+   commit c38ae49), under the rule, so it is no longer in sim. Measured before: the general SAT
+   alone on every box pair of a step, timed in a loop over the step's own pairs (an upper bound
+   of any SAT saving). That needed sim's internals (the contact store, the world vertices, the
+   SAT routine) and cannot be measured with the public API. Measured now: the ``narrowphase``
+   stage's share of a pyramid(40) step (every awake contact's SAT, clipping and manifold
+   update): still an upper bound of any SAT saving, but a looser one (it contains the clipping
+   and the bookkeeping too).
 3. ``statics`` (structural): static polygons live in the resting grid with frozen bodies, so a
    scene pays for them only where awake bodies come near. Measured: rest_row(1000) under off with
    no static polygons and with 100 static ledges placed 50 m above the row (never touched).
 4. ``rotation`` (not built unless it pays): skipping cos/sin and vertex rotation for bodies that
-   do not rotate. Upper bound: the time of the per-body rotation work (the geometry update of all
-   awake bodies, which recomputes cos/sin and rotates every vertex and normal) as a share of a
-   rest_row(1000) step.
+   do not rotate. Measured before: the geometry update of every awake body alone (sim's
+   ``update_geometry``, an internal), as a share of a rest_row(1000) step. Not measurable alone
+   with the public API; measured now: the ``broadphase`` stage's share of a rest_row(1000) step,
+   which on a resting row is that geometry update (cos/sin, rotated vertices and normals, the
+   bounding box) plus the test that no fat box moved (no pairs to find): a looser upper bound.
+   Rotation in the substeps' position integration (one cos/sin pair per body per substep, in the
+   ``integrate`` stage, shared with the translation) is not counted.
 
-    python -m experiments.bench_fast_paths [--quick] [--repeats R]
+Shares from a profile are of the profiled step (``World.profile`` reads the cycle counter at every
+stage boundary, which costs a little); the ms columns of those rows are the profiled ms per step.
+
+    python -m experiments.bench_fast_paths [--quick]
 """
 import math
 import statistics
 
-import numpy as np
 import pandas as pd
-from numba import njit
 from tqdm import tqdm
 
 import sim
-from experiments.common import DT, SLOP, compile_kernels, entry
-from experiments.timing import interleaved, timed
-from sim.broadphase import update_geometry
-from sim.contacts import BODY_A, BODY_B
-from sim.geometry import _max_separation
+from experiments.common import DT, SLOP, compile_kernels, entry, label
+from experiments.peers import make_runner
+from experiments.timing import interleaved
 
 NAME = "bench_fast_paths"
 PAYS = 0.05             # a fast path is kept when it saves at least this share of a step
+WARMUP_STEPS = 10
 FULL = {"columns": (100, 10), "pyramid": 40, "row": 1000, "statics": 100, "steps": 30,
         "repeats": 9}
 QUICK = {"columns": (10, 5), "pyramid": 10, "row": 100, "statics": 10, "steps": 5, "repeats": 3}
@@ -60,45 +74,22 @@ def with_ledges(scene, n, height=50.0):
                      params={**scene.params, "ledges": n, "ledge_height": height})
 
 
-class _WorldRunner:
-    """The smallest runner ``timing.interleaved`` needs: step(n)."""
-
-    def __init__(self, world):
-        self.world = world
-
-    def step(self, n):
-        self.world.step(n)
+def warm_runner(scene, **settings):
+    """sim-off on ``scene`` at the study's dt and slop, warmed up (first steps excluded); its
+    World is ``.world``."""
+    runner = make_runner("sim-off", scene, dt=DT, slop=SLOP, **settings)
+    runner.step(WARMUP_STEPS)
+    return runner
 
 
-@njit
-def _sat_all(pairs, vert_start, verts, normals, reps):
-    """The general SAT both ways on every pair, ``reps`` times (the accumulated result keeps the
-    compiler from dropping the work)."""
-    acc = 0.0
-    for _ in range(reps):
-        for k in range(pairs.shape[0]):
-            a, b = pairs[k, 0], pairs[k, 1]
-            e1, s1 = _max_separation(verts, normals, vert_start[a], vert_start[a + 1],
-                                     vert_start[b], vert_start[b + 1])
-            e2, s2 = _max_separation(verts, normals, vert_start[b], vert_start[b + 1],
-                                     vert_start[a], vert_start[a + 1])
-            acc += s1 + s2 + e1 + e2
-    return acc
-
-
-def _median_ms(fn, reps, repeats):
-    out = []
+def median_profile(w, steps, repeats, bar=None):
+    """Median over ``repeats`` of ``w.profile(steps)``: {stage: ms per step, "total": ...}."""
+    profiles = []
     for _ in range(repeats):
-        out.append(1e3 * timed(_Call(fn), reps) / reps)
-    return statistics.median(out)
-
-
-class _Call:
-    def __init__(self, fn):
-        self.fn = fn
-
-    def step(self, n):
-        self.fn(n)
+        profiles.append(w.profile(steps))
+        if bar is not None:
+            bar.update()
+    return {stage: statistics.median(p[stage] for p in profiles) for stage in profiles[0]}
 
 
 def _row(part, scene, variant, ms, share=math.nan, note=""):
@@ -110,75 +101,51 @@ def friction(config, repeats, bar):
     rows = []
     for mu in (0.0, 0.6):
         scene = columns(*config["columns"], mu)
-        runners = [_WorldRunner(sim.World(scene, dt=DT, slop=SLOP, fast_paths=fast))
-                   for fast in (False, True)]
-        for r in runners:
-            r.step(10)                              # warm-up, first steps excluded
+        runners = [warm_runner(scene, fast_paths=fast) for fast in (False, True)]
         times = interleaved(runners, [config["steps"]] * 2, repeats, bar)
         off, on = (statistics.median(t) for t in times)
-        label = f"columns({config['columns'][0]}x{config['columns'][1]}, mu={mu})"
-        rows.append(_row("friction", label, "fast_paths=False", off))
-        rows.append(_row("friction", label, "fast_paths=True", on, 1.0 - on / off))
+        profiles = [median_profile(r.world, config["steps"], repeats) for r in runners]
+        rows_solved = [p["solve"] + p["relax"] for p in profiles]
+        contacts = runners[1].world.inspect().n_active
+        name = f"columns({config['columns'][0]}x{config['columns'][1]}, mu={mu})"
+        rows.append(_row("friction", name, "fast_paths=False", off,
+                         note=f"{contacts} contacts; solve+relax {rows_solved[0]:.4g} ms "
+                              f"(profiled)"))
+        rows.append(_row("friction", name, "fast_paths=True", on, 1.0 - on / off,
+                         f"solve+relax {rows_solved[1]:.4g} ms (profiled)"))
     return rows
 
 
+def profile_share(part, scene, stage, config, repeats, bar, note):
+    """Rows: a scene's profiled step, and one ``stage``'s share of it (an upper bound)."""
+    runner = warm_runner(scene)
+    p = median_profile(runner.world, config["steps"], repeats, bar)
+    return [_row(part, label(scene), "step (profiled)", p["total"]),
+            _row(part, label(scene), f"{stage} stage", p[stage], p[stage] / p["total"], note)]
+
+
 def box_sat(config, repeats, bar):
-    world = sim.World(sim.scenes.pyramid(config["pyramid"]), dt=DT, slop=SLOP)
-    world.step(10)
-    count = int(world._counters[sim.layout.N_MANIFOLDS])
-    manifolds = world._contacts[1][:count]
-    pairs = np.ascontiguousarray(manifolds[manifolds[:, BODY_A] >= 0][:, [BODY_A, BODY_B]])
-    args = (pairs, world._vert_start, world._world_verts, world._world_normals)
-    _sat_all(*args, 1)                                   # compile
-    step_ms, sat_ms = [], []
-    for _ in range(repeats):
-        step_ms.append(1e3 * timed(_WorldRunner(world), config["steps"]) / config["steps"])
-        sat_ms.append(_median_ms(lambda n: _sat_all(*args, n), config["steps"], 1))
-        bar.update()
-    step, sat = statistics.median(step_ms), statistics.median(sat_ms)
-    label = f"pyramid({config['pyramid']})"
-    return [_row("box_sat", label, "step", step),
-            _row("box_sat", label, f"general SAT alone, {len(pairs)} box pairs", sat, sat / step,
-                 "upper bound of any SAT saving")]
+    scene = sim.scenes.pyramid(config["pyramid"])
+    return profile_share("box_sat", scene, "narrowphase", config, repeats, bar,
+                         "upper bound of any SAT saving (SAT, clipping and manifold update)")
 
 
 def statics(config, repeats, bar):
     base = sim.scenes.rest_row(config["row"])
-    runners = [_WorldRunner(sim.World(s, dt=DT, slop=SLOP))
-               for s in (base, with_ledges(base, config["statics"]))]
-    for r in runners:
-        r.step(10)
+    runners = [warm_runner(s) for s in (base, with_ledges(base, config["statics"]))]
     times = interleaved(runners, [config["steps"]] * 2, repeats, bar)
     without, with_ = (statistics.median(t) for t in times)
-    label = f"rest_row({config['row']})"
-    return [_row("statics", label, "no static polygons", without),
-            _row("statics", label, f"{config['statics']} static ledges, untouched", with_,
+    name = label(base)
+    return [_row("statics", name, "no static polygons", without),
+            _row("statics", name, f"{config['statics']} static ledges, untouched", with_,
                  1.0 - with_ / without, "negative = the ledges' cost")]
 
 
 def rotation(config, repeats, bar):
-    world = sim.World(sim.scenes.rest_row(config["row"]), dt=DT, slop=SLOP)
-    world.step(10)
-    awake = world._activity[1]
-    n = int(world._counters[sim.layout.N_AWAKE])
-
-    def geometry(reps):
-        for _ in range(reps):
-            update_geometry(awake, n, world._position, world._angle, world._vert_start,
-                            world._local_verts, world._local_normals, world._rotation,
-                            world._world_verts, world._world_normals, world._aabb,
-                            world.speculative_distance)
-    geometry(1)
-    step_ms, geo_ms = [], []
-    for _ in range(repeats):
-        step_ms.append(1e3 * timed(_WorldRunner(world), config["steps"]) / config["steps"])
-        geo_ms.append(_median_ms(geometry, config["steps"], 1))
-        bar.update()
-    step, geo = statistics.median(step_ms), statistics.median(geo_ms)
-    label = f"rest_row({config['row']})"
-    return [_row("rotation", label, "step", step),
-            _row("rotation", label, "geometry update of every awake body", geo, geo / step,
-                 "upper bound of skipping rotation work")]
+    scene = sim.scenes.rest_row(config["row"])
+    return profile_share("rotation", scene, "broadphase", config, repeats, bar,
+                         "upper bound of skipping rotation work (geometry update and refit "
+                         "test of every awake body)")
 
 
 def verdicts(table):
@@ -193,14 +160,15 @@ def verdicts(table):
                           f"on the frictional scene (noise)"})
     bound = float(table[table["part"] == "box_sat"]["saving_share_of_step"].dropna().iloc[0])
     out.append({"candidate": "box_sat", "saving": bound,
-                "verdict": ("not built: cannot pay" if bound < PAYS else
-                            "built, saved less than the rule, removed (see docstring)"),
-                "detail": f"upper bound {bound:.1%} of a pyramid step"})
+                "verdict": ("removed: cannot pay (its bound is under the rule)" if bound < PAYS
+                            else "removed: built, it saved 2.5-4.9 %, under the rule (see "
+                                 "docstring); this bound is looser"),
+                "detail": f"upper bound {bound:.1%} of a pyramid step (whole narrowphase)"})
     share = float(table[table["part"] == "rotation"]["saving_share_of_step"].dropna().iloc[0])
     out.append({"candidate": "rotation", "saving": share,
                 "verdict": ("not built: may pay, the bound is above the rule" if share >= PAYS
                             else "not built: cannot pay"),
-                "detail": f"upper bound {share:.1%} of a step"})
+                "detail": f"upper bound {share:.1%} of a step (whole broadphase)"})
     s = float(table[table["part"] == "statics"]["saving_share_of_step"].dropna().iloc[0])
     out.append({"candidate": "statics", "saving": s, "verdict": "structural (resting grid)",
                 "detail": f"untouched static polygons change a step by {-s:+.1%}"})
@@ -209,18 +177,24 @@ def verdicts(table):
 
 def run(config, args):
     compile_kernels()
+    sim.World(sim.scenes.rest_row(2), dt=DT).profile(1)     # the profiled loop, compiled too
     repeats = config["repeats"]
     rows = []
-    with tqdm(total=2 * 2 * repeats + repeats + 2 * repeats + repeats, desc=NAME,
+    with tqdm(total=2 * (2 * repeats) + repeats + 2 * repeats + repeats, desc=NAME,
               unit="repeat") as bar:
         rows += friction(config, repeats, bar)
         rows += box_sat(config, repeats, bar)
         rows += statics(config, repeats, bar)
         rows += rotation(config, repeats, bar)
     table = pd.DataFrame(rows)
-    scenes = [columns(*config["columns"], 0.0), sim.scenes.pyramid(config["pyramid"]),
-              sim.scenes.rest_row(config["row"])]
-    return table, scenes, {"dt": DT, "slop": SLOP, "iterations": 10, "pays": PAYS,
+    scenes = [columns(*config["columns"], 0.0), columns(*config["columns"], 0.6),
+              sim.scenes.pyramid(config["pyramid"]), sim.scenes.rest_row(config["row"]),
+              with_ledges(sim.scenes.rest_row(config["row"]), config["statics"])]
+    settings = make_runner("sim-off", sim.scenes.rest_row(2), dt=DT, slop=SLOP).settings
+    return table, scenes, {"dt": DT, "slop": SLOP, "warmup_steps": WARMUP_STEPS,
+                           "system_settings": {"sim-off": settings},
+                           "substeps": settings["substeps"],
+                           "iterations": settings["iterations"], "pays": PAYS,
                            "verdicts": verdicts(table)}
 
 

@@ -17,8 +17,12 @@ Four parts, one long-form table (column ``part``), each answering one of the iss
    start at rest 3000 m up and fall for ~25 s: they are awake and in flight through the whole
    timing (checked: their lowest point stays far above the floor, and under sim-extended the awake
    count equals N_awake before and after). N_frozen x N_awake = {0, 1000, 2000, 4000} x
-   {100, 200, 400}, under sim-extended (the row frozen) and under sim-off (every body solved; there
-   the fit's b is the cost of a resting body that is solved). Every world of the sweep is built
+   {100, 400, 1600}, under sim-extended (the row frozen) and under sim-off (every body solved; there
+   the fit's b is the cost of a resting body that is solved). The flyer counts span 16x because an
+   awake body without contacts is cheap in solver v2 (a ~ 0.13-0.22 us per step, measured): with
+   {100, 200, 400} the flyers changed a sim-off step (1-2 ms with the 4000-box row solved) by
+   0.05 ms, within its timing noise, and sim-off's a came out 0.04 +- 0.23 us (even negative under
+   load); with {100, 400, 1600} it is 0.22 +- 0.02 us. Every world of the sweep is built
    first and the repeats run round-robin over all of them, so slow drifts in machine load spread
    over every mix instead of biasing some. Reported: a, b, c with standard errors, b/a (target
    <= 0.02), the RMS and largest residual and R^2, and b(extended)/b(off). The awake bodies here
@@ -41,12 +45,15 @@ Four parts, one long-form table (column ``part``), each answering one of the iss
 ROTATION_STABLE body that still slides, is awake; part 3 also reports, for sim, the step at which
 every body had left FREE (``steps_to_all_not_free``), beside the frozen one.
 
-Method (DESIGN.md section 6): one throwaway tiny World per freeze policy compiles the Numba kernels
+Method (docs/ARCHITECTURE.md §5): one throwaway tiny World per freeze policy compiles the Numba kernels
 first; every runner is built, then stepped (untimed) through warm-up; timed repeats call
 ``runner.step(K)`` with the garbage collector paused, interleaved round-robin over all systems
 compared (order reversed on every other repeat); reported per step are the median and min over
-repeats (default 7), in ms. All systems use dt 1/60 s; sim and pymunk 10 iterations and slop
-0.005 m, pybullet its default 50 iterations. In part 1, K is chosen per system so that a repeat
+repeats (default 7), in ms. All systems use dt 1/60 s and each engine's own default solver
+settings (experiments.peers.DEFAULT_ITERATIONS): sim its soft step with 4 substeps per step and
+1 biased + 1 relax sweep per substep, pymunk 10 iterations per step, pybullet 50; slop (sim) and
+collision_slop (pymunk) 0.005 m. Every system's full settings (``runner.settings``) are in the
+metadata's ``system_settings``. In part 1, K is chosen per system so that a repeat
 lasts about 0.1 s (a frozen sim step costs microseconds: a short repeat would time the call).
 
 Columns: part, scene, system, bodies, n_awake, n_frozen, metric, value, unit, flag. n_awake and
@@ -98,7 +105,7 @@ FULL = {
     "frozen_cost": (("rest_row", 5000, FROZEN_SYSTEMS), ("rest_row", 500, FROZEN_SYSTEMS_PB)),
     "frozen_repeat_s": 0.1,           # aim of one timed repeat in part 1, s
     "freeze_cap_s": 10.0,             # part 1: most simulated time spent waiting for the freeze
-    "mix_frozen": (0, 1000, 2000, 4000), "mix_awake": (100, 200, 400), "mix_steps": 50,
+    "mix_frozen": (0, 1000, 2000, 4000), "mix_awake": (100, 400, 1600), "mix_steps": 50,
     "ttf_scenes": (("rest_row", {"n": 50}), ("drop", {"n": 30, "seed": 0}),
                    ("drop", {"n": 30, "seed": 1}), ("drop", {"n": 30, "seed": 2}),
                    ("pyramid", {"base": 10}), ("pyramid", {"base": 20}),
@@ -111,7 +118,10 @@ QUICK = {
     "frozen_cost": (("rest_row", 200, FROZEN_SYSTEMS_PB),),
     "frozen_repeat_s": 0.01,
     "freeze_cap_s": 5.0,
-    "mix_frozen": (0, 200, 400), "mix_awake": (20, 50), "mix_steps": 10,
+    # flyers 10x apart and 50 steps a repeat, so that the awake cost (a ~ 0.13 us per step) is
+    # resolved under sim-off too: with (20, 50) flyers and 10 steps, the flyers changed a sim-off
+    # step by 0.004 ms, below its noise, and the fit's a was 0.04-0.18 +- 0.05 us, once negative
+    "mix_frozen": (0, 200, 400), "mix_awake": (20, 200), "mix_steps": 50,
     "ttf_scenes": (("rest_row", {"n": 50}), ("drop", {"n": 10, "seed": 0}),
                    ("pyramid", {"base": 5}), ("stack", {"height": 5})),
     "ttf_cap_s": 5.0,

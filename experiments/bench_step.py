@@ -1,23 +1,51 @@
-"""Table "bench_step": milliseconds per step versus body count, sim (freeze off) vs pymunk (sleeping off).
+"""Table "bench_step": milliseconds per step, sim (freeze off) vs pymunk (sleeping off), nothing
+frozen, and where sim's step spends its time.
 
-Question: before any freezing, how fast is sim's solver compared with an established engine on the
-same scenes, at the same dt, iterations, friction and slop? This fixes the baseline that every
+Question (issue "Solver v2", done when): before any freezing, how fast is sim's solver against an
+established engine on the same scenes? Target: sim-off at least 3x pymunk's step rate on
+pyramid(40), rest_row(5000) and drop(200) while it settles, in one run; with the phase profile of
+sim's step and the number of substeps and iterations used. This fixes the baseline that every
 later speed-up is measured from, and shows how each system's cost grows with the body count.
 
-Scenes: rest_row(n) for n in 10, 100, 1000, 5000 (independent boxes on the floor: cost of contacts
-with the floor only) and pyramid(base) for base in 10, 20, 40 (stacked boxes: coupled contacts).
-Both systems run dt 1/60 s, 10 iterations, slop 0.005 m, the scene's friction, no sleeping.
+Scenes
+- resting: rest_row(n) for n in 10, 100, 1000, 5000 (independent boxes on the floor: contacts with
+  the floor only) and pyramid(base) for base in 10, 20, 40 (stacked boxes: coupled contacts).
+- settling: drop(200, seed 0), random convex polygons falling into a walled bin, timed over the
+  first WINDOW steps (240 = 4 s: they fall, collide and pile up), the part of a run where every
+  body moves and contacts come and go.
 
-Method (DESIGN.md section 6): one throwaway sim World compiles the Numba kernels first; each system
-is built, then 10 untimed warm-up steps; then R repeats of K steps each, timed with
-time.perf_counter and the garbage collector paused, alternating sim and pymunk repeat by repeat so
-that machine noise hits both alike. Reported per step: median and min over repeats, in ms, and on
-the sim rows the ratio pymunk/sim of medians (``speedup_vs_pymunk``, > 1 means sim is faster).
-``max_displacement_m`` (largest distance any body moved from its start, sampled after each repeat)
-guards against a scene that blew up, or collapsed, looking fast.
+Systems: each at its own defaults (experiments.peers.DEFAULT_ITERATIONS), so the comparison is
+fair by construction: same scene, same start state, dt 1/60 s, slop 0.005 m, no sleeping, each
+system's settings recorded. sim: the soft step with 4 substeps per step, 1 biased solve sweep and
+1 relax sweep per substep (8 sweeps over the contacts per step); pymunk: 10 iterations per step.
+The columns ``substeps``, ``iterations`` and ``contact_sweeps_per_step``
+(``experiments.peers.solver_summary``) say so on every row; the metadata holds every setting of
+both (``system_settings``).
+
+Method (docs/ARCHITECTURE.md §5): one throwaway sim World compiles the Numba kernels first (and runs
+one profiled step, so profiling compiles nothing either).
+- resting scenes: each system is built, then WARMUP_STEPS untimed steps; then R repeats of K steps
+  each, timed with time.perf_counter and the garbage collector paused, round-robin over the
+  systems (order reversed every other repeat) so that machine noise hits both alike.
+- settling scene: every repeat builds both systems afresh (building is not timed: sim's includes
+  its initial-impulse solve) and times the same window, steps 1..WINDOW, in one call per system,
+  interleaved as above.
+Reported per step: median and min over repeats, ms; on the sim rows the ratio pymunk/sim of
+medians (``speedup_vs_pymunk``, > 1 means sim is faster). ``max_displacement_m`` (largest distance
+any body moved from its start) guards resting scenes against a blow-up or collapse looking fast;
+``bodies_in_bin`` (settling scene: bodies between the walls, below their top, at the end of the
+window) guards the drop.
+
+Second output, ``bench_step_profile``: sim-off's step by stage (sim.data.STAGES, ``World.profile``),
+ms per step, median over R profiled repeats: on resting scenes R repeats of K steps after the
+timed ones (same World), on the drop a fresh World per repeat over the same window. Profiling reads
+the cycle counter at every stage boundary, which costs time itself: ``profile_total_ms`` beside
+the unprofiled median on the same row shows by how much. Also recorded: what ``World.inspect()``
+reports at the end (active contacts, colours, batches, batch fill). This is the "after" profile of
+the issue; the "before" one (the previous solver) is quoted from the issue, not recomputed.
 
     python -m experiments.bench_step [--quick] [--repeats R] [--steps K]
-writes results/data/bench_step.csv and bench_step.json.
+writes results/data/bench_step.csv + .json and results/data/bench_step_profile.csv + .json.
 """
 import argparse
 import statistics
@@ -28,71 +56,167 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from experiments.timing import timed
+from experiments.common import DT, SLOP, build, label
 from experiments.metadata import collect, write_results
-from experiments.peers import make_runner
+from experiments.peers import solver_summary
+from experiments.timing import timed
+from sim.data import STAGES
 
 NAME = "bench_step"
-DT = 1 / 60            # s
-ITERATIONS = 10
-SLOP = 0.005           # m, sim's slop and pymunk's collision_slop
+PROFILE_NAME = "bench_step_profile"
 WARMUP_STEPS = 10
+TARGET_RATIO = 3.0        # the issue's target: sim-off at least this times pymunk's step rate
+DROP_SEED = 0
 
-FULL = {"rest_row": (10, 100, 1000, 5000), "pyramid": (10, 20, 40)}
-QUICK = {"rest_row": (10, 100), "pyramid": (5, 10)}
-BUILDERS = {"rest_row": sim.scenes.rest_row, "pyramid": sim.scenes.pyramid}
-PARAM = {"rest_row": "n", "pyramid": "base"}       # the size parameter reported per scene
+FULL = {"rest_row": (10, 100, 1000, 5000), "pyramid": (10, 20, 40), "drop": (200,),
+        "window": 240, "repeats": 7, "steps": 50}
+QUICK = {"rest_row": (10, 100), "pyramid": (5, 10), "drop": (20,), "window": 30, "repeats": 3,
+         "steps": 10}
+BUILDERS = {"rest_row": sim.scenes.rest_row, "pyramid": sim.scenes.pyramid,
+            "drop": lambda n: sim.scenes.drop(n, seed=DROP_SEED)}
+PARAM = {"rest_row": "n", "pyramid": "base", "drop": "n"}   # the size parameter reported
+SETTLING = ("drop",)                                         # timed from the start, fresh builds
+#: the scenes of the issue's target (label: scene name, size)
+TARGETS = (("pyramid", 40), ("rest_row", 5000), ("drop", 200))
 
-
-#: Systems timed, by their experiments.peers name, with the settings that make them comparable.
+#: Systems timed, by their experiments.peers name, each at its own default settings.
 SYSTEMS = ("sim-off", "pymunk")
-SYSTEM_SETTINGS = {"sim-off": {"slop": SLOP}, "pymunk": {"collision_slop": SLOP}}
 
 
-def _make(system, scene):
-    return make_runner(system, scene, dt=DT, iterations=ITERATIONS, **SYSTEM_SETTINGS[system])
+def max_displacement(runner, start):
+    return float(np.hypot(*(runner.positions - start).T).max())
 
 
-def bench_scene(scene, repeats, steps, progress=None):
-    """Time every system on ``scene``; one result row per system."""
-    systems, starts, build_s = [], [], []
-    for name in SYSTEMS:
-        t0 = time.perf_counter()
-        system = _make(name, scene)
-        build_s.append(time.perf_counter() - t0)
-        starts.append(system.positions)
-        system.step(WARMUP_STEPS)                   # first steps excluded (contacts, caches)
-        systems.append(system)
-    times = [[] for _ in systems]
-    moved = [0.0 for _ in systems]
-    for _ in range(repeats):
-        for k, system in enumerate(systems):        # interleaved: sim, pymunk, sim, pymunk ...
-            times[k].append(timed(system, steps))
-            d = np.hypot(*(system.positions - starts[k]).T).max()
-            moved[k] = max(moved[k], float(d))
-            if progress is not None:
-                progress.update()
+def bodies_in_bin(scene, runner):
+    """drop: bodies whose centre is between the two walls and below their top, m."""
+    left, right = scene.static_bodies[0], scene.static_bodies[1]
+    top = float(left.vertices[:, 1].max() + left.position[1])
+    x, y = runner.positions.T
+    inside = (x > left.position[0]) & (x < right.position[0]) & (y < top) & (y > 0.0)
+    return int(np.count_nonzero(inside))
+
+
+def _inspection(world):
+    i = world.inspect()
+    return {"contacts": i.n_active, "colours": i.n_colours, "batches": i.n_batches,
+            "batch_fill": i.batch_fill}
+
+
+def _profile_rows(scene, profiles, unprofiled_ms, steps, inspection, settings):
+    """Long-format rows of the profile table: one per stage, plus "total"."""
+    base = {"scene": scene.name, "param": scene.params[PARAM[scene.name]],
+            "label": label(scene), "bodies": len(scene.bodies), "system": "sim-off",
+            **solver_summary(settings), "repeats": len(profiles), "steps_per_repeat": steps,
+            "ms_per_step_unprofiled": unprofiled_ms, **inspection}
+    total = statistics.median(p["total"] for p in profiles)
     rows = []
-    for k, system in enumerate(systems):
-        per_step_ms = [1e3 * t / steps for t in times[k]]
-        rows.append({"scene": scene.name, "param": scene.params[PARAM[scene.name]],
-                     "bodies": len(scene.bodies), "system": system.name,
-                     "ms_per_step_median": statistics.median(per_step_ms),
-                     "ms_per_step_min": min(per_step_ms), "repeats": repeats,
-                     "steps_per_repeat": steps, "max_displacement_m": moved[k],
-                     "build_s": build_s[k]})
+    for stage in list(profiles[0]):
+        ms = statistics.median(p[stage] for p in profiles)
+        rows.append({**base, "stage": stage, "ms_per_step": ms,
+                     "share_of_total": ms / total if total > 0 else float("nan"),
+                     "profile_total_ms": total})
     return rows
 
 
-def run(sizes, repeats, steps):
-    """Benchmark every scene in ``sizes`` ({builder name: params}); returns (table, scenes)."""
-    sim.World(sim.scenes.rest_row(2), dt=DT, iterations=ITERATIONS).step(2)  # compile Numba kernels
-    scenes = [BUILDERS[name](p) for name, params in sizes.items() for p in params]
+def _row(scene, runner, per_step_ms, steps, build_s, mode, extra):
+    return {"scene": scene.name, "param": scene.params[PARAM[scene.name]], "label": label(scene),
+            "bodies": len(scene.bodies), "system": runner.name, "mode": mode,
+            **solver_summary(runner.settings),
+            "ms_per_step_median": statistics.median(per_step_ms),
+            "ms_per_step_min": min(per_step_ms), "repeats": len(per_step_ms),
+            "steps_per_repeat": steps, "build_s": build_s, **extra}
+
+
+def bench_resting(scene, repeats, steps, progress=None):
+    """Time every system on a resting ``scene`` (warm-up, then interleaved repeats); then profile
+    sim's World. Returns (rows, profile rows)."""
+    runners, starts, build_s = [], [], []
+    for name in SYSTEMS:
+        t0 = time.perf_counter()
+        runner = build(name, scene)
+        build_s.append(time.perf_counter() - t0)
+        starts.append(runner.positions)
+        runner.step(WARMUP_STEPS)                   # first steps excluded (contacts, caches)
+        runners.append(runner)
+    times = [[] for _ in runners]
+    moved = [0.0 for _ in runners]
+    order = list(range(len(runners)))
+    for r in range(repeats):
+        for k in (order if r % 2 == 0 else order[::-1]):
+            times[k].append(1e3 * timed(runners[k], steps) / steps)
+            moved[k] = max(moved[k], max_displacement(runners[k], starts[k]))
+            if progress is not None:
+                progress.update()
+    world = runners[SYSTEMS.index("sim-off")].world
+    inspection = _inspection(world)
+    profiles = [world.profile(steps) for _ in range(repeats)]
+    rows = [_row(scene, runner, times[k], steps, build_s[k], "resting",
+                 {"max_displacement_m": moved[k], "bodies_in_bin": np.nan,
+                  **(inspection if runner.name == "sim-off" else {})})
+            for k, runner in enumerate(runners)]
+    sim_k = SYSTEMS.index("sim-off")
+    return rows, _profile_rows(scene, profiles, statistics.median(times[sim_k]), steps,
+                               inspection, runners[sim_k].settings)
+
+
+def bench_settling(scene, repeats, window, progress=None):
+    """Time steps 1..``window`` of fresh systems on ``scene``, every repeat, interleaved; then
+    profile the same window in fresh sim Worlds. Returns (rows, profile rows)."""
+    times = {name: [] for name in SYSTEMS}
+    build_s = {name: [] for name in SYSTEMS}
+    last = {}
+    for r in range(repeats):
+        for name in (SYSTEMS if r % 2 == 0 else SYSTEMS[::-1]):
+            t0 = time.perf_counter()
+            runner = build(name, scene)
+            build_s[name].append(time.perf_counter() - t0)
+            times[name].append(1e3 * timed(runner, window) / window)
+            if last.get(name) is not None:
+                last[name].close()
+            last[name] = runner
+            if progress is not None:
+                progress.update()
+    inspection = _inspection(last["sim-off"].world)
+    profiles = []
+    for _ in range(repeats):
+        runner = build("sim-off", scene)
+        profiles.append(runner.world.profile(window))
     rows = []
+    for name in SYSTEMS:
+        runner = last[name]
+        rows.append(_row(scene, runner, times[name], window, statistics.median(build_s[name]),
+                         f"settling (fresh build, steps 1..{window})",
+                         {"max_displacement_m": np.nan,
+                          "bodies_in_bin": bodies_in_bin(scene, runner),
+                          **(inspection if name == "sim-off" else {})}))
+        runner.close()
+    return rows, _profile_rows(scene, profiles, statistics.median(times["sim-off"]), window,
+                               inspection, last["sim-off"].settings)
+
+
+def compile_kernels():
+    """Compile (or load from Numba's cache) the kernels a freeze-off World runs, profiled or not,
+    so that no timing includes JIT compilation."""
+    world = sim.World(sim.scenes.stack(2), dt=DT, slop=SLOP)
+    world.step(2)
+    world.profile(1)
+
+
+def run(config, repeats, steps):
+    """Benchmark every scene of ``config``; returns (table, profile table, scenes)."""
+    compile_kernels()
+    scenes = [BUILDERS[name](p) for name in ("rest_row", "pyramid", "drop")
+              for p in config[name]]
+    rows, profile_rows = [], []
     with tqdm(total=len(scenes) * repeats * len(SYSTEMS), desc=NAME, unit="repeat") as bar:
         for scene in scenes:
-            bar.set_postfix_str(f"{scene.name} {len(scene.bodies)} bodies")
-            rows += bench_scene(scene, repeats, steps, bar)
+            bar.set_postfix_str(f"{label(scene)}, {len(scene.bodies)} bodies")
+            if scene.name in SETTLING:
+                r, p = bench_settling(scene, repeats, config["window"], bar)
+            else:
+                r, p = bench_resting(scene, repeats, steps, bar)
+            rows += r
+            profile_rows += p
     table = pd.DataFrame(rows)
     # ratio of medians, on the sim rows: how many times faster sim is than pymunk
     med = table.pivot_table(index=["scene", "param"], columns="system",
@@ -100,7 +224,20 @@ def run(sizes, repeats, steps):
     ratio = (med["pymunk"] / med["sim-off"]).rename("speedup_vs_pymunk")
     table = table.join(ratio, on=["scene", "param"])
     table.loc[table["system"] != "sim-off", "speedup_vs_pymunk"] = np.nan
-    return table, scenes
+    return table, pd.DataFrame(profile_rows), scenes
+
+
+def targets(table):
+    """The issue's target on every target scene present: {label: {ratio, met}}."""
+    out = {}
+    sims = table[table["system"] == "sim-off"]
+    for scene, param in TARGETS:
+        row = sims[(sims["scene"] == scene) & (sims["param"] == param)]
+        if len(row):
+            ratio = float(row["speedup_vs_pymunk"].iloc[0])
+            out[row["label"].iloc[0]] = {"speedup_vs_pymunk": ratio,
+                                         "met": bool(ratio >= TARGET_RATIO)}
+    return out
 
 
 def main(argv=None, data_dir=None):
@@ -108,26 +245,41 @@ def main(argv=None, data_dir=None):
     parser = argparse.ArgumentParser(prog=f"python -m experiments.{NAME}",
                                      description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
-    parser.add_argument("--repeats", type=int, default=None, help="timed repeats (default 7, quick 3)")
-    parser.add_argument("--steps", type=int, default=None, help="steps per repeat (default 50, quick 10)")
+    parser.add_argument("--repeats", type=int, default=None,
+                        help="timed repeats (default 7, quick 3)")
+    parser.add_argument("--steps", type=int, default=None,
+                        help="steps per repeat on resting scenes (default 50, quick 10)")
     args = parser.parse_args(argv)
-    sizes = QUICK if args.quick else FULL
-    repeats = args.repeats or (3 if args.quick else 7)
-    steps = args.steps or (10 if args.quick else 50)
+    config = QUICK if args.quick else FULL
+    repeats = args.repeats or config["repeats"]
+    steps = args.steps or config["steps"]
     if repeats < 1 or steps < 1:
         parser.error("--repeats and --steps must be >= 1")
 
-    table, scenes = run(sizes, repeats, steps)
-    parameters = {"dt": DT, "iterations": ITERATIONS, "slop": SLOP, "warmup_steps": WARMUP_STEPS,
-                  "repeats": repeats, "steps_per_repeat": steps, "quick": args.quick,
-                  "sizes": sizes, "systems": list(SYSTEMS),
-                  "system_settings": {name: _make(name, scenes[0]).settings
-                                      for name in SYSTEMS}}
-    metadata = collect(scenes, parameters, script=NAME)
+    table, profile, scenes = run(config, repeats, steps)
+    settings = {}
+    for name in SYSTEMS:
+        with build(name, sim.scenes.rest_row(2)) as runner:
+            settings[name] = runner.settings
+    parameters = {"dt": DT, "slop": SLOP, "warmup_steps": WARMUP_STEPS, "repeats": repeats,
+                  "steps_per_repeat": steps, "settle_window_steps": config["window"],
+                  "drop_seed": DROP_SEED, "quick": args.quick, "sizes": config,
+                  "systems": list(SYSTEMS), "system_settings": settings,
+                  "solver_summary": {name: solver_summary(s) for name, s in settings.items()},
+                  "target_ratio": TARGET_RATIO, "targets": targets(table),
+                  "stages": list(STAGES)}
+    metadata = collect(scenes, parameters, script=NAME, seed=DROP_SEED)
     csv_path, _ = write_results(NAME, table, metadata, folder=data_dir)
-    with pd.option_context("display.width", 200, "display.max_columns", 20):
-        print(table.to_string(index=False, float_format=lambda x: f"{x:.4g}"))
-    print(f"wrote {csv_path}")
+    profile_path, _ = write_results(PROFILE_NAME, profile, {**metadata, "script": NAME,
+                                                            "table": PROFILE_NAME},
+                                    folder=data_dir)
+    with pd.option_context("display.width", 250, "display.max_columns", 30):
+        print(table.drop(columns=["mode", "relax_iterations", "build_s"]).to_string(
+            index=False, float_format=lambda x: f"{x:.4g}"))
+        wide = profile.pivot_table(index="stage", columns="label", values="ms_per_step",
+                                   sort=False)
+        print(wide.to_string(float_format=lambda x: f"{x:.4f}"))
+    print(f"wrote {csv_path} and {profile_path}")
     return table
 
 

@@ -2,7 +2,7 @@
 compiling the kernels before any timing, short scene labels, the standard command line and writing
 the results with their provenance.
 
-An experiment script (one per figure or table, DESIGN section 6) looks like::
+An experiment script (one per figure or table, docs/ARCHITECTURE.md §5) looks like::
 
     def run(config, args) -> (pandas.DataFrame, scenes, parameters)
     main = common.entry(NAME, __doc__, FULL, QUICK, run)

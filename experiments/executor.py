@@ -1,4 +1,4 @@
-"""One executor for the independent runs of a sweep (DESIGN section 6).
+"""One executor for the independent runs of a sweep (docs/ARCHITECTURE.md §5).
 
 ``run_tasks(fn, tasks)`` calls ``fn(task)`` for every task and returns the results in task order,
 with a tqdm bar. Where the runs go:

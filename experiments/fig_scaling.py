@@ -29,8 +29,11 @@ b/b_off, a/a_off against sim-off. The same fit is also made on each mix's fastes
 "fit_min"): on a machine shared with other work, load spikes hit a few repeats of some mixes,
 and the minimum is the estimate least touched by them; the figure shows the median fit, the table
 both, so a disagreement between them is visible rather than hidden. The awake bodies are the
-cheapest kind (no contacts), so a is low and b/a is a conservative (high) ratio. dt 1/60 s; sim
-and pymunk 10 iterations, slop 0.005 m.
+cheapest kind (no contacts), so a is low and b/a is a conservative (high) ratio. dt 1/60 s; each
+engine at its own default solver settings (experiments.peers.DEFAULT_ITERATIONS: sim its soft step
+with 4 substeps per step and 1 biased + 1 relax sweep per substep, pymunk 10 iterations per step);
+slop (sim) and collision_slop (pymunk) 0.005 m; every system's full settings (``runner.settings``)
+are in the metadata's ``system_settings``.
 
 Columns (long form, bench_freeze's): part ("per_body_cost"), scene (mix label, "fit" or
 "fit_min"), system, bodies, n_awake, n_frozen (the mix's design), metric, value, unit, flag (""

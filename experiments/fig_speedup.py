@@ -7,8 +7,11 @@ does that grow with the number of bodies?
 Scenes (sim/scenes.py): ``rest_row(n)`` for n in {100, 300, 1000, 3000, 10000} (unit boxes on the
 floor, 0.5 m apart: nothing touches but the floor) and ``pyramid(base)`` for base in {5, 10, 20,
 40} (15 to 820 boxes, each carried by the two below). Systems: sim-off, sim-sleep, sim-paper,
-sim-extended, pymunk, pymunk-sleep, pybullet, pybullet-sleep (experiments/peers; dt 1/60 s; sim and
-pymunk 10 iterations and slop 0.005 m, pybullet its default 50 iterations).
+sim-extended, pymunk, pymunk-sleep, pybullet, pybullet-sleep (experiments/peers; dt 1/60 s; each
+engine at its own default solver settings, experiments.peers.DEFAULT_ITERATIONS: sim its soft step
+with 4 substeps per step and 1 biased + 1 relax sweep per substep, pymunk 10 iterations per step,
+pybullet 50; slop (sim) and collision_slop (pymunk) 0.005 m; every system's full settings,
+``runner.settings``, are in the metadata's ``system_settings``).
 
 pybullet is run only up to PYBULLET_MAX_BODIES = 1000 bodies: Bullet costs ~40 ms per step per
 1000 awake boxes here (~95 ms on pyramid(40)), so rest_row(3000) and rest_row(10000) would cost

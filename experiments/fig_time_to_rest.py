@@ -19,8 +19,11 @@ get there is kept, not dropped: NaN steps, flag "never", with the number still a
 (a freeze that does not hold). Also recorded: the largest distance a body moved (m), and for sim
 the step at which no body was FREE any more (``steps_to_all_not_free``: under paper a pivoting or
 sliding body leaves FREE but stays awake). The runs are independent and untimed, so they go to the
-local process pool (experiments/executor.py). sim and pymunk 10 iterations, slop 0.005 m;
-pybullet 50 iterations.
+local process pool (experiments/executor.py). Each engine at its own default solver settings
+(experiments.peers.DEFAULT_ITERATIONS): sim its soft step with 4 substeps per step and 1 biased +
+1 relax sweep per substep, pymunk 10 iterations per step, pybullet 50; slop (sim) and
+collision_slop (pymunk) 0.005 m; every system's full settings (``runner.settings``) are in the
+metadata's ``system_settings``.
 
 Columns (long form, bench_freeze's): part ("time_to_freeze"), scene, system, bodies, n_awake,
 n_frozen (at the freeze, or at the cap), metric (steps_to_all_frozen, time_to_all_frozen,

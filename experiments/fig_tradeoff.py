@@ -1,9 +1,12 @@
-"""Figure 7 "fig_tradeoff": the speed-accuracy trade of freezing, and its Pareto front per system.
+"""Figure 7 "fig_tradeoff": the speed-accuracy trade of freezing, and its Pareto front per system,
+beside the trade sim's own solver knobs make.
 
 Question: how much faster does a whole run get under each freezing / sleeping system as its
 threshold is made more eager, and what does that cost in accuracy, on top of the error the time
-step already makes? x = speed-up over the same engine with sleeping off at the same dt, y = error
-against a fine-dt reference of that engine with sleeping off.
+step already makes? And how does that compare with the trade a user makes with the solver itself
+(sim's substeps and iterations, freezing off)? x = speed-up over the same engine with sleeping off
+at its default settings and the same dt, y = error against a converged reference of that engine
+with sleeping off (fine dt *and* many iterations, see "Reference").
 
 Scenes (chosen so that freezing saves real time and the outcome is not chaotic: a pile of random
 polygons diverges between any two dt, its pose error would measure chaos, not freezing):
@@ -15,9 +18,14 @@ polygons diverges between any two dt, its pose error would measure chaos, not fr
   flat onto the floor from 0.5, 1.0, 1.5 m. Everything starts at rest and falls flat (no spin), so
   the contact sequence is the same at any dt: the rows land at 3.1 and 4.4 m/s, the loners at 3.1,
   4.4 and 5.4 m/s (impact impulses 3-5 N s on 1 kg boxes, across the paper's default threshold of
-  1 N s). Full: base 8, 2 layers, 3 loners (24 bodies). Measured: sim-off at dt 1/60 ends within
-  2 cm of its dt/16 run (the symmetric landings break symmetry by a few mm in the sequential
-  solver's order), so errors of a few mm are the time step's own, not freezing's.
+  1 N s). Full: base 8, 2 layers, 3 loners (24 bodies). The scene is mirror-symmetric and every
+  landing flat, so the exact answer moves no box sideways; what an engine gets wrong here is how
+  well it converges the impacts' contact impulses. Measured (solver v2, full size): sim-off at its
+  defaults (4 substeps, 1 sweep per substep) slides the pile's boxes up to 3.1 cm sideways
+  during the landings (all leftwards-biased: the sweep order's asymmetry), and does *not* get
+  better with a finer dt or more substeps (dt/8: 2.6 cm; 16 substeps: 3.8 cm) but does with
+  iterations (4 per substep: 5 mm; 8: 1.6 mm; 16 at dt/8: 0.08 mm). Nothing slides once the pile
+  is at rest.
 Each run lasts ``duration_s`` = 5 s of simulated time (300 steps at dt 1/60): the landing is over
 by ~1 s and Bullet needs its fixed 2 s of rest before a body sleeps.
 
@@ -44,37 +52,61 @@ around the parameter's default (the default itself included), from "freezes almo
   default 0.05; experiments/peers/pybullet_runner.py; the 2 s deactivation time is fixed in
   Bullet). A squared speed, so the grid steps by whole decades: default x 10^k, k = -3..2
   (speeds 7 mm/s .. 2.2 m/s).
-- sim-off, pymunk, pybullet at dt 1/60: the baseline (speed-up 1 by definition; its error is the
-  time step's own).
-Iterations: each engine's default (sim and pymunk 10, pybullet 50); sim slop and pymunk
-collision_slop 0.005 m (experiments.common).
+- sim-off, pymunk, pybullet at dt 1/60 and their default settings: the baseline (speed-up 1 by
+  definition; its error is the time step's and the default iterations' own).
+- sim-off's solver knobs (role "solver"), freezing off, one at a time, the other at its default:
+  ``substeps`` per step (default 4, sim.World's) x 2^k, k = -2..2 (1 .. 16 substeps), and
+  ``iterations`` (biased sweeps per substep; default 1, what the runners give sim) x 2^k,
+  k = 0..3 (1 .. 8); relax sweeps stay at 1 per substep. Cost grows about linearly with
+  substeps x (iterations + 1). Timed and measured exactly as the freezing settings (speed-up over
+  sim-off at its defaults, error against sim's reference), so both trades share the axes.
+Settings: each engine at its own defaults (experiments.peers.DEFAULT_ITERATIONS): sim's soft step
+with 4 substeps and 1 biased + 1 relax sweep per substep; pymunk 10 iterations per step; pybullet
+50 per step. Sim slop and pymunk collision_slop 0.005 m (experiments.common). Every run's full
+settings (``runner.settings``) are in the metadata's ``system_settings``.
 
 Reference per engine: the same engine with sleeping off at dt / ``fine`` (fine = 8: dt 1/480 s,
-2400 steps), same iterations (more per simulated second, since there are more steps). Its own
-resolution is measured too: the same engine at dt / (fine / 2) against it (row role
-"resolution"); an error below that is within the reference's uncertainty.
+2400 steps) *and* ``reference_iterations`` (sim 16 biased sweeps per substep at its default 4
+substeps; pymunk 40 and pybullet 200 per step: 4x their defaults). A fine dt alone is not a
+reference for sim since solver v2: on the landing, sim-off at dt/8 with 1 sweep per substep ends
+2.6 cm from the converged pose, farther than sim-off at dt with 4 sweeps (5 mm); with 16 sweeps
+per substep, dt/8 and dt/16 (8 substeps, 16 sweeps) agree to 0.09 mm (measured, full size). The
+peers' references were iteration-bound too, less so: pymunk at dt/8 with 10 iterations moved
+boxes 5.8 mm sideways (0.02 mm with 40), pybullet at dt/8 with 50 by 0.6 mm (0.001 mm with 200).
+Its own resolution is measured too: the same engine at dt / (fine / 2) with half the reference
+iterations against it (row role "resolution"); an error below that is within the reference's
+uncertainty. The reference is finer than every setting judged against it (sim: 8x finer step and
+2x the largest swept iterations; checked at start-up).
 
 Errors (every system measured by the same code, never by an engine's own contact report):
 - pose error of the final state against the reference: largest and mean distance between centres
   of mass (m) and largest angle difference (rad, modulo 2 pi) over all bodies;
+- the same largest distance and angle against the *exact* final pose (``rest_pose``: the pyramid
+  stays where it was placed; on the landing no box moves sideways or turns and each rests on the
+  row below), columns ``exact_error_max_m``, ``exact_angle_error_max_rad``. It needs no engine's
+  reference, so it also holds where a reference has not converged (its resolution row says so),
+  and it is the same yardstick for every engine. The reference rows have it too;
 - penetration: the deepest overlap between two bodies, or between a body and the floor (or a static
   body), from positions, angles and the scene's polygons (separating-axis test on the convex
   polygons: the overlap is the smallest push along any edge normal of either polygon that
   separates them; ``deepest_overlap``). Measured on the pose after every step at dt (the
   reference: every ``fine`` steps, at the same times) and reported as the largest over the run and
-  at the end. A resting contact overlaps by about the slop (0.005 m) in sim and pymunk, ~1e-5 m in
-  Bullet; the reference's value is in its row. The largest over the run is set by the impacts
-  themselves, the same under every setting: a box landing at v sinks up to v dt into what it hits
-  before any of the engines sees the contact (3 cm for the loner dropped from 1.5 m, in all three
-  engines at dt 1/60). What freezing changes is the overlap left at the end: a body frozen before
-  the position correction has pushed it back out keeps its overlap (the figure draws that one).
+  at the end. A resting contact overlaps by up to the slop (0.005 m) in pymunk, ~1e-5 m in Bullet
+  and in sim solver v2 (its contacts carry their load rigidly); the reference's value is in its
+  row. The largest over the run is set by the impacts themselves, the same under every freezing
+  setting: in pymunk and Bullet a box landing at v sinks up to v dt into what it hits before the
+  engine sees the contact (1.8-3 cm at dt 1/60); sim's speculative contacts reach the distance a
+  pair closes in one step (relative speed x dt) ahead, so it sees the contact before impact and
+  sinks under a millimetre. What freezing changes is the overlap left at the end: a body frozen
+  before the solver has pushed it back out keeps its overlap (the figure draws that one).
 These accuracy runs are untimed and independent: they go through experiments.executor.run_tasks
 (a process pool). Each also records the mean fraction of bodies awake over the run, the awake
 count at the end and the first time every body was asleep.
 
 Speed-up: wall time of the whole run (build excluded; the first step excluded, as every timing of
 the study; steps 2..300 timed in one ``runner.step`` call with the garbage collector paused)
-under the setting, divided into that of the same engine with sleeping off at the same dt.
+under the setting, divided into that of the same engine with sleeping off at its default
+settings and the same dt (for sim: sim-off at 4 substeps, 1 sweep per substep).
 Kernels are compiled first (common.compile_kernels). Each repeat builds a fresh runner per
 setting; within an engine the settings run round-robin in one process (order reversed every other
 repeat), repeats: sim 15, pymunk 15, pybullet 5 (a sim or pymunk run lasts 2-40 ms, so a single
@@ -86,16 +118,18 @@ after every untimed run has finished (the pool must not compete with them). The 
 last timed repeat is compared with the accuracy run's (``replay_difference_m``): the engines are
 deterministic, so the errors describe exactly the runs that were timed.
 
-Columns: scene, bodies, system, engine, role (baseline | sweep | reference | resolution),
+Columns: scene, bodies, system, engine, role (baseline | sweep | solver | reference | resolution),
 parameter, value, unit, is_default, dt_s, steps, repeats, wall_s_median, wall_s_min,
 wall_s_all (every repeat, s, space-separated), off_wall_s_median, speedup, speedup_min,
 n_awake_final, awake_fraction, all_asleep_at_s,
-pose_error_max_m, pose_error_mean_m, angle_error_max_rad, penetration_max_m, penetration_final_m,
-replay_difference_m.
+pose_error_max_m, pose_error_mean_m, angle_error_max_rad, exact_error_max_m,
+exact_angle_error_max_rad, penetration_max_m, penetration_final_m, replay_difference_m (reference
+and resolution rows: parameter "iterations", value the iterations they ran).
 
     python -m experiments.fig_tradeoff [--quick]
 writes results/data/fig_tradeoff.csv and fig_tradeoff.json. --quick: pyramid(4) and a landing of
-4 + 3 boxes and 1 loner, 2.5 s, references at dt/4 (resolution dt/2), every other grid point.
+4 + 3 boxes and 1 loner, 2.5 s, references at dt/4 (resolution dt/2; the same reference
+iterations), every other grid point (substeps 1, 4, 16; iterations 1, 4).
 """
 import inspect
 import math
@@ -125,6 +159,10 @@ OFF = {"sim": "sim-off", "pymunk": "pymunk", "pybullet": "pybullet"}
 ENGINES = ("sim", "pymunk", "pybullet")
 
 _PYMUNK_SLEEP_TIME = inspect.signature(PymunkRunner).parameters["sleep_time"].default
+#: sim-off's solver defaults, as the baseline runs them: substeps are sim.World's own, iterations
+#: (biased sweeps per substep) what the runners give sim when none are asked for
+SIM_SUBSTEPS = inspect.signature(sim.World).parameters["substeps"].default
+SIM_ITERATIONS = DEFAULT_ITERATIONS["sim"]
 #: (system, parameter, unit, default, log10 step of the grid, exponents k: value = default *
 #: 10^(k * step)). Defaults are read from the code that defines them.
 SWEEPS = (
@@ -145,12 +183,21 @@ SWEEPS = (
 )
 #: settings whose default row leaves the parameter unset (the engine's own rule applies)
 UNSET_AT_DEFAULT = {("pymunk-sleep", "idle_speed")}
+#: sim-off's solver knobs, freezing off (role "solver"): (system, parameter, unit, default,
+#: exponents k: value = default * 2^k, whole numbers). One varies at a time.
+SOLVER_SWEEPS = (
+    ("sim-off", "substeps", "per step", SIM_SUBSTEPS, range(-2, 3)),
+    ("sim-off", "iterations", "per substep", SIM_ITERATIONS, range(0, 4)),
+)
 
 FULL = {
     "scenes": (("pyramid", {"base": 10}),
                ("landing", {"base": 8, "layers": 2, "loners": 3})),
     "duration_s": 5.0,
     "fine": 8,                       # reference dt = DT / fine; resolution run at DT / (fine/2)
+    # the references' iterations (sim: biased sweeps per substep; the peers: per step); the
+    # resolution runs use half (see the docstring for the convergence measured)
+    "reference_iterations": {"sim": 16, "pymunk": 40, "pybullet": 200},
     "every_other_grid_point": False,
     "repeats": {"sim": 15, "pymunk": 15, "pybullet": 5},
 }
@@ -159,6 +206,7 @@ QUICK = {
                ("landing", {"base": 4, "layers": 1, "loners": 1})),
     "duration_s": 2.5,
     "fine": 4,
+    "reference_iterations": {"sim": 16, "pymunk": 40, "pybullet": 200},
     "every_other_grid_point": True,  # k = -2, 0, 2 only
     "repeats": {"sim": 3, "pymunk": 3, "pybullet": 3},
 }
@@ -201,6 +249,33 @@ def make_scene(name, params):
     if name not in sim.scenes.BUILDERS:
         raise ValueError(f"unknown scene {name!r}")
     return sim.scenes.BUILDERS[name](**params)
+
+
+def rest_pose(scene):
+    """The exact final pose of a scene, from symmetry and statics, no engine involved: (N,2) m
+    centres of mass, (N,) rad. pyramid: it was placed at rest, in equilibrium: the start pose.
+    landing: every landing is flat and the scene mirror-symmetric, so no box moves sideways or
+    turns; each comes to rest on the row below (rigid bodies: no overlap), row L's centres at
+    (L + 1/2) size, the loners' at size / 2."""
+    com = np.array([_centre_of_mass(b) for b in scene.bodies])
+    angles = np.array([b.angle for b in scene.bodies], dtype=float)
+    if scene.name == "pyramid":
+        return com, angles
+    if scene.name != "landing":
+        raise ValueError(f"no exact rest pose known for scene {scene.name!r}")
+    p = scene.params
+    rows = [layer for layer in range(p["layers"] + 1) for _ in range(p["base"] - layer)]
+    rows += [0] * p["loners"]
+    com[:, 1] = (np.array(rows) + 0.5) * p["size"]
+    return com, np.zeros_like(angles)
+
+
+def _centre_of_mass(body):
+    """World centre of mass of a scene body (m): what every runner reports as its position."""
+    _, centroid, _ = mass_properties(body.vertices, body.density)
+    c, s = math.cos(body.angle), math.sin(body.angle)
+    return np.asarray(body.position, dtype=float) + np.array(
+        [c * centroid[0] - s * centroid[1], s * centroid[0] + c * centroid[1]])
 
 
 def scene_tag(scene):
@@ -265,20 +340,62 @@ def grid(default, step, exponents):
     return [default if k == 0 else default * 10.0 ** (k * step) for k in exponents]
 
 
+def solver_grid(default, exponents):
+    """default * 2^k for every k, as whole numbers (a substep or sweep count); ValueError if one
+    is not whole or below 1."""
+    values = []
+    for k in exponents:
+        value = default * 2.0 ** k
+        if value < 1 or value != int(value):
+            raise ValueError(f"{default} * 2^{k} = {value} is not a whole number >= 1")
+        values.append(int(value))
+    return values
+
+
+def _grid_points(exponents, config):
+    return ([k for k in exponents if k % 2 == 0] if config["every_other_grid_point"]
+            else list(exponents))
+
+
 def settings_of(config):
-    """Every (system, parameter, unit, value, is_default) to time and measure, per engine, the
-    sleeping-off baseline first."""
-    out = {e: [(OFF[e], "none", "", math.nan, True)] for e in ENGINES}
+    """Every (system, parameter, unit, value, is_default, role) to time and measure, per engine,
+    the sleeping-off baseline first, then the freezing sweeps ("sweep"), then sim-off's solver
+    knobs ("solver")."""
+    out = {e: [(OFF[e], "none", "", math.nan, True, "baseline")] for e in ENGINES}
     for system, parameter, unit, default, step, exponents in SWEEPS:
-        ks = [k for k in exponents if k % 2 == 0] if config["every_other_grid_point"] else exponents
+        ks = _grid_points(exponents, config)
         for k, value in zip(ks, grid(default, step, ks)):
-            out[engine_of(system)].append((system, parameter, unit, value, k == 0))
+            out[engine_of(system)].append((system, parameter, unit, value, k == 0, "sweep"))
+    for system, parameter, unit, default, exponents in SOLVER_SWEEPS:
+        ks = _grid_points(exponents, config)
+        for k, value in zip(ks, solver_grid(default, ks)):
+            out[engine_of(system)].append((system, parameter, unit, value, k == 0, "solver"))
     return out
+
+
+def reference_settings(engine, config, role):
+    """The runner settings of ``engine``'s reference ("reference") or of the run that measures its
+    resolution ("resolution": half the iterations)."""
+    iterations = int(config["reference_iterations"][engine])
+    return {"iterations": iterations if role == "reference" else max(1, iterations // 2)}
+
+
+def check_reference(config):
+    """ValueError unless sim's reference is finer than every solver setting swept: a finer step
+    (fine >= 2) and more sweeps per substep than the most swept."""
+    swept = max(solver_grid(d, _grid_points(ex, config)) for _, p, _, d, ex in SOLVER_SWEEPS
+                if p == "iterations")
+    ref = reference_settings("sim", config, "reference")["iterations"]
+    if ref <= max(swept) or config["fine"] < 2:
+        raise ValueError(f"sim's reference ({ref} sweeps per substep at dt/{config['fine']}) must "
+                         f"be finer than every swept setting (up to {max(swept)} sweeps)")
 
 
 def runner_settings(system, parameter, value, is_default):
     if parameter == "none" or (is_default and (system, parameter) in UNSET_AT_DEFAULT):
         return {}
+    if parameter in ("substeps", "iterations"):
+        return {parameter: int(value)}
     return {parameter: value}
 
 
@@ -317,7 +434,7 @@ def timed_runs(scene, engine, settings, steps, repeats, progress):
     order = list(range(len(settings)))
     for r in range(repeats):
         for k in (order if r % 2 == 0 else order[::-1]):
-            system, parameter, _, value, is_default = settings[k]
+            system, parameter, _, value, is_default, _ = settings[k]
             progress.set_postfix_str(f"{scene_tag(scene)} {system} {parameter}")
             runner = build(system, scene, **runner_settings(system, parameter, value, is_default))
             try:
@@ -336,6 +453,7 @@ def run(config, args):
     fine = int(config["fine"])
     if fine < 2 or fine % 2:
         raise ValueError(f"fine must be an even integer >= 2, got {fine}")
+    check_reference(config)
     per_engine = settings_of(config)
     scenes = [make_scene(name, params) for name, params in config["scenes"]]
 
@@ -345,10 +463,11 @@ def run(config, args):
         base = {"scene": name, "scene_params": params}
         for engine in ENGINES:
             for role, div in (("reference", fine), ("resolution", fine // 2)):
-                tasks.append({**base, "system": OFF[engine], "dt": DT / div, "settings": {},
+                tasks.append({**base, "system": OFF[engine], "dt": DT / div,
+                              "settings": reference_settings(engine, config, role),
                               "sample_every": div, "samples": steps})
                 keys.append((scene_tag(scene), engine, role, None))
-            for k, (system, parameter, _, value, is_default) in enumerate(per_engine[engine]):
+            for k, (system, parameter, _, value, is_default, _) in enumerate(per_engine[engine]):
                 tasks.append({**base, "system": system, "dt": DT,
                               "settings": runner_settings(system, parameter, value, is_default),
                               "sample_every": 1, "samples": steps})
@@ -371,6 +490,7 @@ def run(config, args):
     rows = []
     for scene in scenes:
         tag = scene_tag(scene)
+        exact = rest_pose(scene)
         for engine in ENGINES:
             ref = results[tag, engine, "reference", None]
             times, final = timings[tag, engine]
@@ -378,12 +498,15 @@ def run(config, args):
             off_min = min(times[0])
             for role, div in (("reference", fine), ("resolution", fine // 2)):
                 res = results[tag, engine, role, None]
-                rows.append(_row(tag, scene, OFF[engine], engine, role, "none", "", math.nan,
-                                 True, DT / div, steps * div, res, ref))
-            for k, (system, parameter, unit, value, is_default) in enumerate(per_engine[engine]):
+                rows.append(_row(tag, scene, OFF[engine], engine, role, "iterations",
+                                 ITERATIONS_UNIT[engine],
+                                 reference_settings(engine, config, role)["iterations"],
+                                 False, DT / div, steps * div, res, ref, exact))
+            for k, (system, parameter, unit, value, is_default, role) in enumerate(
+                    per_engine[engine]):
                 res = results[tag, engine, "setting", k]
-                row = _row(tag, scene, system, engine, "baseline" if k == 0 else "sweep",
-                           parameter, unit, value, is_default, DT, steps, res, ref)
+                row = _row(tag, scene, system, engine, role, parameter, unit, value, is_default,
+                           DT, steps, res, ref, exact)
                 med, low = statistics.median(times[k]), min(times[k])
                 end_pose, end_awake = final[k]
                 row.update(repeats=len(times[k]), wall_s_median=med, wall_s_min=low,
@@ -400,18 +523,34 @@ def run(config, args):
 
     system_settings = {}
     for engine in ENGINES:
-        res = results[scene_tag(scenes[0]), engine, "reference", None]
-        system_settings[f"{OFF[engine]} reference"] = res["settings"]
-        for k, (system, parameter, _, value, is_default) in enumerate(per_engine[engine]):
+        for role in ("reference", "resolution"):
+            res = results[scene_tag(scenes[0]), engine, role, None]
+            system_settings[f"{OFF[engine]} {role}"] = res["settings"]
+        for k, (system, parameter, _, value, is_default, role) in enumerate(per_engine[engine]):
             if is_default:
                 system_settings.setdefault(system, results[scene_tag(scenes[0]), engine,
                                                             "setting", k]["settings"])
+            elif role == "solver":
+                system_settings[f"{system} {parameter}={int(value)}"] = results[
+                    scene_tag(scenes[0]), engine, "setting", k]["settings"]
     parameters = {
         "dt": DT, "slop": SLOP, "duration_s": config["duration_s"], "steps": steps,
         "reference_dt": DT / fine, "resolution_dt": DT / (fine // 2),
+        "reference_iterations": {e: reference_settings(e, config, "reference")["iterations"]
+                                 for e in ENGINES},
+        "resolution_iterations": {e: reference_settings(e, config, "resolution")["iterations"]
+                                  for e in ENGINES},
+        "iterations_unit": dict(ITERATIONS_UNIT),
         "iterations": dict(DEFAULT_ITERATIONS), "error_floor": ERROR_FLOOR,
+        "sim_defaults": {"substeps": SIM_SUBSTEPS, "iterations": SIM_ITERATIONS,
+                         "relax_iterations": inspect.signature(sim.World).parameters[
+                             "relax_iterations"].default},
         "sweeps": [{"system": s, "parameter": p, "unit": u, "default": d, "grid_log10_step": st,
                     "exponents": list(ex)} for s, p, u, d, st, ex in SWEEPS],
+        "solver_sweeps": [{"system": s, "parameter": p, "unit": u, "default": d,
+                           "grid": "default * 2^k", "exponents": list(ex),
+                           "values": solver_grid(d, _grid_points(ex, config))}
+                          for s, p, u, d, ex in SOLVER_SWEEPS],
         "unset_at_default": sorted(f"{s}:{p}" for s, p in UNSET_AT_DEFAULT),
         "timing": "build excluded, first step excluded, steps 2..N in one call with GC paused; "
                   "settings of one engine round-robin, order reversed every other repeat; "
@@ -422,24 +561,29 @@ def run(config, args):
     return table, scenes, parameters
 
 
+#: what an engine's iteration count counts
+ITERATIONS_UNIT = {"sim": "per substep", "pymunk": "per step", "pybullet": "per step"}
+
 COLUMNS = ["scene", "bodies", "system", "engine", "role", "parameter", "value", "unit",
            "is_default", "dt_s", "steps", "repeats", "wall_s_median", "wall_s_min",
            "wall_s_all", "off_wall_s_median", "speedup", "speedup_min", "n_awake_final",
            "awake_fraction",
            "all_asleep_at_s", "pose_error_max_m", "pose_error_mean_m", "angle_error_max_rad",
+           "exact_error_max_m", "exact_angle_error_max_rad",
            "penetration_max_m", "penetration_final_m", "replay_difference_m"]
 
 
 def _row(tag, scene, system, engine, role, parameter, unit, value, is_default, dt, steps, res,
-         ref):
+         ref, exact):
     if role == "reference":
         d_max = d_mean = a_max = math.nan             # the reference itself: no error to speak of
     else:
         d_max, a_max = pose_error(res["positions"], res["angles"], ref["positions"],
                                   ref["angles"])
         d_mean = float(np.hypot(*(res["positions"] - ref["positions"]).T).mean())
+    e_max, e_angle = pose_error(res["positions"], res["angles"], *exact)
     row = dict.fromkeys(COLUMNS, math.nan)
-    row.update(scene=tag, bodies=len(scene.bodies), system=system, engine=engine, role=role,
+    row.update(exact_error_max_m=e_max, exact_angle_error_max_rad=e_angle, scene=tag, bodies=len(scene.bodies), system=system, engine=engine, role=role,
                parameter=parameter, value=value, unit=unit, is_default=bool(is_default), dt_s=dt,
                steps=steps, n_awake_final=res["n_awake_final"],
                awake_fraction=res["awake_fraction"], all_asleep_at_s=res["all_asleep_at_s"],

@@ -9,12 +9,16 @@ One long table, column ``kind``:
   "event"  one row per event: step, body, from_state, state (to), cause
 Step 0 is the start pose. The runs are a few hundred steps of two or three bodies: cheap, so
 ``--quick`` runs them unchanged.
+
+Each policy runs as every experiment runs sim (experiments.common.build): dt 1/60 s, slop
+0.005 m, sim's own default solver settings (its soft step: 4 substeps per step, 1 biased + 1
+relax sweep per substep). The metadata records each policy's full settings (``runner.settings``,
+``system_settings``).
 """
 import numpy as np
 import pandas as pd
 
-import sim
-from experiments.common import DT
+from experiments.common import DT, build
 
 
 def _body_rows(world, policy):
@@ -31,13 +35,18 @@ def _body_rows(world, policy):
     return rows
 
 
-def record(scene, policies, steps, dt=DT):
-    """Run ``scene`` under each policy for ``steps`` steps; the long table described above."""
+def record(scene, policies, steps, dt=DT, settings_out=None):
+    """Run ``scene`` under each policy for ``steps`` steps; the long table described above. Each
+    policy's runner settings are stored in the dict ``settings_out`` (if given), keyed by system
+    name (sim-<policy>)."""
     if steps < 1:
         raise ValueError(f"steps must be >= 1, got {steps}")
     rows = []
     for policy in policies:
-        world = sim.World(scene, dt=dt, freeze=policy)
+        runner = build(f"sim-{policy}", scene, dt=dt)
+        if settings_out is not None:
+            settings_out[runner.name] = runner.settings
+        world = runner.world
         rows += _body_rows(world, policy)
         for _ in range(steps):
             world.step()
@@ -55,8 +64,9 @@ def experiment(name, doc, builder, policies, steps):
 
     def run(config, args):
         scene = builder()
-        table = record(scene, config["policies"], config["steps"])
-        return table, [scene], {"dt": DT, "iterations": 10}
+        settings = {}
+        table = record(scene, config["policies"], config["steps"], settings_out=settings)
+        return table, [scene], {"dt": DT, "system_settings": settings}
     config = {"policies": tuple(policies), "steps": steps}
     return entry(name, doc, config, config, run)
 

@@ -6,8 +6,15 @@ those comparisons we need to know where the three already agree with each other 
 answers, and where a peer cannot (pybullet's restitution, Chipmunk's integration order), and by
 how much; and the per-step cost of each peer next to sim's.
 
-Cases (each system runs the same scene at dt 1/60 s; iterations 10 for sim and pymunk, 50 for
-pybullet, no sleeping):
+Settings: each system runs the same scene from the same start state at dt 1/60 s, no sleeping,
+at its own defaults (experiments.peers.DEFAULT_ITERATIONS), which are not the same thing in each:
+sim the soft step with 4 substeps per step, 1 biased solve sweep and 1 relax sweep per substep;
+pymunk 10 iterations per step; pybullet 50 iterations per step (one Bullet step per step). Every
+setting of each system is in the metadata (``system_settings``, from the runners). Where the
+integrators differ (sim's substeps, Chipmunk's order), the known answers are the continuous ones
+and the tolerances say how far a discrete integrator may sit from them.
+
+Cases:
 - known answers: single_box at rest (drift 0), sliding_box (slide distance v0^2 / (2 mu g)), a box
   bouncing from 2 m with restitution e against a floor of 0 (apex e^2 h, max mixing), a tall
   0.5 x 2 box tilted 2 degrees past / short of its tipping angle atan(w/h) (falls / stands),
@@ -38,7 +45,7 @@ from tqdm import tqdm
 import sim
 from experiments.timing import timed
 from experiments.metadata import collect, write_results
-from experiments.peers import PybulletRunner, make_runner
+from experiments.peers import PybulletRunner, make_runner, solver_summary
 
 NAME = "peer_agreement"
 DT = 1 / 60
@@ -159,8 +166,10 @@ def cases(sizes):
 
 
 #: Final pose difference to sim-off that counts as agreement, per case (absent: chaotic or
-#: phase-sensitive, reported without a tolerance). sliding_box allows Chipmunk's integration
-#: order: positions move before velocities, so a box launched at v0 runs v0 dt = 0.05 m further.
+#: phase-sensitive, reported without a tolerance). sliding_box allows for the integrators: a
+#: discrete slide stops about v0 h / 2 short of v0^2 / (2 mu g) for a step h, so Bullet (h = dt)
+#: stops v0 (dt - dt/4) / 2 = 0.019 m before sim (4 substeps), and Chipmunk, which moves
+#: positions before velocities, runs v0 dt further than Bullet: 0.031 m past sim.
 POSE_TOLERANCE = {"single_box": 0.005, "sliding_box": 0.06, "stack5": 0.01,
                   "tipping_short": 0.01}
 
@@ -306,6 +315,8 @@ def main(argv=None, data_dir=None):
         with make_runner(system, probe, dt=DT) as r:
             settings[system] = r.settings
     parameters = {"dt": DT, "systems": list(SYSTEMS), "reference": REFERENCE,
+                  "solver_summary": {system: solver_summary(settings[system])
+                                     for system in SYSTEMS},
                   "quick": args.quick, "sizes": sizes, "repeats": repeats,
                   "steps_per_repeat": steps, "warmup_steps": WARMUP_STEPS,
                   "tip_offset_deg": TIP_OFFSET_DEG, "pose_tolerance": POSE_TOLERANCE,

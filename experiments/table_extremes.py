@@ -2,19 +2,27 @@
 
 Question: where does each system (sim under every freeze policy, pymunk and pybullet with sleeping
 off and on) stop giving a usable answer when one thing at a time is pushed to an extreme, and is
-freezing ever the thing that breaks it? Every run is marked stable / degraded / failed by the
-rules below; the figure is a grid of those marks, rows = (axis, value), columns = systems.
+freezing ever the thing that breaks it? Every run is marked stable / degraded / failed / rejected
+/ not run by the rules below; the figure is a grid of those marks, rows = (axis, value), columns =
+systems.
 
 Axes (each row one value; values listed from benign to extreme; every scene starts at rest with
 its bodies exactly touching unless said otherwise; unit boxes, density 1 kg/m^2, friction 0.6):
 - ``mass_heavy_on_light`` / ``mass_light_on_heavy``: a column of 3 unit boxes whose top box is
   m_top/m_below = 1, 10, 100, 1000 (resp. 1, 1/10, 1/100, 1/1000) times as heavy as the two below
   (its density scaled). 3 s.
+- ``mass_dropped``: the heavy-on-light column *dropped* (each box DROP_GAP = 0.1 m above the one
+  below, as the ``dt`` axis's column), m_top/m_below = 1, 10, 100, 1000: the solver must build the
+  column and then carry the load, with no presolved start to lean on (see ``dt``). Judged against
+  the stacked pose. 3 s.
 - ``size_small`` / ``size_large``: a column of 3 square boxes of side 1, 0.1, 0.01 m and, past the
-  issue's 1 cm, 1 mm and 0.1 mm (where sim was seen to break in development); resp. 1, 10, 100 m.
-  Same gravity (9.81 m/s^2) and the same absolute solver settings (sim's slop 5 mm and
-  speculative distance 2 cm, pymunk's collision_slop 5 mm: they are not scaled, which is the
-  point). 3 s.
+  issue's 1 cm, 1 mm and 0.1 mm; resp. 1, 10, 100 m. Same gravity (9.81 m/s^2) and the same
+  solver settings passed to every size (sim's slop 5 mm and speculative distance 2 cm, pymunk's
+  collision_slop 5 mm). pymunk's slop stays absolute; sim takes its settings as caps and scales
+  its tolerances down with the smaller body's size (``sim.tolerances``), and refuses a body too
+  small for its step with a ValueError naming the substeps (or dt) that would resolve it: at dt
+  1/60 s and 4 substeps, 1 mm boxes need substeps >= 11 and 0.1 mm boxes >= 34, so both are
+  refused ("rejected" cells, not failures). 3 s.
 - ``plank_flat``: a plank 2 m long and 2/a m thick (aspect a = 1, 3, 10, 30, 100; mass held at
   1 kg by its density, so only the shape changes) lying centred across a unit box. 3 s.
 - ``plank_upright``: a plank 1 m tall and 1/a m wide (a = 1, 3, 10, 30, 100) standing on its end
@@ -30,29 +38,41 @@ its bodies exactly touching unless said otherwise; unit boxes, density 1 kg/m^2,
   step, not exactly touching, a lucky phase that would hide tunnelling) on a ballistic arc that
   returns to the aim height at t = T (vertical speed g T / 2), so every system has had 2.5 s to
   freeze the column before it arrives (Bullet needs its fixed 2 s); the fraction of the column
-  asleep just before arrival is recorded. 3 s.
+  asleep just before arrival is recorded. sim sweeps fast bodies against static and frozen ones
+  (continuous collision, ``sim.continuous``) and makes contacts ahead of fast approaching pairs;
+  pymunk has no continuous collision and pybullet's (swept-sphere CCD) is not switched on by its
+  runner. 3 s.
 - ``projectile_wall``: the same projectile at a static wall 5 cm thick and 4 m tall. 3 s.
 - ``dt``: a *dropped* column of 10 unit boxes, each starting 0.1 m above the one below (the lowest
-  0.1 m above the floor): they fall together and land one on another at ~1.4 m/s, so the solver
-  builds the column rather than being handed it in equilibrium (sim solves a scene placed at rest
-  to convergence before its first step, ``initial_iterations``: a placed column stands in sim at
-  any dt and iteration count, which would measure that presolve, not the step). Judged against
-  the stacked pose. dt = 1/480 .. 1/15 s (every other axis runs at 1/60 s). 5 s.
-- ``iterations``: the same dropped column with 50, 20, 10, 5, 2, 1 solver iterations in every
-  engine (elsewhere each engine's default: sim and pymunk 10, pybullet 50). 5 s.
+  0.1 m above the floor): they fall together and land one on another, the lowest at ~1.4 m/s and
+  the top one, having fallen 1 m in all, at ~4.4 m/s, so the solver builds the column rather than
+  being handed it in equilibrium (sim solves a scene placed at rest to convergence before its
+  first step, ``initial_iterations``: a placed column stands in sim at any dt, which would measure
+  that presolve, not the step). Judged against the stacked pose. dt = 1/480 .. 1/15 s (every other
+  axis runs at 1/60 s). 5 s.
+- ``iterations``: the same dropped column with 50, 20, 10, 5, 2, 1 iterations of each engine's own
+  solver setting (elsewhere each engine's default, experiments.peers.DEFAULT_ITERATIONS). The
+  numbers are not the same work: pymunk and pybullet do that many sweeps per step; sim does that
+  many biased sweeps *per substep*, at its default 4 substeps (plus 1 relaxing sweep per substep),
+  so its value 1, the axis's extreme, is sim's default and does 4 biased sweeps per step. The
+  ``iterations`` and ``substeps`` columns of each row say exactly what ran. 5 s.
+- ``substeps`` (sim only: the knob soft step trades for accuracy, Box2D v3's; pymunk and pybullet
+  have none, their nearest knob is the ``dt`` axis): the same dropped column at 16, 8, 4, 2, 1
+  substeps per step of 1/60 s, 1 iteration per substep. No peer row (not applicable, rather than
+  "not run"), and no "breaks first" is drawn from it (nothing to compare with). 5 s.
 - ``stack_height``: a column of 10, 20, 50 unit boxes placed at rest (sim starts it in
-  equilibrium, see ``dt``; the peers do not). 5 s.
+  equilibrium, see ``dt``; the peers do not: see the no-presolve systems below). 5 s.
 - ``pyramid_base``: sim.scenes.pyramid(base) for base 10, 20, 40, 60 (55 .. 1830 bodies). 5 s.
 - ``bodies``: 10^4 bodies as 2000 five-box columns 1.5 m apart. 2 s.
 - ``long_run``: a 3-box column for 10^5 steps (1667 s at 1/60): drift and energy over a long rest.
-- ``impact_threshold``: a 0.5 m box (density 0.5: 0.125 kg) "hammer" 0.5 m above a unit-box
-  "anvil" on the floor, thrown down at v0 = v* (1 + d), d = -1e-3, -1e-6, +1e-6, +1e-3. v* is
-  found by bisection (45 halvings of [0, 20] m/s: ~1e-13 relative; through the executor) as the
-  v0 at which the policy's impulse test flips: under sim-paper, whether
-  the hammer is held on landing on the anvil's (rotation-stable, floor-like) top edge or bounces
-  (impulse_threshold 1 N s); under sim-extended, whether the impact wakes the frozen anvil
-  (impulse_threshold 0.5 N s). The other systems have no such test: they get sim-paper's v*. The
-  question is whether a decision on a knife's edge makes states chatter. 2 s.
+- ``impact_threshold``: a 0.5 m box (density 0.3: 0.075 kg) "hammer" HAMMER_GAP = 2 m above a
+  unit-box "anvil" on the floor, thrown down at v0 = v* (1 + d), d = -1e-3, -1e-6, +1e-6, +1e-3.
+  v* is found by bisection (45 halvings of [0, 20] m/s: ~1e-13 relative; through the executor) as
+  the v0 at which the policy's impulse test flips: under sim-paper, whether the hammer is held on
+  landing on the anvil's (rotation-stable, floor-like) top edge or bounces (impulse_threshold
+  1 N s); under sim-extended, whether the impact wakes the frozen anvil (impulse_threshold
+  0.5 N s). The other systems have no such test: they get sim-paper's v*. The question is whether
+  a decision on a knife's edge makes states chatter. 2 s.
 - ``knife_edge``: a unit box balanced on one corner with its centre of mass offset from exactly
   above the corner by a tilt of 1e-3, 1e-6, 1e-9 and 0 rad (0 = exact balance, an unstable
   equilibrium that only round-off breaks; with an offset the box must fall to that side: a tilt
@@ -60,20 +80,44 @@ its bodies exactly touching unless said otherwise; unit boxes, density 1 kg/m^2,
 
 Systems: sim-off, sim-sleep, sim-paper, sim-extended (default policy parameters), pymunk,
 pymunk-sleep, pybullet, pybullet-sleep (experiments.common.SYSTEMS; sim slop and pymunk
-collision_slop 5 mm). pybullet is not run on scenes of more than ``pybullet_max_bodies`` = 250
-bodies (pyramid 40 and 60, 10^4 bodies): measured on this machine, a pybullet step of
-pyramid(20) costs 58 ms, of pyramid(40) 0.68 s, of pyramid(60) 5.3 s; those cells are marked
-"not run" with the reason, never dropped. Any run is stopped after ``budget_s`` s of wall time
-and marked "not run" (timeout).
+collision_slop 5 mm; each engine's default iterations, sim's default substeps), plus, on the
+placed axes only (PLACED_AXES: the scenes that start with bodies resting on one another, where
+sim's presolve puts them in equilibrium before step 1: mass_heavy_on_light, mass_light_on_heavy,
+size_small, size_large, plank_flat, plank_upright, polygon_vertices, collinear, projectile_stack,
+stack_height, pyramid_base, bodies, long_run), the four sim systems again with the presolve off
+(``World(initial_iterations=0)``), named "sim-off (no presolve)" etc. (NO_PRESOLVE_SYSTEMS). The
+peers have no presolve: an advantage only sim has is reported separately, so that sim without it
+can be compared with them like for like (the analysis does both). Not placed, so not repeated: the
+dropped columns (``dt``, ``iterations``, ``substeps``, ``mass_dropped``: nothing touches at the
+start), the projectile into a wall (likewise), and the impact and knife-edge scenes (one body on
+the floor by a face or a corner: the presolve only sets the first step's floor impulse).
+
+pybullet is not run on scenes of more than ``pybullet_max_bodies`` = 250 bodies (pyramid 40 and
+60, 10^4 bodies): measured on this machine, a pybullet step of pyramid(20) costs 58 ms, of
+pyramid(40) 0.68 s, of pyramid(60) 5.3 s; those cells are marked "not run" with the reason, never
+dropped. Any run is stopped after ``budget_s`` s of wall time and marked "not run" (timeout).
 
 Reference (for the outcome): the same scene under sim-off at dt_ref = min(dt, 1/60) / ``fine``
 (fine = 8; 32 for the projectiles, so that a 200 m/s projectile moves 0.1 m per step, less than
-the 0.25 m it needs to cross the wall) with 40 iterations (4x sim's default), for the same
-simulated time; one run per distinct scene, shared by all systems. Shortcuts, both stated: the
-10^4-body scene's reference is one five-box column (its columns never touch: identical, independent
-systems), and the long run's reference lasts 60 s of simulated time (a column placed at rest
-stands or falls within seconds; what the long run is about, drift and energy over 10^5 steps, is
-measured in the run itself).
+the 0.25 m it needs to cross the wall: the reference cannot tunnel even without the continuous
+collision that the runs test) with sim's default REF_SUBSTEPS = 4 substeps and REF_ITERATIONS = 1
+biased sweep per substep, presolve on, for the same simulated time; one run per distinct scene,
+shared by all systems (and by the no-presolve runs: the reference is the best estimate of what the
+scene does, and a scene placed at rest starts in equilibrium). Why: in soft step the substep is
+the accuracy knob (a substep re-integrates positions and re-solves every contact from the new
+separation; an extra iteration only re-sweeps the same linearisation), so a reference 8x finer in
+dt is 8x the runs' substeps: 32 per 1/60 s. The old reference's 40 iterations were per *step* of a
+solver without substeps; 40 per substep at dt/8 would be 1280 biased sweeps per 1/60 s, which is
+not what was meant, and costs for nothing: checked when chosen, 4x the substeps (16), 4x finer dt
+(fine 32) or 40 iterations per substep leave the outcome of every scene tried unchanged (dropped
+10-box column, placed and dropped 1000:1 stacks, 100:1 dropped stack, knife edge 1e-6 rad, upright
+plank 100:1; final poses within 3 cm, 8 cm for the dropped 1000:1 stack). A scene sim refuses at
+that step (a body too small for it, e.g. 0.1 mm boxes at dt 1/480 s) gets its reference with the
+substeps doubled until the World accepts it (the reference's ``substeps`` are in the metadata).
+Shortcuts, both stated: the 10^4-body scene's reference is one five-box column (its columns never
+touch: identical, independent systems), and the long run's reference lasts 60 s of simulated time
+(a column placed at rest stands or falls within seconds; what the long run is about, drift and
+energy over 10^5 steps, is measured in the run itself).
 
 Measured in every run (from each system's own observables, by the same code for all; sampled
 after every step for the projectile, impact and knife-edge scenes, else at ~``samples`` = 200
@@ -111,19 +155,25 @@ Rules (a run gets the worst mark any rule gives; reasons are listed in ``reason`
   more than 2 times in a rest or impact scene, or, in the impact scene, a sim body changing state
   more than 3 times: landing, being held, waking once and re-freezing take at most 3); or an outcome
   different from the reference's (skipped, with a note, when the reference itself is not valid:
-  error, non-finite or tunnelled);
+  error, refused, non-finite or tunnelled);
 - degraded: finite, same outcome, but penetration_rel > 0.10 (an overlap deeper than a tenth of
   the thinner body), drift_rel > 0.01 (a resting body moved more than 1 % of its thinnest width),
   or energy_growth > 0.05 (5 % of the available energy created);
 - stable: otherwise;
-- rejected: the scene or settings were refused with a ValueError (a clear error, not a result);
+- rejected: refused with a clear error: the scene or the settings were refused with a ValueError
+  before the first step, recorded with its message (e.g. sim's "body 0 is 0.001 m thick ... Use
+  substeps >= 11"). Not a result and not a failure of physics: the system said it cannot do this,
+  rather than doing it wrong; the analysis lists these cells apart and never counts them as
+  breaking;
 - not run: cost cap or timeout.
 
-Columns: axis, value, unit, system, scene, bodies, dt_s, iterations, steps, status, reason, outcome,
-ref_outcome, ref_valid, error, finite, exploded, tunnelled, chattering, energy_growth, ke_max_rel,
-penetration_max_m, penetration_rel, drift_max_m, drift_rel, wakes_max, state_changes_max,
-asleep_before_event, decision, ms_per_step, steps_done, wall_s. ``<name>.json`` holds the
-thresholds v* and the reference runs.
+Columns: axis, value, unit, system, scene, bodies, dt_s, iterations, substeps, steps, status,
+reason, outcome, ref_outcome, ref_valid, error, finite, exploded, tunnelled, chattering,
+energy_growth, ke_max_rel, penetration_max_m, penetration_rel, drift_max_m, drift_rel, wakes_max,
+state_changes_max, asleep_before_event, decision, ms_per_step, steps_done, wall_s. ``iterations``
+is the run's solver iterations as the runner reports them (sim: per substep); ``substeps`` sim's
+substeps per step (empty for the peers). ``<name>.json`` holds the thresholds v* and the
+reference runs.
 
 Every untimed run goes through experiments.executor.run_tasks with an incremental store
 (results/partial/table_extremes[-quick].jsonl): an interrupted sweep resumes where it stopped; the
@@ -152,7 +202,23 @@ from sim.geometry import mass_properties
 NAME = "table_extremes"
 G = 9.81                       # m/s^2, |gravity| of every scene
 FRICTION = 0.6
-REF_ITERATIONS = 40            # 4 x sim's default 10
+#: the reference's solver (module docstring, "Reference"): sim.World's defaults, written out so
+#: that the reference is fixed here and never moves with a runner's or the World's defaults
+REF_SUBSTEPS = 4               # substeps per reference step (doubled for a scene refused at it)
+REF_ITERATIONS = 1             # biased solve sweeps per substep
+REF_MAX_SUBSTEPS = 4096        # give up doubling here (the reference is then "rejected")
+#: the sim systems again with the presolve off (module docstring, "Systems")
+NO_PRESOLVE = " (no presolve)"
+NO_PRESOLVE_SETTINGS = {"initial_iterations": 0}
+NO_PRESOLVE_SYSTEMS = tuple(s + NO_PRESOLVE for s in SYSTEMS if engine_of(s) == "sim")
+ALL_SYSTEMS = SYSTEMS + NO_PRESOLVE_SYSTEMS
+#: the axes whose scenes start with bodies resting on one another (or on the floor), where sim's
+#: presolve starts them in equilibrium: also run without it
+PLACED_AXES = ("mass_heavy_on_light", "mass_light_on_heavy", "size_small", "size_large",
+               "plank_flat", "plank_upright", "polygon_vertices", "collinear",
+               "projectile_stack", "stack_height", "pyramid_base", "bodies", "long_run")
+#: the axes of a knob only sim has: no peer row, no "breaks first"
+SIM_ONLY_AXES = ("substeps",)
 PROJECTILE_SIZE = 0.2          # m, side of the projectile box
 #: s, the projectile's flight time to first touching its target: 2.5 s plus half a step at 1/60 s,
 #: so that at dt 1/60 it is half a step's travel short of its target at a step's end (arriving
@@ -187,6 +253,7 @@ STATUSES = ("stable", "degraded", "failed", "rejected", "not run")
 AXES = {
     "mass_heavy_on_light": ("m_top/m_below", [1, 10, 100, 1000], [1000]),
     "mass_light_on_heavy": ("m_top/m_below", [1, 0.1, 0.01, 0.001], [0.001]),
+    "mass_dropped": ("m_top/m_below", [1, 10, 100, 1000], [1000]),
     "size_small": ("m", [1.0, 0.1, 0.01, 1e-3, 1e-4], [1.0, 0.01]),
     "size_large": ("m", [1.0, 10.0, 100.0], [100.0]),
     "plank_flat": ("aspect", [1, 3, 10, 30, 100], [1, 100]),
@@ -197,6 +264,7 @@ AXES = {
     "projectile_wall": ("m/s", [10, 30, 100, 200], [200]),
     "dt": ("s", [1 / 480, 1 / 240, 1 / 120, 1 / 60, 1 / 30, 1 / 15], [1 / 15]),
     "iterations": ("iterations", [50, 20, 10, 5, 2, 1], [1]),
+    "substeps": ("substeps", [16, 8, 4, 2, 1], [1]),
     "stack_height": ("boxes", [10, 20, 50], [20]),
     "pyramid_base": ("boxes", [10, 20, 40, 60], [5]),
     "bodies": ("bodies", [10000], [100]),
@@ -205,9 +273,31 @@ AXES = {
     "knife_edge": ("rad", [1e-3, 1e-6, 1e-9, 0.0], [1e-6, 0.0]),
 }
 #: simulated seconds per axis (long_run: its value is the step count)
-DURATION_S = {"dt": 5.0, "iterations": 5.0, "stack_height": 5.0, "pyramid_base": 5.0,
-              "bodies": 2.0, "impact_threshold": 2.0, "knife_edge": 10.0}
+DURATION_S = {"dt": 5.0, "iterations": 5.0, "substeps": 5.0, "stack_height": 5.0,
+              "pyramid_base": 5.0, "bodies": 2.0, "impact_threshold": 2.0, "knife_edge": 10.0}
 DEFAULT_DURATION_S = 3.0
+
+
+
+def applies(axis, system):
+    """Whether ``system`` (one of ALL_SYSTEMS) has a cell on ``axis``: the no-presolve systems
+    only on PLACED_AXES, the sim-only axes only for sim. Elsewhere the cell is not applicable,
+    which is not "not run": there is nothing to run."""
+    base = runner_system(system)
+    if axis in SIM_ONLY_AXES and engine_of(base) != "sim":
+        return False
+    return system == base or axis in PLACED_AXES
+
+
+def runner_system(system):
+    """The runner's system name of one of ALL_SYSTEMS ("sim-off (no presolve)" -> "sim-off")."""
+    return system[:-len(NO_PRESOLVE)] if system.endswith(NO_PRESOLVE) else system
+
+
+def system_settings(system):
+    """The runner settings that make ``system`` what it is, beyond its runner's name."""
+    return dict(NO_PRESOLVE_SETTINGS) if system.endswith(NO_PRESOLVE) else {}
+
 
 FULL = {
     "axes": {axis: values for axis, (_, values, _) in AXES.items()},
@@ -307,13 +397,14 @@ def collinear_box(eps):
     return _scene("collinear_box", bodies, {"eps": eps}, "rest")
 
 
-def _projectile(speed, aim_x, aim_y):
-    """The projectile box, ARRIVAL_S s and speed*ARRIVAL_S m left of (aim_x, aim_y), on the arc
-    that brings it back to aim_y at t = ARRIVAL_S."""
+def _projectile(speed, aim_x, aim_y, arrival_s=ARRIVAL_S):
+    """The projectile box, arrival_s s and speed*arrival_s m left of (aim_x, aim_y), on the arc
+    that brings it back to aim_y at t = arrival_s."""
     speed = _positive(speed, "projectile speed")
-    x0 = aim_x - PROJECTILE_SIZE / 2 - speed * ARRIVAL_S
+    arrival_s = _positive(arrival_s, "arrival time")
+    x0 = aim_x - PROJECTILE_SIZE / 2 - speed * arrival_s
     return sim.Body.box(PROJECTILE_SIZE, PROJECTILE_SIZE, position=(x0, aim_y),
-                        velocity=(float(speed), G * ARRIVAL_S / 2), friction=FRICTION,
+                        velocity=(float(speed), G * arrival_s / 2), friction=FRICTION,
                         name="projectile")
 
 
@@ -325,12 +416,13 @@ def projectile_stack(speed):
                   "projectile", resting=[], projectile=len(bodies) - 1)
 
 
-def projectile_wall(speed):
-    """A thin static wall and a projectile arriving at its middle after ARRIVAL_S s."""
+def projectile_wall(speed, arrival_s=ARRIVAL_S):
+    """A thin static wall and a projectile arriving at its middle after ``arrival_s`` s (the
+    table: ARRIVAL_S; the regression tests vary the phase of its arrival within a step)."""
     t, h = WALL
     wall = sim.Body.box(t, h, position=(0.0, h / 2), friction=FRICTION, name="wall")
-    bodies = [_projectile(speed, -t / 2, h / 2)]
-    return _scene("projectile_wall", bodies, {"speed": speed, "arrival_s": ARRIVAL_S,
+    bodies = [_projectile(speed, -t / 2, h / 2, arrival_s)]
+    return _scene("projectile_wall", bodies, {"speed": speed, "arrival_s": arrival_s,
                                               "wall": list(WALL)},
                   "projectile", resting=[], projectile=0, static_bodies=[wall])
 
@@ -342,12 +434,53 @@ def column(height):
 
 def dropped_column(height, gap=DROP_GAP):
     """``height`` unit boxes in a column, each ``gap`` m above the one below (the lowest ``gap``
-    above the floor): they fall together and land one on another (from 0.1 m: 1.4 m/s), so the
-    column is built by the solver, not placed in equilibrium. Judged against the stacked pose."""
+    above the floor): they fall together and land one on another (box k, counted from 0 at the
+    bottom, has fallen (k + 1) gap when it lands: with 0.1 m gaps the lowest lands at 1.4 m/s,
+    the tenth at 4.4 m/s), so the column is built by the solver, not placed in equilibrium.
+    Judged against the stacked pose."""
     bodies = [_box(1, 1, 0, 0.5 + k * (1.0 + gap) + gap) for k in range(int(height))]
     rest = [[0.0, 0.5 + k] for k in range(int(height))]
     return _scene("dropped_column", bodies, {"height": height, "gap": gap}, "rest", resting=[],
                   rest_pose=rest)
+
+
+def dropped_mass_stack(ratio, gap=DROP_GAP):
+    """mass_stack(ratio) dropped: 3 unit boxes, each ``gap`` m above the one below (the lowest
+    ``gap`` above the floor), the top one ``ratio`` times as heavy as each below. The heavy box
+    lands last (at ~2.4 m/s from 0.1 m gaps) on a column the solver has just built, with no
+    presolved start. Judged against the stacked pose."""
+    ratio = _positive(ratio, "mass ratio")
+    bodies = [_box(1, 1, 0, 0.5 + k * (1.0 + gap) + gap, density=ratio if k == 2 else 1.0)
+              for k in range(3)]
+    rest = [[0.0, 0.5 + k] for k in range(3)]
+    return _scene("dropped_mass_stack", bodies, {"ratio": ratio, "gap": gap}, "rest",
+                  resting=[], rest_pose=rest)
+
+
+def pile_drop(n=30, columns=10, height=35.0, size=0.5, seed=0):
+    """``n`` boxes of side ``size`` m released from rest ``height`` m up (the lowest row; rows
+    0.8 m apart, ``columns`` boxes per row 0.8 m apart, each jittered by up to 5 cm and 0.2 rad,
+    from ``seed``) into a bin: the floor between two static walls 6 m tall. They land at
+    ~26 m/s, row on row: the fast-pile case of the regression tests (not an axis of the table:
+    where a pile comes to rest is not known in advance, so the outcome rule cannot judge it; its
+    penetration can be)."""
+    _require(isinstance(n, int) and n >= 1 and isinstance(columns, int) and columns >= 1,
+             f"pile_drop needs integer n >= 1 and columns >= 1, got {n!r}, {columns!r}")
+    height, size = _positive(height, "height"), _positive(size, "size")
+    pitch = 0.8 * size / 0.5                       # m, between box centres (0.8 m at 0.5 m)
+    rng = np.random.default_rng(seed)
+    bodies = []
+    for k in range(n):
+        row, col = divmod(k, columns)
+        x = (col - (columns - 1) / 2) * pitch + rng.uniform(-0.05, 0.05) * size / 0.5
+        bodies.append(_box(size, size, x, height + row * pitch,
+                           angle=float(rng.uniform(-0.2, 0.2))))
+    inner = columns * pitch                        # m, the bin's inner width
+    walls = [sim.Body.box(0.5, 6.0, position=(side * (inner / 2 + 0.25), 3.0), friction=FRICTION,
+                          name="wall") for side in (-1, 1)]
+    return _scene("pile_drop", bodies, {"n": n, "columns": columns, "height": height,
+                                        "size": size, "seed": seed}, "pile", resting=[],
+                  static_bodies=walls)
 
 
 def pyramid(base):
@@ -390,8 +523,8 @@ def knife_edge(tilt):
 
 BUILDERS = {f.__name__: f for f in (mass_stack, size_stack, plank_flat, plank_upright,
                                     polygon_on_box, collinear_box, projectile_stack,
-                                    projectile_wall, column, dropped_column, pyramid, columns,
-                                    impact,
+                                    projectile_wall, column, dropped_column,
+                                    dropped_mass_stack, pile_drop, pyramid, columns, impact,
                                     knife_edge)}
 
 
@@ -403,15 +536,18 @@ def make_scene(spec):
 
 
 def scene_spec(axis, value):
-    """The scene of one row (the dt, iterations and long_run axes vary the run, not the scene)."""
+    """The scene of one row (the dt, iterations, substeps and long_run axes vary the run, not the
+    scene)."""
     by_axis = {
         "mass_heavy_on_light": ("mass_stack", value), "mass_light_on_heavy": ("mass_stack", value),
+        "mass_dropped": ("dropped_mass_stack", value),
         "size_small": ("size_stack", value), "size_large": ("size_stack", value),
         "plank_flat": ("plank_flat", value), "plank_upright": ("plank_upright", value),
         "polygon_vertices": ("polygon_on_box", value), "collinear": ("collinear_box", value),
         "projectile_stack": ("projectile_stack", value),
         "projectile_wall": ("projectile_wall", value),
         "dt": ("dropped_column", 10), "iterations": ("dropped_column", 10),
+        "substeps": ("dropped_column", 10),
         "stack_height": ("column", value),
         "pyramid_base": ("pyramid", value), "bodies": ("columns", value),
         "long_run": ("column", 3), "knife_edge": ("knife_edge", value),
@@ -651,6 +787,8 @@ class Judge:
             if turned[0] < KNIFE_TURN:
                 return "stays"
             return "falls left" if pos[0, 0] < pos0[0, 0] else "falls right"
+        if self.kind == "pile":                  # no known rest pose: not judged
+            return ""
         if self.kind == "projectile" and len(self.shapes.statics):
             wall_x = self.shapes.static_pose[0][0][0]
             return "passed" if pos[self.projectile, 0] > wall_x else "stopped"
@@ -674,6 +812,23 @@ def _state_changes(runner, n):
     return int(counts.max()) if n else 0
 
 
+def build_runner(task, scene):
+    """The task's runner. A task with ``refine_substeps`` (the references) that sim refuses as
+    too fine for its step (a ValueError naming the substeps needed) is built again with its
+    substeps doubled, up to that many; any other ValueError propagates (refused)."""
+    settings = dict(task.get("settings", {}))
+    system = task.get("runner") or runner_system(task["system"])
+    while True:
+        try:
+            return build(system, scene, dt=task["dt"], iterations=task["iterations"], **settings)
+        except ValueError as exc:
+            substeps = settings.get("substeps")
+            cap = task.get("refine_substeps")
+            if not cap or substeps is None or "substeps" not in str(exc) or 2 * substeps > cap:
+                raise
+            settings["substeps"] = 2 * substeps
+
+
 def simulate(task):
     """One run (executor task, a plain dict): build, step with samples, judge. Never raises for
     what the simulated system does (a ValueError while building is recorded as 'rejected', an
@@ -683,16 +838,21 @@ def simulate(task):
            "energy_growth": math.nan, "ke_max_rel": math.nan, "penetration_max_m": math.nan,
            "penetration_rel": math.nan, "drift_max_m": math.nan, "drift_rel": math.nan,
            "wakes_max": math.nan, "state_changes_max": math.nan, "asleep_before_event": math.nan,
-           "ms_per_step": math.nan, "wall_s": math.nan, "bodies": 0, "decision": ""}
+           "ms_per_step": math.nan, "wall_s": math.nan, "bodies": 0, "decision": "",
+           "iterations": task["iterations"], "substeps": None}
     t_start = time.perf_counter()
     try:
         scene = scene_of(task["scene"])
         out["bodies"] = len(scene.bodies)
         shapes = Shapes(scene)
-        runner = build(task["system"], scene, dt=task["dt"], iterations=task["iterations"])
+        runner = build_runner(task, scene)
     except ValueError as exc:
         out.update(status_hint="rejected", error=f"{type(exc).__name__}: {exc}")
         return out
+    # what ran, as the runner reports it (sim: iterations per substep, and its substeps)
+    out["iterations"] = runner.settings.get("iterations", task["iterations"])
+    world = getattr(runner, "world", None)
+    out["substeps"] = int(world.substeps) if world is not None else None
     judge = Judge(scene, shapes)
     decision = Decision(task["system"][len("sim-"):]) if task.get("watch_decision") else None
     steps, every, budget = task["steps"], task["sample_every"], task["budget_s"]
@@ -862,10 +1022,13 @@ def _sample_every(steps, bodies, every_step, config):
     return max(1, steps // samples)
 
 
-def _run_task(axis, value, system, config, v_star=None):
-    """The executor task of one (axis, value, system) run."""
+def run_task(axis, value, system, config, v_star=None):
+    """The executor task of one (axis, value, system) run; ``system`` is one of ALL_SYSTEMS."""
     dt = float(value) if axis == "dt" else DT
     iterations = int(value) if axis == "iterations" else None
+    settings = system_settings(system)
+    if axis == "substeps":
+        settings["substeps"] = int(value)
     if axis == "impact_threshold":
         spec = {"builder": "impact", "args": [v_star * (1.0 + value)]}
     else:
@@ -873,7 +1036,8 @@ def _run_task(axis, value, system, config, v_star=None):
     steps = int(value) if axis == "long_run" else int(round(config["duration_s"][axis] / dt))
     kind, bodies = _kind_and_size(spec)
     every_step = kind in ("projectile", "impact", "knife")
-    return {"role": "run", "axis": axis, "value": value, "system": system, "scene": spec,
+    return {"role": "run", "axis": axis, "value": value, "system": system,
+            "runner": runner_system(system), "settings": settings, "scene": spec,
             "kind": kind, "bodies": bodies, "dt": dt, "iterations": iterations, "steps": steps,
             "sample_every": _sample_every(steps, bodies, every_step, config),
             "budget_s": config["budget_s"],
@@ -881,13 +1045,14 @@ def _run_task(axis, value, system, config, v_star=None):
                                                                         "sim-extended")}
 
 
-def _reference_task(run_task, config):
-    """sim-off at a fine dt with REF_ITERATIONS, same simulated time (module docstring)."""
-    axis = run_task["axis"]
+def reference_task(run, config):
+    """sim-off at a fine dt with REF_SUBSTEPS x REF_ITERATIONS, presolve on, same simulated time,
+    whatever the run's own settings (module docstring); ``run`` is a run_task."""
+    axis = run["axis"]
     fine = config["fine_projectile"] if axis.startswith("projectile") else config["fine"]
-    dt = min(run_task["dt"], DT) / fine
-    spec = run_task["scene"]
-    duration = run_task["steps"] * run_task["dt"]
+    dt = min(run["dt"], DT) / fine
+    spec = run["scene"]
+    duration = run["steps"] * run["dt"]
     if axis == "bodies":                       # independent identical columns: one suffices
         spec = {"builder": "column", "args": [5]}
     if axis == "long_run":
@@ -895,7 +1060,9 @@ def _reference_task(run_task, config):
     steps = int(round(duration / dt))
     kind, bodies = _kind_and_size(spec)
     every_step = kind in ("projectile", "impact", "knife")
-    return {"role": "ref", "axis": "reference", "value": 0, "system": "sim-off", "scene": spec,
+    return {"role": "ref", "axis": "reference", "value": 0, "system": "sim-off",
+            "runner": "sim-off", "settings": {"substeps": REF_SUBSTEPS},
+            "refine_substeps": REF_MAX_SUBSTEPS, "scene": spec,
             "kind": kind, "bodies": bodies, "dt": dt, "iterations": REF_ITERATIONS,
             "steps": steps, "sample_every": _sample_every(steps, bodies, every_step, config),
             "budget_s": 20 * config["budget_s"],
@@ -904,10 +1071,12 @@ def _reference_task(run_task, config):
             "overlap_every": max(1, steps // config["samples"]) if every_step else 1}
 
 
-def _key(task):
+def task_key(task):
+    """The store's key of a task: a run by its cell, a reference by everything that makes it."""
     if task["role"] == "run":
         return f"run|{task['axis']}|{task['value']!r}|{task['system']}"
-    return "ref|" + json.dumps([task["scene"], task["dt"], task["iterations"], task["steps"]])
+    return "ref|" + json.dumps([task["scene"], task["dt"], task["iterations"], task["steps"],
+                                task["settings"]], sort_keys=True)
 
 
 def classify(res, ref):
@@ -979,7 +1148,9 @@ def run(config, args):
     runs, not_run = [], []
     for axis, values in config["axes"].items():
         for value in values:
-            for system in SYSTEMS:
+            for system in ALL_SYSTEMS:
+                if not applies(axis, system):
+                    continue
                 if axis == "impact_threshold":
                     policy = "extended" if system == "sim-extended" else "paper"
                     v_star = thresholds[policy]["v_star"]
@@ -987,11 +1158,11 @@ def run(config, args):
                         not_run.append((axis, value, system, "no threshold crossing found: "
                                         + thresholds[policy]["note"]))
                         continue
-                    task = _run_task(axis, value, system, config, v_star)
+                    task = run_task(axis, value, system, config, v_star)
                 else:
-                    task = _run_task(axis, value, system, config)
+                    task = run_task(axis, value, system, config)
                 n = task["bodies"]
-                if engine_of(system) == "pybullet" and n > config["pybullet_max_bodies"]:
+                if engine_of(task["runner"]) == "pybullet" and n > config["pybullet_max_bodies"]:
                     not_run.append((axis, value, system,
                                     f"cost: pybullet not run above {config['pybullet_max_bodies']}"
                                     f" bodies ({n}; pyramid(40) costs ~0.7 s per step)"))
@@ -999,17 +1170,17 @@ def run(config, args):
                 runs.append(task)
     refs = {}
     for task in runs:
-        ref = _reference_task(task, config)
-        refs.setdefault(_key(ref), ref)
+        ref = reference_task(task, config)
+        refs.setdefault(task_key(ref), ref)
     tasks = list(refs.values()) + runs
-    results = dict(zip(map(_key, tasks), run_tasks(simulate, tasks, desc=f"{NAME} runs",
-                                                   store=store, header=header, key=_key)))
+    results = dict(zip(map(task_key, tasks), run_tasks(simulate, tasks, desc=f"{NAME} runs",
+                                                   store=store, header=header, key=task_key)))
 
     # 3. the table
     rows = []
     for task in runs:
-        res = dict(results[_key(task)])
-        ref_key = _key(_reference_task(task, config))
+        res = dict(results[task_key(task)])
+        ref_key = task_key(reference_task(task, config))
         ref = results[ref_key]
         res["chattering"] = chattering(task, res)
         status, reason = classify(res, ref)
@@ -1023,11 +1194,12 @@ def run(config, args):
     order = {a: k for k, a in enumerate(AXES)}
     table["_a"] = table["axis"].map(order)
     table["_v"] = [config["axes"][a].index(v) for a, v in zip(table["axis"], table["value"])]
-    table["_s"] = table["system"].map({s: k for k, s in enumerate(SYSTEMS)})
+    table["_s"] = table["system"].map({s: k for k, s in enumerate(ALL_SYSTEMS)})
     table = table.sort_values(["_a", "_v", "_s"]).drop(columns=["_a", "_v", "_s"])
     table = table.reset_index(drop=True)
 
     references = [{"key": k, "scene": t["scene"], "dt_s": t["dt"], "iterations": t["iterations"],
+                   "substeps": results[k].get("substeps"),
                    "steps": t["steps"], "outcome": results[k]["outcome"],
                    "valid": ref_valid(results[k]), "error": results[k]["error"],
                    "tunnelled": results[k]["tunnelled"],
@@ -1037,7 +1209,14 @@ def run(config, args):
               {json.dumps(t["scene"], sort_keys=True): t["scene"] for t in runs
                if t["kind"] != "rejected"}.values()]
     parameters = {
-        "dt": DT, "systems": list(SYSTEMS), "reference_iterations": REF_ITERATIONS,
+        "dt": DT, "systems": list(SYSTEMS),
+        "no_presolve": {"systems": list(NO_PRESOLVE_SYSTEMS), "settings": NO_PRESOLVE_SETTINGS,
+                        "axes": [a for a in PLACED_AXES if a in config["axes"]]},
+        "sim_only_axes": [a for a in SIM_ONLY_AXES if a in config["axes"]],
+        "reference": {"system": "sim-off", "fine": config["fine"],
+                      "fine_projectile": config["fine_projectile"], "substeps": REF_SUBSTEPS,
+                      "iterations_per_substep": REF_ITERATIONS,
+                      "substeps_doubled_up_to": REF_MAX_SUBSTEPS},
         "rules": {"explosion_factor": EXPLOSION_FACTOR, "penetration_rel": PENETRATION_REL,
                   "drift_rel": DRIFT_REL, "energy_growth": ENERGY_GROWTH,
                   "max_wakes": MAX_WAKES, "max_state_changes": MAX_STATE_CHANGES,
@@ -1058,9 +1237,11 @@ def _row(task, res, status, reason, ref):
             "scene": f"{task['scene']['builder']}("
                      f"{', '.join(f'{a:.6g}' for a in task['scene']['args'])})",
             "bodies": res["bodies"], "dt_s": task["dt"],
-            "iterations": (task["iterations"] if task["iterations"] is not None else
-                           DEFAULT_ITERATIONS[engine_of(task["system"])]),
-            "steps": task["steps"], "status": status, "reason": reason,
+            "iterations": (res["iterations"] if res.get("iterations") is not None else
+                           task["iterations"] if task["iterations"] is not None else
+                           DEFAULT_ITERATIONS[engine_of(task["runner"])]),
+            "substeps": res.get("substeps"), "steps": task["steps"], "status": status,
+            "reason": reason,
             "outcome": res["outcome"], "ref_outcome": ref["outcome"],
             "ref_valid": ref_valid(ref), "error": res["error"], "finite": res["finite"],
             "exploded": res["exploded"], "tunnelled": res["tunnelled"],

@@ -11,14 +11,25 @@ for its own duration (3-7 s); a projectile that must arrive after everything fro
 3.5 s (after Bullet's fixed 2 s of deactivation time).
 
 Systems: all eight (sim-off, sim-sleep, sim-paper, sim-extended, pymunk, pymunk-sleep, pybullet,
-pybullet-sleep) at dt 1/60 s, each engine's default iterations (sim and pymunk 10, pybullet 50),
-sim slop and pymunk collision_slop 0.005 m, every freezing/sleeping parameter at its default
-(experiments.common.build).
+pybullet-sleep) at dt 1/60 s, each engine at its own default solver settings
+(experiments.peers.DEFAULT_ITERATIONS): sim's soft step with 4 substeps per step and 1 biased
++ 1 relax sweep per substep; pymunk 10 iterations per step; pybullet 50 per step. Sim slop and
+pymunk collision_slop 0.005 m, every freezing/sleeping parameter at its default
+(experiments.common.build). Each system's full settings (``runner.settings``) are in the
+metadata's ``system_settings``.
 
-Truth: sim-off at dt / ``truth_divisor`` (8: 1/480 s) with ``truth_iterations`` (20) velocity
-iterations, classified by the scenario's classifier. Its label is checked against what physics
-says (the scenario's ``expected``; column ``truth_is_expected``, and tests/test_scenarios.py);
-a mismatch would be the scenario's fault and is reported, not hidden.
+Truth: sim-off at dt / ``truth_divisor`` (8: 1/480 s) at sim's default 4 substeps, with
+``truth_iterations`` (4) biased sweeps per substep (and the default 1 relax sweep), classified by
+the scenario's classifier. Since solver v2 ``iterations`` counts sweeps *per substep*: the old
+truth's 20 velocity iterations per step at dt/8 was 160 sweeps per 1/60 s; 4 per substep at 4
+substeps and dt/8 is 128 biased + 32 relax sweeps, the same effort per simulated second, against
+the judged sim runs' 4 + 4 (8x finer step, 4x the sweeps per substep). Measured on every
+scenario, sim-off at dt/4 and dt/8 with 1, 2 and 4 sweeps per substep and at dt/16 with 8 give
+the same label each time (solver v2, quick and full truth alike); the measures of the
+non-chaotic scenarios agree to a few mm (what follows an impact is chaotic: poses, not labels,
+differ there). The truth's label is checked against what physics says (the scenario's
+``expected``; column ``truth_is_expected``, and tests/test_scenarios.py); a mismatch would be the
+scenario's fault and is reported, not hidden.
 
 Per scenario x system (one row each):
 - ``outcome``: the label of the final pose (the untimed run; the timed runs are checked to end in
@@ -39,7 +50,7 @@ Per scenario x system (one row each):
 - timing: ``wall_ms_median`` / ``wall_ms_min``: wall time of one whole run after its first step
   (median and min over ``repeats``, default 7), ``ms_per_step``, ``speedup`` = the reference's
   median / this system's median (1 for the references), and ``speedup_min``, the same ratio of
-  minima (a check: when the two disagree, the machine was busy). Method (DESIGN section 6): Numba
+  minima (a check: when the two disagree, the machine was busy). Method (docs/ARCHITECTURE.md §5): Numba
   kernels compiled first (common.compile_kernels); one untimed trial run per system sizes K, the
   runs per repeat, so that a repeat lasts about ``repeat_s`` (50 ms; K = 1 for most Bullet runs,
   ~20-150 for sim and pymunk; column ``runs_per_repeat``); each repeat builds K runners
@@ -86,11 +97,11 @@ EVENT_LEAD_S = 0.1          # s before a scheduled arrival at which "asleep at e
 #: to back, K chosen so that it lasts about repeat_s; a busy machine then stretches every system's
 #: repeat alike instead of hitting a few at random.
 FULL = {"scenarios": tuple(scenarios.SCENARIOS), "repeats": 7, "repeat_s": 0.05,
-        "truth_divisor": 8, "truth_iterations": 20}
+        "truth_divisor": 8, "truth_iterations": 4}
 #: quick: the same scenarios (each is small; the tests check every truth label), one repeat of
 #: one run (timings are only smoke-tested) and a coarser truth (dt/4)
 QUICK = {"scenarios": tuple(scenarios.SCENARIOS), "repeats": 1, "repeat_s": 0.0,
-         "truth_divisor": 4, "truth_iterations": 20}
+         "truth_divisor": 4, "truth_iterations": 4}
 
 
 def _steps(seconds, dt):
@@ -98,7 +109,8 @@ def _steps(seconds, dt):
 
 
 def observe(task):
-    """One untimed run: (scenario name, system, dt, iterations or None). Steps one step at a time
+    """One untimed run: (scenario name, system, dt, iterations or None: the engine's default; for
+    sim, sweeps per substep). Steps one step at a time
     to sample ``asleep``; returns the final pose, its label and measure, and what was frozen."""
     name, system, dt, iterations = task
     scenario = scenarios.get(name)
@@ -267,6 +279,8 @@ def run(config, args):
                           "measure": scenarios.get(n).measure_name} for n in names},
         "truth": {"system": TRUTH_SYSTEM, "dt": truth_dt,
                   "iterations": config["truth_iterations"],
+                  "iterations_are": "biased sweeps per substep (sim solver v2)",
+                  "substeps": results[(names[0], "truth")]["settings"].get("substeps"),
                   "settings": results[(names[0], "truth")]["settings"]},
         "event_lead_s": EVENT_LEAD_S,
         "system_settings": {s: results[(names[0], s)]["settings"] for s in SYSTEMS},

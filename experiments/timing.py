@@ -1,4 +1,4 @@
-"""Wall-clock timing shared by every benchmark (DESIGN section 6): the garbage collector paused,
+"""Wall-clock timing shared by every benchmark (docs/ARCHITECTURE.md §5): the garbage collector paused,
 compared systems interleaved repeat by repeat so that machine noise hits them alike."""
 import gc
 import time

@@ -121,7 +121,7 @@ def arch(n_blocks=9, radius=2.0, thickness=0.6, friction=0.8):
 def seed_fig1():
     """Seed figure 1: A rests flat on the floor on two vertices (rotation-stable), B is a box
     standing on one corner, tilted 30 degrees (vertical-stable: short of a square's 45 degree
-    tipping angle, it turns back onto its face, touching with one vertex for the first ~40 steps,
+    tipping angle, it turns back onto its face, touching with one vertex for the first ~30 steps,
     the moment drawn), C is in the air (vertical-unstable)."""
     a = Body.box(1.0, 1.0, position=(-2.0, 0.5), name="A")
     tilt = math.radians(30.0)

@@ -1,37 +1,110 @@
-"""experiments.bench_step end to end on --quick sizes, into a temporary results folder."""
+"""experiments.bench_step end to end on --quick sizes, into a temporary results folder, and its
+pieces (settings columns, the target check) on known inputs. No speed is asserted here: speed
+lives in the benchmark's results."""
 import json
 import math
 
+import numpy as np
 import pandas as pd
+import pytest
 
 from experiments import bench_step
+from experiments.peers import DEFAULT_ITERATIONS, SIM_DEFAULT_SUBSTEPS, solver_summary
+from sim.data import STAGES
 
 
-def test_quick_run_writes_every_row_and_the_metadata(tmp_path):
-    bench_step.main(["--quick"], data_dir=tmp_path)
-    table = pd.read_csv(tmp_path / "bench_step.csv")
-    expected = {(scene, p, system) for scene, params in bench_step.QUICK.items() for p in params
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("bench_step")
+    bench_step.main(["--quick"], data_dir=folder)
+    return folder
+
+
+def test_quick_run_writes_every_row_and_the_metadata(quick):
+    table = pd.read_csv(quick / "bench_step.csv")
+    q = bench_step.QUICK
+    expected = {(scene, p, system) for scene in ("rest_row", "pyramid", "drop") for p in q[scene]
                 for system in ("sim-off", "pymunk")}
     assert set(zip(table["scene"], table["param"], table["system"])) == expected
     assert len(table) == len(expected)
     for column in ("ms_per_step_median", "ms_per_step_min"):
         assert (table[column] > 0).all() and table[column].map(math.isfinite).all()
     assert (table["ms_per_step_min"] <= table["ms_per_step_median"]).all()
-    assert (table["repeats"] == 3).all() and (table["steps_per_repeat"] == 10).all()
+    assert (table["repeats"] == q["repeats"]).all()
+    resting = table[table["scene"] != "drop"]
+    settling = table[table["scene"] == "drop"]
+    assert (resting["steps_per_repeat"] == q["steps"]).all()
+    assert (settling["steps_per_repeat"] == q["window"]).all()
+    assert settling["mode"].str.startswith("settling").all()
     sim_rows = table[table["system"] == "sim-off"]
     assert (sim_rows["speedup_vs_pymunk"] > 0).all()
     assert table.loc[table["system"] == "pymunk", "speedup_vs_pymunk"].isna().all()
-    assert (table["max_displacement_m"] < 0.5).all()       # resting scenes stayed put
+    assert (resting["max_displacement_m"] < 0.5).all()       # resting scenes stayed put
+    assert (settling["bodies_in_bin"] == settling["param"]).all()   # the drop stayed in its bin
+    assert (sim_rows["contacts"] > 0).all() and (sim_rows["batches"] > 0).all()
 
-    meta = json.loads((tmp_path / "bench_step.json").read_text())
+    meta = json.loads((quick / "bench_step.json").read_text())
     for key in ("script", "scenes", "parameters", "seed", "git", "packages", "python",
                 "platform", "cpu", "cpu_count", "date_utc"):
         assert key in meta
     assert meta["script"] == "bench_step"
     assert {"commit", "dirty"} <= set(meta["git"])
     assert meta["packages"]["pymunk"] == "7.3.1"
-    assert len(meta["scenes"]) == 4
-    assert not list(tmp_path.glob("*.tmp"))                 # atomic writes left no temp files
+    assert len(meta["scenes"]) == len(q["rest_row"]) + len(q["pyramid"]) + len(q["drop"])
+    assert meta["parameters"]["targets"] == {}             # no target scene in quick sizes
+    assert not list(quick.glob("*.tmp"))                    # atomic writes left no temp files
+
+
+def test_each_system_runs_at_its_own_defaults_and_the_rows_say_so(quick):
+    table = pd.read_csv(quick / "bench_step.csv")
+    meta = json.loads((quick / "bench_step.json").read_text())
+    sim_rows = table[table["system"] == "sim-off"]
+    pym_rows = table[table["system"] == "pymunk"]
+    assert (sim_rows["substeps"] == SIM_DEFAULT_SUBSTEPS).all()
+    assert (sim_rows["iterations"] == DEFAULT_ITERATIONS["sim"]).all()
+    assert (pym_rows["substeps"] == 1).all()
+    assert (pym_rows["iterations"] == DEFAULT_ITERATIONS["pymunk"]).all()
+    settings = meta["parameters"]["system_settings"]
+    assert settings["sim-off"]["substeps"] == SIM_DEFAULT_SUBSTEPS
+    assert settings["sim-off"]["iterations"] == DEFAULT_ITERATIONS["sim"]
+    assert settings["pymunk"]["iterations"] == DEFAULT_ITERATIONS["pymunk"]
+
+
+def test_profile_has_every_stage_of_every_scene_and_adds_up(quick):
+    profile = pd.read_csv(quick / "bench_step_profile.csv")
+    table = pd.read_csv(quick / "bench_step.csv")
+    assert set(profile["label"]) == set(table["label"])
+    for lbl, rows in profile.groupby("label"):
+        assert list(rows["stage"]) == list(STAGES) + ["total"], lbl
+        stages = rows[rows["stage"] != "total"]
+        total = float(rows.loc[rows["stage"] == "total", "ms_per_step"].iloc[0])
+        assert (stages["ms_per_step"] >= 0).all() and total > 0
+        # medians of parts need not add up to the median of totals exactly; within 20 %
+        assert stages["ms_per_step"].sum() == pytest.approx(total, rel=0.2)
+        assert (rows["substeps"] == SIM_DEFAULT_SUBSTEPS).all()
+        assert (rows["ms_per_step_unprofiled"] > 0).all()
+    meta = json.loads((quick / "bench_step_profile.json").read_text())
+    assert meta["table"] == "bench_step_profile" and meta["git"]["commit"]
+
+
+def test_solver_summary_counts_the_passes_over_the_contacts():
+    sim_settings = {"substeps": 4, "iterations": 1, "relax_iterations": 1}
+    assert solver_summary(sim_settings) == {
+        "substeps": 4, "iterations": 1, "relax_iterations": 1, "contact_sweeps_per_step": 8}
+    assert solver_summary({"iterations": 10})["contact_sweeps_per_step"] == 10
+
+
+def test_targets_are_judged_against_three_times_pymunk():
+    table = pd.DataFrame({"scene": ["pyramid", "rest_row", "drop", "pyramid"],
+                          "param": [40, 5000, 200, 10],
+                          "label": ["pyramid(40)", "rest_row(5000)", "drop(200,seed=0)",
+                                    "pyramid(10)"],
+                          "system": ["sim-off"] * 4,
+                          "speedup_vs_pymunk": [3.2, 2.9, np.nan, 1.0]})
+    out = bench_step.targets(table)
+    assert set(out) == {"pyramid(40)", "rest_row(5000)", "drop(200,seed=0)"}
+    assert out["pyramid(40)"]["met"] and not out["rest_row(5000)"]["met"]
+    assert not out["drop(200,seed=0)"]["met"]               # a missing ratio is not a pass
 
 
 def test_metadata_survives_missing_git_and_packages(monkeypatch):

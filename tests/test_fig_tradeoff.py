@@ -1,6 +1,7 @@
 """experiments.fig_tradeoff and analysis.fig_tradeoff: the one penetration routine against sim's own
-separating-axis kernel and known overlaps, the landing scene, and the experiment end to end on
---quick sizes (into a temporary folder) followed by its analysis.
+separating-axis kernel and known overlaps, the landing scene and its exact rest pose, the solver
+sweep's grid, and the experiment end to end on --quick sizes (into a temporary folder) followed by
+its analysis.
 
 Wall-clock speed-ups are checked only where a wrong result could not come from machine load (the
 ratio of minima, for a setting that freezes the whole scene within a step)."""
@@ -90,6 +91,37 @@ def test_landing_starts_apart_and_settles_in_rows():
     assert np.abs(runner.positions[4:7, 0] - start_x).max() < 0.02
 
 
+def test_rest_pose_is_the_exact_answer():
+    """The pyramid's exact final pose is its start; the landing's has every box where it started
+    in x, flat, on the row below (rows at 0.5, 1.5 m; loners at 0.5 m)."""
+    pyramid = sim.scenes.pyramid(3)
+    positions, angles = exp.rest_pose(pyramid)
+    start, start_angles = _pose(pyramid)
+    assert np.array_equal(positions, start) and np.array_equal(angles, start_angles)
+    scene = exp.landing(base=4, layers=1, loners=2)
+    positions, angles = exp.rest_pose(scene)
+    start, _ = _pose(scene)
+    assert np.array_equal(positions[:, 0], start[:, 0]) and not angles.any()
+    assert positions[:, 1].tolist() == [0.5] * 4 + [1.5] * 3 + [0.5] * 2
+    # at rest nothing overlaps and every box touches what carries it
+    assert exp.deepest_overlap(exp.Polygons(scene), positions, angles) == pytest.approx(0.0)
+    with pytest.raises(ValueError, match="no exact rest pose"):
+        exp.rest_pose(sim.scenes.drop(3))
+
+
+def test_solver_grid_and_reference_check():
+    assert exp.solver_grid(4, range(-2, 3)) == [1, 2, 4, 8, 16]
+    assert exp.solver_grid(1, range(0, 4)) == [1, 2, 4, 8]
+    with pytest.raises(ValueError, match="whole number"):
+        exp.solver_grid(1, [-1])
+    # sim's reference must run more sweeps per substep than any swept setting
+    with pytest.raises(ValueError, match="finer than every swept"):
+        exp.check_reference({**exp.FULL, "reference_iterations": {**exp.FULL[
+            "reference_iterations"], "sim": 8}})
+    exp.check_reference(exp.FULL)
+    exp.check_reference(exp.QUICK)
+
+
 def test_bad_scene_input_is_refused():
     with pytest.raises(ValueError, match="layers"):
         exp.landing(base=2, layers=2)
@@ -137,11 +169,27 @@ def test_table_has_every_run(quick_run):
             assert len(rows) == 3, (scene, system, parameter)        # k = -2, 0, 2
             assert rows.loc[rows["is_default"], "value"].tolist() == pytest.approx([default])
             assert rows["value"].is_monotonic_increasing
+        # sim-off's solver knobs, on the same axes: every other grid point in quick
+        solver = t[t["role"] == "solver"]
+        assert set(solver["system"]) == {"sim-off"}
+        for parameter, values, default in (("substeps", [1, 4, 16], exp.SIM_SUBSTEPS),
+                                           ("iterations", [1, 4], exp.SIM_ITERATIONS)):
+            rows = solver[solver["parameter"] == parameter]
+            assert rows["value"].tolist() == values, parameter
+            assert rows.loc[rows["is_default"], "value"].tolist() == [default]
+    # sim's defaults as the baseline runs them, and every run's settings in the metadata
+    assert (exp.SIM_SUBSTEPS, exp.SIM_ITERATIONS) == (4, 1)
+    settings = meta["parameters"]["system_settings"]
+    assert settings["sim-off"]["substeps"] == 4 and settings["sim-off"]["iterations"] == 1
+    assert settings["sim-off substeps=16"]["substeps"] == 16
+    assert settings["sim-off iterations=4"]["iterations"] == 4
+    assert settings["sim-off reference"]["iterations"] == exp.QUICK["reference_iterations"]["sim"]
+    assert settings["pymunk"]["iterations"] == 10 and settings["pybullet"]["iterations"] == 50
 
 
 def test_timings_and_replays(quick_run):
     table, _, _ = quick_run
-    timed = table[table["role"].isin(["baseline", "sweep"])]
+    timed = table[table["role"].isin(["baseline", "sweep", "solver"])]
     assert (timed["wall_s_median"] > 0).all()
     assert (timed["wall_s_min"] <= timed["wall_s_median"]).all()
     assert (timed["repeats"] >= 3).all()
@@ -152,7 +200,12 @@ def test_timings_and_replays(quick_run):
         assert min(times) == pytest.approx(row["wall_s_min"], rel=1e-5)      # 6 digits in csv
     # every engine is deterministic: the timed run ended exactly where the measured one did
     assert (timed["replay_difference_m"] == 0.0).all()
-    assert table.loc[~table["role"].isin(["baseline", "sweep"]), "wall_s_median"].isna().all()
+    assert table.loc[~table["role"].isin(["baseline", "sweep", "solver"]),
+                     "wall_s_median"].isna().all()
+    # 16 substeps do four times the default's solver work, 1 a quarter: the ratio of minima
+    for scene, t in timed[timed["role"] == "solver"].groupby("scene"):
+        walls = t[t["parameter"] == "substeps"].set_index("value")["wall_s_min"]
+        assert walls[16] > walls[4] > walls[1], scene
 
 
 def test_physics_of_the_results(quick_run):
@@ -168,9 +221,22 @@ def test_physics_of_the_results(quick_run):
         rows = table[table["role"] == role]
         assert (rows["penetration_final_m"] <= SLOP + 1e-4).all(), role
         assert (rows["awake_fraction"] == 1.0).all() and rows["all_asleep_at_s"].isna().all()
-    # a body landing at ~3 m/s sinks about v dt into the floor before any engine sees the contact
+    # a body landing at ~3 m/s sinks about v dt (5 cm) into the floor before pymunk or Bullet sees
+    # the contact; sim's speculative contacts reach relative speed x dt ahead (sim.tolerances), so
+    # it sees the contact a step before impact and the soft contact stops the approach: it sinks
+    # less than the slop
     landing_base = table[(table["scene"] == "landing(4,1,1)") & (table["role"] == "baseline")]
-    assert (landing_base["penetration_max_m"] > 0.01).all()
+    sinks = landing_base.set_index("system")["penetration_max_m"]
+    assert sinks["pymunk"] > 0.01 and sinks["pybullet"] > 0.01
+    assert sinks["sim-off"] < SLOP
+    # every error is also measured against the exact final pose: the largest centre distance is
+    # a metric, so a run's two errors differ by at most its reference's own exact error
+    assert (table["exact_error_max_m"] >= 0).all()
+    for (scene, engine), t in table.groupby(["scene", "engine"]):
+        ref = t.loc[t["role"] == "reference", "exact_error_max_m"].item()
+        judged = t[t["role"] != "reference"]
+        gap = (judged["exact_error_max_m"] - judged["pose_error_max_m"]).abs()
+        assert (gap <= ref + 1e-12).all(), (scene, engine)
     # sleeping that never engages (sleep_time 5 s > the 2.5 s run) leaves sim's trajectory intact
     t = table[table["scene"] == "pyramid(4)"]
     never = t[(t["system"] == "sim-sleep") & (t["parameter"] == "sleep_time") & (t["value"] == 5.0)]
@@ -184,6 +250,26 @@ def test_physics_of_the_results(quick_run):
     assert (ext["speedup_min"] > 1.5).all()
 
 
+def test_solver_sweep_shares_the_axes(quick_run):
+    """sim-off's solver settings are measured as the freezing settings are: the default of each
+    knob is the baseline's very run (same error, bit for bit), nothing is frozen, and sim's
+    reference is more accurate than every setting judged against it."""
+    table, _, _ = quick_run
+    for scene, t in table.groupby("scene"):
+        base = t[(t["system"] == "sim-off") & (t["role"] == "baseline")].iloc[0]
+        solver = t[t["role"] == "solver"]
+        assert (solver["awake_fraction"] == 1.0).all() and (solver["n_awake_final"] ==
+                                                             base["n_awake_final"]).all()
+        for _, row in solver[solver["is_default"]].iterrows():
+            assert row["pose_error_max_m"] == base["pose_error_max_m"], (scene, row["parameter"])
+            assert row["penetration_final_m"] == base["penetration_final_m"]
+    # on the landing (the scene where sim's settings differ) the reference is closer to the exact
+    # final pose than every swept setting
+    t = table[table["scene"] == "landing(4,1,1)"]
+    ref = t[(t["system"] == "sim-off") & (t["role"] == "reference")]["exact_error_max_m"].item()
+    assert (t.loc[t["role"] == "solver", "exact_error_max_m"] > ref).all()
+
+
 def test_analysis_draws_and_quotes(quick_run, monkeypatch, tmp_path):
     _, _, folder = quick_run
     monkeypatch.setattr(paths, "DATA", folder)
@@ -194,8 +280,9 @@ def test_analysis_draws_and_quotes(quick_run, monkeypatch, tmp_path):
     assert svg.exists() and svg.stat().st_size > 20_000
     fronts = pd.read_csv(tmp_path / "generated" / f"{analysis.NAME}.csv")
     assert set(fronts["measure"]) == {"pose", "penetration"}
-    assert set(fronts["system"]) == set(analysis.FREEZING)
-    for _, front in fronts.groupby(["scene", "measure", "system"]):
+    assert set(fronts["series"]) == set(analysis.FREEZING) | set(analysis.SOLVER_SERIES)
+    assert set(fronts.loc[fronts["series"].isin(analysis.SOLVER_SERIES), "system"]) == {"sim-off"}
+    for _, front in fronts.groupby(["scene", "measure", "series"]):
         # on a front, more speed costs strictly more error
         assert front["speedup"].is_monotonic_increasing
         assert front["error_m"].diff().dropna().gt(0).all()
@@ -211,3 +298,32 @@ def test_analysis_draws_and_quotes(quick_run, monkeypatch, tmp_path):
     ext = pyramid["systems"]["sim-extended"]
     assert ext["default"]["pose_error_max_m"] < 1e-6
     assert ext["default"]["awake_fraction"] < 0.1
+    # the comparison the paper quotes: every engine at its defaults, sleeping off, on the landing
+    table, _, _ = quick_run
+    landing = numbers["scenes"]["landing(4,1,1)"]
+    comparison = landing["defaults_comparison"]
+    base = table[(table["scene"] == "landing(4,1,1)") & (table["role"] == "baseline")]
+    for _, row in base.iterrows():
+        assert comparison["pose_error_max_m"][row["system"]] == pytest.approx(
+            row["pose_error_max_m"])
+        assert comparison["exact_error_max_m"][row["system"]] == pytest.approx(
+            row["exact_error_max_m"])
+    peers = {p: comparison["pose_error_max_m"][p] for p in analysis.PEERS}
+    assert comparison["best_peer"] == min(peers, key=peers.get)
+    assert comparison["sim_off_within_best_peer"] == (
+        comparison["pose_error_max_m"]["sim-off"] <= min(peers.values()))
+    assert [x["value"] for x in landing["solver"]["substeps"]] == [1, 4, 16]
+    assert set(comparison["reference_resolution_m"]) == set(exp.OFF.values())
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "the issue's done-when, not met by solver v2 at 76478d2: sim-off's landing error at its "
+    "defaults is 4.1 mm against pybullet's 0.02 mm on the quick landing (full size: 15.6 mm "
+    "against sim's reference, 21 mm against the exact pose; pybullet ~1 mm): the impacts leave "
+    "the boxes sliding sideways, and neither substeps nor (since 76478d2) iterations converge "
+    "it; see experiments/fig_tradeoff.py"))
+def test_sim_off_at_defaults_is_as_accurate_as_the_best_peer(quick_run):
+    table, _, _ = quick_run
+    base = table[(table["scene"] == "landing(4,1,1)") & (table["role"] == "baseline")]
+    errors = base.set_index("system")["pose_error_max_m"]
+    assert errors["sim-off"] <= min(errors["pymunk"], errors["pybullet"])

@@ -1,9 +1,10 @@
 """experiments.scenarios: every failure scenario's truth is what physics says, its classifier can
 tell the outcomes apart, and its scheduled danger arrives only after the scene has been at rest.
 
-The truth is sim-off at a fine step (dt 1/480 s, 20 iterations), as in the failure table. Each
-scenario also has a control that must end the *other* way (a tipping body placed short of its
-tipping angle stands...), so a classifier that always answered the expected label would fail."""
+The truth is sim-off at a fine step, exactly as in the failure table (its FULL configuration:
+dt 1/480 s, sim's default 4 substeps, 4 biased sweeps per substep). Each scenario also has a
+control that must end the *other* way (a tipping body placed short of its tipping angle
+stands...), so a classifier that always answered the expected label would fail."""
 import math
 
 import numpy as np
@@ -11,12 +12,15 @@ import pytest
 
 import sim
 from experiments import scenarios as S
+from experiments.common import DT
+from experiments.table_failures import FULL as TRUTH
 
-FINE_DT = 1 / 480
+FINE_DT = DT / TRUTH["truth_divisor"]
+ITERATIONS = TRUTH["truth_iterations"]       # biased sweeps per substep
 G = 9.81
 
 
-def run(scene, seconds, dt=FINE_DT, freeze="off", iterations=20):
+def run(scene, seconds, dt=FINE_DT, freeze="off", iterations=ITERATIONS):
     world = sim.World(scene, dt=dt, iterations=iterations, freeze=freeze)
     world.step(int(round(seconds / dt)))
     return world

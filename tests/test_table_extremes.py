@@ -13,8 +13,8 @@ from analysis import table_extremes as analysis
 from experiments import paths, table_extremes as T
 from experiments.common import SYSTEMS
 
-COLUMNS = ["axis", "value", "unit", "system", "scene", "bodies", "dt_s", "iterations", "steps",
-           "status", "reason", "outcome", "ref_outcome", "ref_valid", "error", "finite",
+COLUMNS = ["axis", "value", "unit", "system", "scene", "bodies", "dt_s", "iterations", "substeps",
+           "steps", "status", "reason", "outcome", "ref_outcome", "ref_valid", "error", "finite",
            "exploded", "tunnelled", "chattering", "energy_growth", "ke_max_rel",
            "penetration_max_m", "penetration_rel", "drift_max_m", "drift_rel", "wakes_max",
            "state_changes_max", "asleep_before_event", "decision", "ms_per_step", "steps_done",
@@ -50,8 +50,11 @@ def _row(table, axis, value, system):
 def test_every_cell_once_with_the_columns(quick_run):
     table, meta, _, results, _ = quick_run
     assert list(table.columns) == COLUMNS
+    # every applicable (axis, value, system) once: the no-presolve systems on the placed axes
+    # only, the sim-only axes for sim only
     expected = {(a, float(v), s) for a, values in T.QUICK["axes"].items() for v in values
-                for s in SYSTEMS}
+                for s in T.ALL_SYSTEMS if T.applies(a, s)}
+    assert {s for _, _, s in expected} == set(T.ALL_SYSTEMS)
     got = list(zip(table["axis"], table["value"].astype(float), table["system"]))
     assert len(got) == len(set(got)) == len(expected)
     assert set(got) == expected
@@ -60,6 +63,18 @@ def test_every_cell_once_with_the_columns(quick_run):
     assert (results / "partial").is_dir()
     assert not list((results / "partial").glob("*.jsonl"))
     assert meta["parameters"]["rules"]["penetration_rel"] == T.PENETRATION_REL
+    # what ran is recorded: sim's iterations are per substep and its substeps are a column
+    sim_rows = table[table["system"].str.startswith("sim-") & (table["status"] != "rejected")]
+    assert (sim_rows["substeps"] >= 1).all()
+    assert table[~table["system"].str.startswith("sim-")]["substeps"].isna().all()
+    sub = table[table["axis"] == "substeps"]
+    assert (sub["substeps"] == sub["value"]).all()
+    it = table[(table["axis"] == "iterations") & (table["status"] != "not run")]
+    assert (it["iterations"] == it["value"]).all()
+    # the no-presolve runs are sim's four policies with initial_iterations=0, placed axes only
+    nop = table[table["system"].isin(T.NO_PRESOLVE_SYSTEMS)]
+    assert set(nop["axis"]) == set(T.PLACED_AXES) & set(T.QUICK["axes"])
+    assert meta["parameters"]["no_presolve"]["settings"] == {"initial_iterations": 0}
 
 
 def test_marks_follow_the_stated_rules(quick_run):
@@ -86,16 +101,26 @@ def test_marks_follow_the_stated_rules(quick_run):
 
 def test_physical_facts(quick_run):
     table, meta, _, _, _ = quick_run
-    # every reference is a valid run, and a placed resting scene stands in it
+    # every reference is a valid run at the stated solver settings, and a placed resting scene
+    # stands in it
     for ref in meta["parameters"]["references"]:
         assert ref["valid"], ref
+        assert ref["iterations"] == T.REF_ITERATIONS and ref["substeps"] >= T.REF_SUBSTEPS, ref
     for axis in ("mass_light_on_heavy", "size_large", "polygon_vertices", "collinear"):
         for r in table[table["axis"] == axis].itertuples():
             assert r.ref_outcome == "stands", r
-    # a light box on heavy ones stands in sim under every policy, with nothing measurable lost
-    for system in ("sim-off", "sim-sleep", "sim-paper", "sim-extended"):
+    # a light box on heavy ones stands in sim under every policy, with nothing measurable lost,
+    # with or without the presolve
+    for system in ("sim-off", "sim-sleep", "sim-paper", "sim-extended") + T.NO_PRESOLVE_SYSTEMS:
         r = _row(table, "mass_light_on_heavy", 0.001, system)
         assert r.status == "stable" and r.outcome == "stands", r
+    # sim refuses nothing at 1 cm; a refusal is a ValueError with its message, and only ever
+    # sim's step-size check or a builder's range check
+    for system in T.ALL_SYSTEMS:
+        if T.applies("size_small", system):
+            assert _row(table, "size_small", 0.01, system).status != "rejected"
+    for r in table[table["status"] == "rejected"].itertuples():
+        assert r.error.startswith("ValueError: ") and r.reason == r.error, r
     # knife edge: offset by a tilt, the reference falls; balanced exactly, it stays
     assert _row(table, "knife_edge", 1e-6, "sim-off").ref_outcome.startswith("falls")
     assert _row(table, "knife_edge", 0.0, "sim-off").ref_outcome == "stays"
@@ -129,21 +154,44 @@ def test_analysis_outputs(quick_run):
     text = svg.read_text()
     for system in SYSTEMS:
         assert system in text
-    summary = pd.read_csv(paper / "generated" / f"{T.NAME}.csv")
-    assert list(summary.columns) == ["axis", "value", *SYSTEMS]
+    for system in T.NO_PRESOLVE_SYSTEMS:
+        assert system in text
+    summary = pd.read_csv(paper / "generated" / f"{T.NAME}.csv", keep_default_na=False)
+    assert list(summary.columns) == ["axis", "value", *SYSTEMS, *T.NO_PRESOLVE_SYSTEMS]
     assert len(summary) == len(table.drop_duplicates(["axis", "value"]))
+    # not applicable is written as such, never as a mark
+    for system in T.NO_PRESOLVE_SYSTEMS:
+        marks = set(summary[system])
+        assert analysis.NOT_APPLICABLE in marks and len(marks) > 1
     assert json.loads((paper / "generated" / f"{T.NAME}.json").read_text())["numbers"] == \
         json.loads(json.dumps(numbers))
-    assert sum(sum(c.values()) for c in numbers["counts"].values()) == numbers["cells"] == \
-        len(table)
+    # the default systems and the no-presolve ones are counted apart, and every cell once
+    nop = numbers["no_presolve"]
+    assert set(numbers["counts"]) == set(SYSTEMS)
+    assert set(nop["counts"]) == set(T.NO_PRESOLVE_SYSTEMS)
+    assert sum(sum(c.values()) for c in numbers["counts"].values()) == numbers["cells"]
+    assert sum(sum(c.values()) for c in nop["counts"].values()) == nop["cells"]
+    assert numbers["cells"] + nop["cells"] == len(table)
     assert set(numbers["per_axis"]) == set(T.QUICK["axes"])
-    # the first value at which a system breaks is one where it is degraded or failed
-    for axis, entry in numbers["per_axis"].items():
-        for system in entry["breaks_first"]:
-            label = entry["first_degraded_or_failed"][system]
-            hits = [r for r in table[(table["axis"] == axis) & (table["system"] == system)]
-                    .itertuples() if analysis.value_label(axis, r.value) == label]
-            assert hits and hits[0].status in ("degraded", "failed")
+    assert set(nop["per_axis"]) == set(T.PLACED_AXES) & set(T.QUICK["axes"])
+    # a sim-only axis names nobody as breaking first
+    for axis in T.SIM_ONLY_AXES:
+        assert numbers["per_axis"][axis]["breaks_first"] == []
+        assert not numbers["per_axis"][axis]["compared"]
+    # the first value at which a system breaks is one where it is degraded or failed; without
+    # the presolve the same holds, and sim's default systems are swapped for their twins
+    for per_axis in (numbers["per_axis"], nop["per_axis"]):
+        for axis, entry in per_axis.items():
+            for system in entry["breaks_first"]:
+                label = entry["first_degraded_or_failed"][system]
+                hits = [r for r in table[(table["axis"] == axis) & (table["system"] == system)]
+                        .itertuples() if analysis.value_label(axis, r.value) == label]
+                assert hits and hits[0].status in ("degraded", "failed")
+    for entry in nop["per_axis"].values():
+        assert not any(s in entry["first_degraded_or_failed"] for s in SYSTEMS
+                       if s.startswith("sim-"))
+    # every refused cell is listed with its message
+    assert len(numbers["rejected_cells"]) == int((table["status"] == "rejected").sum())
 
 
 # ---- the measuring code on known cases (no sweep) ----------------------------------------------
@@ -252,3 +300,115 @@ def test_a_refused_scene_is_recorded_not_raised():
             "dt": 1 / 60, "iterations": None, "steps": 10, "sample_every": 1, "budget_s": 5.0}
     out = T.simulate(task)
     assert out["status_hint"] == "rejected" and "mass ratio" in out["error"]
+
+
+def test_a_body_too_small_for_the_step_is_refused_with_the_substeps_it_needs():
+    """sim refuses 1 mm boxes at dt 1/60 s and 4 substeps with a ValueError naming the substeps
+    that would do (11): recorded as "rejected" with the message, not as a failure of physics."""
+    task = T.run_task("size_small", 1e-3, "sim-off", T.QUICK)
+    out = T.simulate(task)
+    assert out["status_hint"] == "rejected" and "substeps >= 11" in out["error"], out["error"]
+    status, reason = T.classify(out, None)
+    assert status == "rejected" and "substeps >= 11" in reason
+
+
+def test_the_reference_is_sims_default_solver_at_a_fine_step():
+    """The reference: sim-off at dt/fine with REF_SUBSTEPS substeps of REF_ITERATIONS sweeps,
+    presolve on, whatever the run's own settings (so a no-presolve run, an iterations or a
+    substeps row share their scene's reference)."""
+    assert (T.REF_SUBSTEPS, T.REF_ITERATIONS) == (4, 1)
+    keys = set()
+    for axis, value, system in (("stack_height", 20, "sim-off"),
+                                ("stack_height", 20, "sim-paper (no presolve)"),
+                                ("stack_height", 20, "pymunk")):
+        ref = T.reference_task(T.run_task(axis, value, system, T.FULL), T.FULL)
+        assert ref["system"] == ref["runner"] == "sim-off"
+        assert ref["settings"] == {"substeps": T.REF_SUBSTEPS}
+        assert ref["iterations"] == T.REF_ITERATIONS
+        assert ref["dt"] == pytest.approx(T.DT / T.FULL["fine"])
+        keys.add(T.task_key(ref))
+    assert len(keys) == 1
+    refs = {T.task_key(T.reference_task(T.run_task(a, v, "sim-off", T.FULL), T.FULL))
+            for a, v in (("dt", 1 / 60), ("iterations", 1), ("substeps", 1))}
+    assert len(refs) == 1
+
+
+def test_a_reference_refused_at_its_step_gets_more_substeps():
+    """0.1 mm boxes need more than 4 substeps even at dt 1/480 s: the reference doubles them
+    (to 8) rather than losing the scene's reference; a run is never refined."""
+    ref = T.reference_task(T.run_task("size_small", 1e-4, "sim-off", T.FULL), T.FULL)
+    ref = {**ref, "steps": 20, "sample_every": 1}
+    out = T.simulate(ref)
+    assert out["status_hint"] == "" and out["substeps"] == 8, out
+    run = {**T.run_task("size_small", 1e-4, "sim-off", T.FULL), "steps": 20}
+    assert T.simulate(run)["status_hint"] == "rejected"
+
+
+def test_systems_and_axes_that_apply():
+    """The no-presolve systems run the placed axes only; the sim-only axes have no peer cell."""
+    assert T.NO_PRESOLVE_SYSTEMS == tuple(f"{s} (no presolve)" for s in SYSTEMS[:4])
+    for axis in T.AXES:
+        for system in SYSTEMS:
+            assert T.applies(axis, system) == (axis not in T.SIM_ONLY_AXES
+                                               or system.startswith("sim-"))
+        for system in T.NO_PRESOLVE_SYSTEMS:
+            assert T.applies(axis, system) == (axis in T.PLACED_AXES)
+    assert set(T.PLACED_AXES) <= set(T.AXES) and set(T.SIM_ONLY_AXES) <= set(T.AXES)
+    # the dropped columns start with nothing touching: no presolve to switch off
+    for axis in ("dt", "iterations", "substeps", "mass_dropped", "projectile_wall"):
+        assert axis not in T.PLACED_AXES
+
+
+def test_a_no_presolve_run_starts_sim_with_initial_iterations_zero():
+    task = T.run_task("stack_height", 20, "sim-extended (no presolve)", T.QUICK)
+    assert task["runner"] == "sim-extended" and task["settings"] == {"initial_iterations": 0}
+    runner = T.build_runner(task, T.scene_of(task["scene"]))
+    assert runner.world.initial_iterations == 0 and runner.world.freeze == "extended"
+    task = T.run_task("substeps", 2, "sim-off", T.QUICK)
+    assert T.build_runner(task, T.scene_of(task["scene"])).world.substeps == 2
+
+
+def _cells(rows):
+    return pd.DataFrame([{"axis": a, "value": v, "system": s, "status": st, "reason": r,
+                          "error": r if st == "rejected" else ""} for a, v, s, st, r in rows])
+
+
+def test_breaks_first_ignores_refusals_and_sim_only_axes():
+    """A refused cell is not breaking (a clear error is an answer, not a wrong result); a sim-only
+    axis compares nobody."""
+    values = {"size_small": [1.0, 0.01, 1e-3], "substeps": [4, 1]}
+    table = _cells([
+        ("size_small", 1.0, "sim-off", "stable", ""),
+        ("size_small", 0.01, "sim-off", "stable", ""),
+        ("size_small", 1e-3, "sim-off", "rejected", "ValueError: too small"),
+        ("size_small", 1.0, "pymunk", "stable", ""),
+        ("size_small", 0.01, "pymunk", "stable", ""),
+        ("size_small", 1e-3, "pymunk", "failed", "outcome collapsed"),
+        ("substeps", 4, "sim-off", "stable", ""),
+        ("substeps", 1, "sim-off", "failed", "outcome collapsed"),
+    ])
+    per_axis, counts = analysis.headline(table, ["sim-off", "pymunk"], values)
+    assert per_axis["size_small"]["breaks_first"] == ["pymunk"]
+    assert per_axis["size_small"]["first_degraded_or_failed"]["sim-off"] is None
+    assert per_axis["size_small"]["first_rejected"] == {"sim-off": "0.001 m"}
+    assert per_axis["substeps"]["breaks_first"] == [] and not per_axis["substeps"]["compared"]
+    assert per_axis["substeps"]["first_failed"] == {"sim-off": "1"}
+    assert counts["sim-off"]["rejected"] == 1 and counts["pymunk"]["failed"] == 1
+
+
+def test_systems_breaking_together_break_first_nowhere():
+    """"First" means before another system: where every system with a cell on the axis breaks at
+    the same value, nobody breaks first and the value is reported as where they all break."""
+    values = {"dt": [1 / 60, 1 / 15], "plank_flat": [1, 100]}
+    table = _cells([
+        ("dt", 1 / 60, "sim-off", "stable", ""), ("dt", 1 / 15, "sim-off", "failed", "outcome"),
+        ("dt", 1 / 60, "pymunk", "stable", ""), ("dt", 1 / 15, "pymunk", "degraded", "drift"),
+        ("plank_flat", 1, "sim-off", "stable", ""), ("plank_flat", 100, "sim-off", "stable", ""),
+        ("plank_flat", 1, "pymunk", "stable", ""),
+        ("plank_flat", 100, "pymunk", "degraded", "drift"),
+    ])
+    per_axis, _ = analysis.headline(table, ["sim-off", "pymunk"], values)
+    assert per_axis["dt"]["breaks_first"] == [] and per_axis["dt"]["breaks_first_at"] is None
+    assert per_axis["dt"]["breaks_together_at"] == "1/15 s"
+    assert per_axis["plank_flat"]["breaks_first"] == ["pymunk"]
+    assert per_axis["plank_flat"]["breaks_together_at"] is None

@@ -19,17 +19,28 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from .pybullet_runner import DEFAULT_ITERATIONS as PYBULLET_DEFAULT_ITERATIONS
 from .pybullet_runner import PybulletRunner
 from .pymunk_runner import PymunkRunner
+from .sim_runner import DEFAULT_ITERATIONS as SIM_DEFAULT_ITERATIONS
+from .sim_runner import DEFAULT_SUBSTEPS as SIM_DEFAULT_SUBSTEPS
 from .sim_runner import SimRunner
 
 #: Every system name ``make_runner`` knows, sim's policies first.
 SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk", "pymunk-sleep",
            "pybullet", "pybullet-sleep")
 
-#: Solver iterations when ``make_runner`` is given none: sim and pymunk 10, pybullet 50 (with 10,
-#: Bullet lets a base-20 pyramid creep and a base-40 one collapse).
-DEFAULT_ITERATIONS = {"sim": 10, "pymunk": 10, "pybullet": 50}
+#: Solver iterations when ``make_runner`` is given none: each engine's own default, so that every
+#: system runs as its authors tuned it and a comparison is fair by construction (same scene, same
+#: start state, same observables; each system's full settings are in its runner's ``settings``).
+#: The numbers do not mean the same thing in each engine:
+#:   sim       sim.World's default: 1 biased solve sweep *per substep*, with 4 substeps per step
+#:             (and 1 relax sweep per substep): Box2D v3's soft step (``sim.soft_step``)
+#:   pymunk    10 iterations per step (Chipmunk's default)
+#:   pybullet  50 iterations per step (Bullet's default is 10, with which a base-20 pyramid creeps
+#:             and a base-40 one collapses; see ``pybullet_runner``)
+DEFAULT_ITERATIONS = {"sim": SIM_DEFAULT_ITERATIONS, "pymunk": 10,
+                      "pybullet": PYBULLET_DEFAULT_ITERATIONS}
 
 
 @runtime_checkable
@@ -66,10 +77,26 @@ def engine_of(system):
     return system.split("-", 1)[0]
 
 
+def solver_summary(settings):
+    """How much solving a runner's ``settings`` ask for per step, comparable across engines:
+    {"substeps": integration substeps per step (sim's setting; 1 for pymunk and pybullet, which
+    step once per step), "iterations": as the engine counts them (sim: biased sweeps per substep;
+    the peers: per step), "relax_iterations": sim's unbiased sweeps per substep (0 for the
+    peers), "contact_sweeps_per_step": passes over the contacts per step (sim: substeps x
+    (iterations + relax_iterations); the peers: iterations)}. Warm starting and restitution
+    passes are not counted in any engine."""
+    substeps = settings.get("substeps", 1)
+    relax = settings.get("relax_iterations", 0)
+    return {"substeps": substeps, "iterations": settings["iterations"],
+            "relax_iterations": relax,
+            "contact_sweeps_per_step": substeps * (settings["iterations"] + relax)}
+
+
 def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
     """Build ``scene`` in ``system`` (see ``SYSTEMS``) at step ``dt`` s.
 
-    iterations  solver iterations; None = the engine's default (``DEFAULT_ITERATIONS``)
+    iterations  solver iterations; None = the engine's default (``DEFAULT_ITERATIONS``). For sim
+                these are biased sweeps per substep; its substeps (default 4) are a setting.
     settings    passed to the runner: sim.World's keywords (slop, the policy's parameters...),
                 PymunkRunner's (collision_slop, sleep_time, idle_speed) or PybulletRunner's
                 (sleep_threshold, restitution_threshold). Sleeping is chosen by the name.
@@ -88,5 +115,5 @@ def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
     return PybulletRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
 
 
-__all__ = ["Runner", "SYSTEMS", "DEFAULT_ITERATIONS", "make_runner", "engine_of", "SimRunner",
-           "PymunkRunner", "PybulletRunner"]
+__all__ = ["Runner", "SYSTEMS", "DEFAULT_ITERATIONS", "SIM_DEFAULT_SUBSTEPS", "make_runner",
+           "engine_of", "solver_summary", "SimRunner", "PymunkRunner", "PybulletRunner"]

@@ -2,25 +2,44 @@
 runner, so that experiments loop over systems without special cases.
 
 The runner adds nothing to the physics: it passes dt, iterations, the freeze policy and every
-other ``sim.World`` setting (slop, restitution_threshold, the policy's own parameters...) through,
-and reads the World's observables. ``asleep`` is ``world.frozen``: the body is out of the awake
-list, so nothing is computed for it (SLEEPING under ``sleep``, frozen ROTATION_STABLE under
-``extended`` and ``paper``, held VERTICAL_STABLE under ``paper``). A ``paper`` body that is
-VERTICAL_STABLE and pivoting, or ROTATION_STABLE and still sliding, is awake: ``states`` says
-which.
-"""
-import sim
+other ``sim.World`` setting (substeps, slop, restitution_threshold, the policy's own parameters...)
+through, and reads the World's observables. Settings not given are sim.World's own defaults
+(``DEFAULT_ITERATIONS``, ``DEFAULT_SUBSTEPS``: read from its signature, so the runner can never
+drift from the solver). ``settings`` records every one of them as the World holds it (after
+validation), so a results file says which solver configuration produced it.
 
-#: sim.World's keyword settings recorded in ``settings`` (besides dt, iterations, freeze).
-_WORLD_SETTINGS = ("position_iterations", "slop", "speculative_distance", "baumgarte",
-                   "max_correction", "restitution_threshold", "warm_starting",
-                   "overlap_tolerance", "initial_iterations")
+``asleep`` is ``world.frozen``: the body is out of the awake list, so nothing is computed for it
+(SLEEPING under ``sleep``, frozen ROTATION_STABLE under ``extended`` and ``paper``, held
+VERTICAL_STABLE under ``paper``). A ``paper`` body that is VERTICAL_STABLE and pivoting, or
+ROTATION_STABLE and still sliding, is awake: ``states`` says which.
+"""
+import inspect
+
+import sim
+from sim.soft_step import DYNAMIC_CAP
+
+_DEFAULTS = inspect.signature(sim.World).parameters
+#: sim.World's default biased solve sweeps per substep (Box2D v3's: 1).
+DEFAULT_ITERATIONS = _DEFAULTS["iterations"].default
+#: sim.World's default substeps per step (4).
+DEFAULT_SUBSTEPS = _DEFAULTS["substeps"].default
+
+#: sim.World's settings recorded in ``settings`` (besides dt, iterations, freeze), as the World
+#: holds them: the soft step's knobs (substeps, relax sweeps, contact stiffness and damping, push
+#: speed, load time), the contact tolerances, and the switches.
+_WORLD_SETTINGS = ("substeps", "relax_iterations", "contact_hertz", "damping_ratio",
+                   "push_speed", "load_time", "slop", "speculative_distance",
+                   "restitution_threshold", "warm_starting", "continuous", "overlap_tolerance",
+                   "initial_iterations", "fast_paths")
 
 
 class SimRunner:
-    """Run ``scene`` in ``sim.World(scene, dt, iterations, freeze, **world_settings)``."""
+    """Run ``scene`` in ``sim.World(scene, dt, iterations, freeze, **world_settings)``;
+    ``iterations=None`` is the World's default."""
 
-    def __init__(self, scene, dt=1 / 60, iterations=10, freeze="off", **world_settings):
+    def __init__(self, scene, dt=1 / 60, iterations=None, freeze="off", **world_settings):
+        if iterations is None:
+            iterations = DEFAULT_ITERATIONS
         self.world = sim.World(scene, dt=dt, iterations=iterations, freeze=freeze,
                                **world_settings)
         self.scene = self.world.scene
@@ -29,7 +48,14 @@ class SimRunner:
         self.settings = {"engine": "sim", "system": self.name, "dt": w.dt,
                          "iterations": w.iterations, "freeze": w.freeze,
                          "policy_parameters": dict(w.policy_parameters),
-                         **{k: getattr(w, k) for k in _WORLD_SETTINGS if hasattr(w, k)}}
+                         "solver": "soft step (Box2D v3): iterations are biased sweeps per "
+                                   "substep",
+                         **{k: getattr(w, k) for k in _WORLD_SETTINGS},
+                         # Hz before the per-pair rules (raised for small bodies, doubled
+                         # against immovable ones, capped: sim.soft_step.pair_hertz); None
+                         # above means the cap, DYNAMIC_CAP of the substep rate
+                         "contact_hertz_base": (w.contact_hertz if w.contact_hertz is not None
+                                                else DYNAMIC_CAP * w.substeps / w.dt)}
 
     @property
     def name(self):

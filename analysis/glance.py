@@ -55,9 +55,16 @@ def lines():
                f"`paper` {x(row['speedup']['sim-paper'])}); pymunk's sleeping gives "
                f"{x(row['speedup']['pymunk-sleep'])}.")
     ext, off, pym = sc["sim-extended"], sc["sim-off"], sc["pymunk-sleep"]
-    out.append(f"- **A frozen body costs about a hundredth of an awake one:** b/a = "
+    # within two standard errors of zero the fit cannot tell a frozen body's cost from nothing:
+    # say so, with the upper bound, rather than quote a (possibly negative) ratio as a cost
+    upper = ext["b_over_a"] + 2 * ext["b_over_a_stderr"]
+    headline = ("A frozen body costs too little to measure" if ext["b_over_a"]
+                - 2 * ext["b_over_a_stderr"] <= 0 else
+                f"A frozen body costs {fmt(ext['b_over_a'], 2)} of an awake one")
+    out.append(f"- **{headline}:** b/a = "
                f"{fmt(ext['b_over_a'], 2)} ± {fmt(ext['b_over_a_stderr'], 1)} under `extended` "
-               f"(pymunk asleep: {fmt(pym['b_over_a'], 2)}); solved under `off` the same resting "
+               f"(at most {fmt(upper, 1)} at two standard errors; pymunk asleep: "
+               f"{fmt(pym['b_over_a'], 2)}); solved under `off` the same resting "
                f"body costs {fmt(off['b_over_a'], 2)} awake bodies.")
     awake = pyr.get("n_awake", {})
     out.append(f"- **The seed's rules stop at the second row:** on {pyr['largest_scene']} `paper` "

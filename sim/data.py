@@ -50,6 +50,7 @@ class Settings(NamedTuple):
     rest_speed: float           # m/s   (extended)
     rest_acceleration: float    # m/s^2 (extended)
     rest_steps: int             # steps (extended)
+    mixed_masses: bool          # two dynamic bodies' masses differ by > soft_step.HARD_RATIO
     profile: bool               # time each stage (cycle counter) into solver.profile
 
 

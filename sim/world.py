@@ -89,6 +89,15 @@ def _aligned(shape, dtype=np.float64):
     return raw[offset:offset + n * itemsize].view(dtype).reshape(shape)
 
 
+def _mixed_masses(inv_mass):
+    """Can any contact be "hard" (soft_step.HARD_RATIO)? Only if two dynamic bodies' masses
+    differ by more than the ratio: a freeze policy only ever zeroes solver masses (immovable
+    bodies are never hard), so this holds for the World's life and the colouring skips the
+    search for hard contacts in uniform scenes."""
+    movable = inv_mass[inv_mass > 0.0]
+    return bool(movable.size and movable.max() > soft_step.HARD_RATIO * movable.min())
+
+
 class World:
     """A running simulation of a ``sim.Scene``.
 
@@ -234,7 +243,8 @@ class World:
             sleep_time=float(params.get("sleep_time", 0.0)),
             rest_speed=float(params.get("rest_speed", 0.0)),
             rest_acceleration=float(params.get("rest_acceleration", 0.0)),
-            rest_steps=int(params.get("rest_steps", 1)), profile=False)
+            rest_steps=int(params.get("rest_steps", 1)),
+            mixed_masses=_mixed_masses(p.inv_mass[:n]), profile=False)
         self._counters = np.zeros(D.N_COUNTERS, np.int64)
         self._counters[D.N_AWAKE] = n                        # every body starts awake
         self._counters[D.FREE_HEAD] = -1
@@ -520,6 +530,8 @@ class Inspection:
       presolve_sweeps      sweeps the initial-impulse solve took
       regrown              how many times a buffer the step loop outgrew was grown
       sweeps, impacts      fast bodies swept (stage ``continuous``), and cut back to an impact
+      n_hard_batches       batches that got soft_step.HARD_SWEEPS extra relax sweeps (they hold a
+                           contact touching a body in a contact of mass ratio > HARD_RATIO)
     """
 
     def __init__(self, world):
@@ -540,6 +552,7 @@ class Inspection:
         self.regrown = world._regrown
         self.sweeps = int(c[D.N_SWEPT])
         self.impacts = int(c[D.N_IMPACTS])
+        self.n_hard_batches = int(c[D.N_HARD])
 
     def __repr__(self):
         return (f"Inspection(contacts={self.n_contacts}, awake_contacts={self.n_awake_contacts}, "

@@ -37,7 +37,7 @@ from .data import (BAD_BODY, GROW_AWAKE_GRID, GROW_NEEDED, GROW_RESTING_GRID, GR
 from .freeze.dispatch import freeze_after_solve, freeze_before_solve
 from .sweep import sweep_fast_bodies
 from .jit import inline_kernel, kernel
-from .soft_step import (HARD_SWEEPS, LANES, colour, deepest_separation, integrate_positions,
+from .soft_step import (HARD_SWEEPS, IMPACT_SPEED, LANES, colour, deepest_separation, integrate_positions,
                         integrate_velocities, lane_normal_impulse, load_bodies, prepare, relax,
                         relax_hard, restitution, solve, store, unload_bodies, warm_start)
 
@@ -151,7 +151,7 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
     restitution(n_colours, solver.colour_batches, solver.wide, solver.lane_row, solver.state,
                 settings.restitution_threshold)
     t = _lap(settings, solver, STAGE_RESTITUTION, t)
-    store(counters, contacts, solver, settings.load_rate)
+    store(counters, contacts, solver, settings.load_rate, IMPACT_SPEED)
     t = _lap(settings, solver, STAGE_STORE, t)
     return t
 
@@ -236,7 +236,7 @@ def presolve(n_iterations, tolerance, settings, counters, bodies, geometry, awak
         change, largest = _impulse_change(n_batches, solver.wide, before)
         if change <= tolerance * largest:
             break
-    store(counters, contacts, solver, 1.0)        # the converged load is carried from the start
+    store(counters, contacts, solver, 1.0, np.inf)   # the converged load is carried from the start
     counters[PRESOLVE_SWEEPS] = done
     return OK
 

@@ -80,6 +80,11 @@ MAX_CONDITION = 1000.0
 #: without mass ratios.
 HARD_RATIO = 10.0
 HARD_SWEEPS = 2
+#: m/s: a contact point that approached faster than this at the start of a step was an impact,
+#: and its impulse is not warm-started into the next step (see ``store``). With the restitution
+#: threshold (1 m/s) instead, a settling pile of 30 polygons kept 1.7 cm of overlap (under 1 cm with
+#: every point warm-started): ordinary landings need their warm start.
+IMPACT_SPEED = 10.0
 #: Restitution sweeps after the substeps (see ``restitution``).
 RESTITUTION_SWEEPS = 4
 _U = np.uint64
@@ -850,10 +855,15 @@ def _end_separation(wide, o, l, p, nx, ny, state, ra, rb):
 
 
 @lean_kernel
-def store(counters, contacts, solver, carry_rate):
+def store(counters, contacts, solver, carry_rate, impact_speed):
     """Each lane's impulses back into its contact: the last substep's accumulated impulses (warm
     start), the step's totals (the freeze policies) and the approach velocity (reports); and the
-    carried load follows the impulse by ``carry_rate`` of the difference."""
+    carried load follows the impulse by ``carry_rate`` of the difference.
+
+    A point that approached faster than ``impact_speed`` m/s at the start of the step was an
+    impact: its impulse stopped a motion that is now gone, so it is not warm-started (the next
+    step starts the point cold, as a new contact) and is not a load to carry. Warm-started, a
+    200 m/s projectile stopped by a wall was kicked to 162 rad/s a step later."""
     pf = contacts.point_float
     wide = solver.wide
     for b in range(counters[N_BATCHES]):
@@ -872,9 +882,13 @@ def store(counters, contacts, solver, carry_rate):
                 p = _P2 * _U(j)
                 pf[s, j, END_SEPARATION] = _end_separation(wide, o, l, p, nx, ny, solver.state,
                                                            ra, rb)
-                pf[s, j, WARM_NORMAL] = wide[o + p + PN1 + l]
-                pf[s, j, WARM_TANGENT] = wide[o + p + PT1 + l]
-                pf[s, j, CARRIED] += carry_rate * (wide[o + p + PN1 + l] - pf[s, j, CARRIED])
+                if wide[o + p + RELV1 + l] < -impact_speed:
+                    pf[s, j, WARM_NORMAL] = 0.0
+                    pf[s, j, WARM_TANGENT] = 0.0
+                else:
+                    pf[s, j, WARM_NORMAL] = wide[o + p + PN1 + l]
+                    pf[s, j, WARM_TANGENT] = wide[o + p + PT1 + l]
+                    pf[s, j, CARRIED] += carry_rate * (wide[o + p + PN1 + l] - pf[s, j, CARRIED])
                 pf[s, j, NORMAL_IMPULSE] = wide[o + p + TN1 + l]
                 pf[s, j, TANGENT_IMPULSE] = wide[o + p + TT1 + l]
                 pf[s, j, NORMAL_VELOCITY] = wide[o + p + RELV1 + l]

@@ -23,6 +23,10 @@ from .jit import inline_kernel, lean_kernel
 #: tests, instead of in each cell (a body moving 1.7e6 m in a step, 1e8 m/s, asked for 1e10 grid
 #: entries; a long static floor would fill thousands of cells)
 LARGE_CELLS = 256
+#: a refitted fat box also reaches this many steps of the body's travel ahead of it: a falling or
+#: sliding body then refits every few steps instead of every step (each refit rebuilds the awake
+#: grid and looks for new pairs)
+LOOKAHEAD_STEPS = 3.0
 #: cells beyond this index (either sign) are clamped (see ``_cell``)
 CELL_LIMIT = 2.0 ** 40
 
@@ -86,10 +90,12 @@ def update_geometry(which, count, dt, bodies, geometry, counters):
         if (aabb[i, MIN_X] < fat[i, MIN_X] or aabb[i, MIN_Y] < fat[i, MIN_Y]
                 or aabb[i, MAX_X] > fat[i, MAX_X] or aabb[i, MAX_Y] > fat[i, MAX_Y]):
             m = bodies.margin[i]
-            fat[i, MIN_X] = aabb[i, MIN_X] - m
-            fat[i, MIN_Y] = aabb[i, MIN_Y] - m
-            fat[i, MAX_X] = aabb[i, MAX_X] + m
-            fat[i, MAX_Y] = aabb[i, MAX_Y] + m
+            ahead_x = LOOKAHEAD_STEPS * sweep_x
+            ahead_y = LOOKAHEAD_STEPS * sweep_y
+            fat[i, MIN_X] = aabb[i, MIN_X] - m + min(ahead_x, 0.0)
+            fat[i, MIN_Y] = aabb[i, MIN_Y] - m + min(ahead_y, 0.0)
+            fat[i, MAX_X] = aabb[i, MAX_X] + m + max(ahead_x, 0.0)
+            fat[i, MAX_Y] = aabb[i, MAX_Y] + m + max(ahead_y, 0.0)
             if i < geometry.moved_flag.shape[0] and not geometry.moved_flag[i]:
                 geometry.moved_flag[i] = True
                 geometry.moved[n_moved] = i

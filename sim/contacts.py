@@ -17,7 +17,7 @@ a = -1 is the floor; the normal points from A to B.
 """
 import numpy as np
 
-from .data import (ALIVE, FIT_C, FIT_MARGIN, FIT_S, FIT_X, FIT_Y, N_REFRESHED, ANCHOR_AX, AWAKE_UNSORTED, CARRIED, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, AWAKE_INDEX, BODY_A, BODY_B,
+from .data import (N_SKIPPED, ALIVE, FIT_C, FIT_GAP, FIT_MARGIN, FIT_S, FIT_X, FIT_Y, N_REFRESHED, ANCHOR_AX, AWAKE_UNSORTED, CARRIED, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, AWAKE_INDEX, BODY_A, BODY_B,
                    FREE_HEAD, FRICTION, GROW_CONTACTS, GROW_NEEDED, INCIDENT, LOCAL_FACE_X,
                    LOCAL_FACE_Y, LOCAL_NORMAL_X, LOCAL_NORMAL_Y, LOCAL_X, LOCAL_Y, MAX_DEGREE,
                    N_ACTIVE, N_AWAKE_CONTACTS, N_LIVE, N_SLOTS, NEXT_A, NEXT_B, NORMAL_IMPULSE,
@@ -254,15 +254,18 @@ def destroy(s, n_dynamic, contacts, counters):
 # ---- narrowphase ------------------------------------------------------------------------------------
 @inline_kernel
 def _closing_speed(a, b, velocity, angular_velocity, extent):
-    """m/s: a bound on how fast any point of a can approach any point of b (a = -1: the floor)."""
-    vbx = velocity[b, 0]
-    vby = velocity[b, 1]
+    """m/s: a bound on how fast any point of a can approach any point of b (a = -1: the floor)
+    within the step, whatever else the step does to either: the sum of their speeds, not the
+    speed of one relative to the other. Two bodies falling side by side or one behind the other
+    do not close at all until the one ahead is stopped, in the middle of the step, by what it
+    lands on; a margin from their relative speed then had no contact between them, and a box of a
+    pile dropped from 35 m flew on at 26 m/s 5 cm into the one below it, stopped under it."""
+    speed = np.sqrt(velocity[b, 0] ** 2 + velocity[b, 1] ** 2)
     reach = abs(angular_velocity[b]) * extent[b]
     if a >= 0:
-        vbx -= velocity[a, 0]
-        vby -= velocity[a, 1]
+        speed += np.sqrt(velocity[a, 0] ** 2 + velocity[a, 1] ** 2)
         reach += abs(angular_velocity[a]) * extent[a]
-    return np.sqrt(vbx * vbx + vby * vby) + reach
+    return speed + reach
 
 
 #: A manifold is refreshed from its stored points, without the separating-axis search and the
@@ -272,6 +275,17 @@ def _closing_speed(a, b, velocity, angular_velocity, extent):
 #: points of the incident body, so a refreshed manifold is the full one up to how far a clipped
 #: point slides along its edge: at most this fraction of the slop.
 REFRESH_FRACTION = 0.1
+
+
+@inline_kernel
+def _moved(x, y, c, sn, s, cf, extent_b):
+    """m: how far any point of B can have moved in A's frame since the pair's last full
+    narrowphase, given B's relative pose now (x, y, c, sn): the translation plus the chord of the
+    turn at B's extent (2 |sin(turn / 2)| = sqrt(2 - 2 cos(turn)))."""
+    dx = x - cf[s, FIT_X]
+    dy = y - cf[s, FIT_Y]
+    cos_turn = c * cf[s, FIT_C] + sn * cf[s, FIT_S]
+    return np.sqrt(dx * dx + dy * dy) + np.sqrt(max(0.0, 2.0 - 2.0 * cos_turn)) * extent_b
 
 
 @inline_kernel
@@ -294,13 +308,17 @@ def update_manifolds(settings, bodies, geometry, contacts, counters):
     up to date for every body involved); those with points are listed in ``contacts.active``.
     The speculative margin is the pair's resting reach plus the distance the pair can close in
     one step, so a contact exists before bodies meet however fast they move. A pair that has
-    hardly moved relative to itself is refreshed, not recomputed (REFRESH_FRACTION).
-    Returns the number of active contacts."""
+    hardly moved relative to itself is refreshed, not recomputed (REFRESH_FRACTION); a pair that
+    was apart is skipped while its last separating-axis gap, less how far B has since moved in A's
+    frame, still exceeds the margin: the shapes are then surely farther apart than the margin, so
+    the full narrowphase would find no point that could touch this step (in a settling pile of 200
+    polygons about a third of the live pairs are apart). Returns the number of active contacts."""
     ci = contacts.contact_int
     cf = contacts.contact_float
     dt = settings.dt
     n_active = 0
     refreshed = 0
+    skipped = 0
     for k in range(counters[N_AWAKE_CONTACTS]):
         s = contacts.awake[k]
         a = ci[s, BODY_A]
@@ -311,6 +329,10 @@ def update_manifolds(settings, bodies, geometry, contacts, counters):
         tol = REFRESH_FRACTION * cf[s, SLOP]
         reach = bodies.extent[b] + (bodies.extent[a] if a >= 0 else 0.0)
         turned = abs(sn * cf[s, FIT_C] - c * cf[s, FIT_S]) * reach       # |sin of the turn| * r
+        if ci[s, ALIVE] == 2 and ci[s, POINT_COUNT] == 0:
+            if cf[s, FIT_GAP] - _moved(x, y, c, sn, s, cf, bodies.extent[b]) > margin:
+                skipped += 1
+                continue
         if (ci[s, ALIVE] == 2 and margin <= cf[s, FIT_MARGIN] + tol and turned < tol
                 and abs(x - cf[s, FIT_X]) + abs(y - cf[s, FIT_Y]) < tol):
             n = _refresh(s, settings, bodies, geometry, contacts)
@@ -328,6 +350,7 @@ def update_manifolds(settings, bodies, geometry, contacts, counters):
             n_active += 1
     counters[N_ACTIVE] = n_active
     counters[N_REFRESHED] = refreshed
+    counters[N_SKIPPED] = skipped
     return n_active
 
 
@@ -435,8 +458,8 @@ def _collide(s, margin, settings, bodies, geometry, contacts):
     vb0 = vert_start[b]
     vb1 = vert_start[b + 1]
     if a < 0:
-        n_points = collide_floor_rows(world_verts, world_normals, vb0, vb1, settings.floor_y,
-                                      margin, points, seps, ids)
+        n_points, gap = collide_floor_rows(world_verts, world_normals, vb0, vb1,
+                                           settings.floor_y, margin, points, seps, ids)
         flip = 0
         edge = 0
         normal[0] = 0.0
@@ -444,7 +467,7 @@ def _collide(s, margin, settings, bodies, geometry, contacts):
         mu = np.sqrt(settings.floor_friction * bodies.friction[b])
         e = max(settings.floor_restitution, bodies.restitution[b])
     else:
-        n_points, flip, edge = collide_polygon_rows(
+        n_points, flip, edge, gap = collide_polygon_rows(
             world_verts, world_normals, vert_start[a], vert_start[a + 1], vb0, vb1, margin,
             FACE_FRACTION * cf[s, SLOP], points, seps, ids, normal)
         mu = np.sqrt(bodies.friction[a] * bodies.friction[b])
@@ -460,6 +483,7 @@ def _collide(s, margin, settings, bodies, geometry, contacts):
     old_c0 = pf[s, 0, CARRIED]
     old_c1 = pf[s, 1, CARRIED]
     ci[s, POINT_COUNT] = n_points
+    cf[s, FIT_GAP] = gap
     if n_points == 0:
         contacts.point_id[s, 0] = -1            # apart: nothing to warm start from
         contacts.point_id[s, 1] = -1

@@ -57,8 +57,9 @@ class Settings(NamedTuple):
 # ---- counters (int64 array, persisting across World.step calls) --------------------------------
 (STEP_COUNT, N_ACTIVE, BAD_BODY, PRESOLVE_SWEEPS, N_AWAKE, N_EVENTS, RESTING_DIRTY, N_LINKS,
  N_SLOTS, FREE_HEAD, N_LIVE, N_AWAKE_CONTACTS, N_MOVED, MAX_DEGREE, N_BATCHES, N_COLOURS,
- N_SWEPT, N_IMPACTS, GROW_NEEDED, N_REBUILDS, AWAKE_UNSORTED, N_REFRESHED, N_HARD) = range(23)
-N_COUNTERS = 23
+ N_SWEPT, N_IMPACTS, GROW_NEEDED, N_REBUILDS, AWAKE_UNSORTED, N_REFRESHED, N_HARD,
+ N_SKIPPED) = range(24)
+N_COUNTERS = 24
 # GROW_NEEDED bits: which buffer the kernel found too small (the World grows it and retries)
 GROW_CONTACTS, GROW_AWAKE_GRID, GROW_RESTING_GRID, GROW_SOLVER = 1, 2, 4, 8
 
@@ -145,11 +146,13 @@ class Contacts(NamedTuple):
 CONTACT_INT = 11
 # contact_float columns
 (NORMAL_X, NORMAL_Y, FRICTION, RESTITUTION, LOCAL_NORMAL_X, LOCAL_NORMAL_Y, LOCAL_FACE_X,
- LOCAL_FACE_Y, SLOP, SPECULATIVE, FIT_X, FIT_Y, FIT_C, FIT_S, FIT_MARGIN) = range(15)
-CONTACT_FLOAT = 15
+ LOCAL_FACE_Y, SLOP, SPECULATIVE, FIT_X, FIT_Y, FIT_C, FIT_S, FIT_MARGIN, FIT_GAP) = range(16)
+CONTACT_FLOAT = 16
 # FIT_*: the relative pose of B in A's frame (position m, rotation cos/sin) and the speculative
 #   margin (m) at the last full narrowphase of the contact: while neither has changed more than a
 #   fraction of the slop, the manifold is refreshed from its stored points instead (contacts.py).
+#   FIT_GAP (m): a lower bound on the distance between the shapes then (their separating-axis
+#   gap); a pair without points is not looked at again until its bodies could have closed it.
 # point_float columns
 (ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, SEPARATION, NORMAL_IMPULSE, TANGENT_IMPULSE,
  WARM_NORMAL, WARM_TANGENT, LOCAL_X, LOCAL_Y, NORMAL_VELOCITY, CARRIED, END_SEPARATION) = range(14)

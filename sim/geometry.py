@@ -174,14 +174,18 @@ def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, face_tolerance,
       out_separations (2,) m  signed distance along the normal (negative = penetration)
       out_ids (2,) int64   feature ids (see module comment)
       out_normal (2,)      unit normal from A to B
-    Returns (count, flip, reference_edge): flip = 1 when B holds the reference face.
+    Returns (count, flip, reference_edge, gap): flip = 1 when B holds the reference face; gap (m)
+    the largest separation along an edge normal found, a lower bound on the distance between the
+    polygons (projection onto an axis never lengthens a distance), which lets the narrowphase skip
+    a pair until its bodies have moved that much closer.
     """
     edge_a, sep_a = _max_separation(verts, normals, a0, a1, b0, b1)
     if sep_a > margin:
-        return 0, 0, 0
+        return 0, 0, 0, sep_a
     edge_b, sep_b = _max_separation(verts, normals, b0, b1, a0, a1)
+    gap = max(sep_a, sep_b)
     if sep_b > margin:
-        return 0, 0, 0
+        return 0, 0, 0, gap
     # Prefer A's face unless B's is better by more than a small tolerance: coherent choice frame to
     # frame keeps feature ids, and so warm starting, stable.
     b_first = sep_b > sep_a + face_tolerance + 1e-3 * abs(sep_a)
@@ -190,16 +194,16 @@ def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, face_tolerance,
             kept = _clip_against_face(verts, normals, b0, b1, a0, a1, edge_b, 1, margin,
                                       out_points, out_separations, out_ids, out_normal)
             if kept > 0:
-                return kept, 1, edge_b
+                return kept, 1, edge_b, gap
         else:
             kept = _clip_against_face(verts, normals, a0, a1, b0, b1, edge_a, 0, margin,
                                       out_points, out_separations, out_ids, out_normal)
             if kept > 0:
-                return kept, 0, edge_a
+                return kept, 0, edge_a, gap
         # The preferred face may be short, with the other polygon's incident edge entirely past
         # its end (a choice inside the bias band): the shapes still touch, so clip against the
         # other polygon's face before concluding there is no contact.
-    return 0, 0, 0
+    return 0, 0, 0, gap
 
 
 @inline_kernel
@@ -274,7 +278,9 @@ def collide_floor_rows(verts, normals, b0, b1, floor_y, margin, out_points, out_
 
     The floor is the reference face (normal +y, from floor to body); the incident edge is the
     polygon's edge whose normal points most downward, and it always holds the lowest vertex.
-    Returns the number of points (0-2) with separation <= margin; ids are vertex indices.
+    Returns (count, gap): the number of points (0-2) with separation <= margin (ids are vertex
+    indices), and the polygon's height above the floor, m (its lowest vertex is on the incident
+    edge).
     """
     k = b1 - b0
     inc_edge = 0
@@ -284,18 +290,20 @@ def collide_floor_rows(verts, normals, b0, b1, floor_y, margin, out_points, out_
             lowest = normals[b0 + i, 1]
             inc_edge = i
     kept = 0
+    gap = np.inf
     for m in range(2):
         j = inc_edge + m
         if j >= k:
             j -= k
         s = verts[b0 + j, 1] - floor_y
+        gap = min(gap, s)
         if s <= margin:
             out_points[kept, 0] = verts[b0 + j, 0]
             out_points[kept, 1] = verts[b0 + j, 1]
             out_separations[kept] = s
             out_ids[kept] = j
             kept += 1
-    return kept
+    return kept, gap
 
 
 # ---- the same kernels on separate per-polygon arrays, for tests and one-off use --------------

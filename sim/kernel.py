@@ -37,9 +37,10 @@ from .data import (BAD_BODY, GROW_AWAKE_GRID, GROW_NEEDED, GROW_RESTING_GRID, GR
 from .freeze.dispatch import freeze_after_solve, freeze_before_solve
 from .sweep import sweep_fast_bodies
 from .jit import inline_kernel, kernel
-from .soft_step import (HARD_SWEEPS, IMPACT_SPEED, LANES, colour, deepest_separation, integrate_positions,
-                        integrate_velocities, lane_normal_impulse, load_bodies, prepare, relax,
-                        relax_hard, restitution, solve, store, unload_bodies, warm_start)
+from .soft_step import (HARD_SWEEPS, IMPACT_SPEED, LANES, colour, deepest_separation,
+                        integrate_positions, integrate_velocities, lane_normal_impulse,
+                        load_bodies, max_colours, prepare, relax, relax_hard, restitution, solve,
+                        store, unload_bodies, warm_start)
 
 OK, GROW, NON_FINITE, FLUSH = 0, 1, 2, 3
 
@@ -106,9 +107,9 @@ def broadphase(settings, counters, bodies, geometry, awake_grid, resting_grid, c
             return False
         drop_stale_pairs(settings, geometry, contacts, counters)
     # every live contact may be active this step (waking adds contacts, never slots)
-    needed = (counters[N_LIVE] + LANES - 1) // LANES + 2 * max(1, counters[MAX_DEGREE]) + 1
+    needed = (counters[N_LIVE] + LANES - 1) // LANES + max_colours(counters[MAX_DEGREE]) + 1
     if (needed > solver.lane_slot.shape[0] // LANES
-            or 2 * max(1, counters[MAX_DEGREE]) > 64 * solver.colour_mask.shape[1]):
+            or max_colours(counters[MAX_DEGREE]) > 64 * solver.colour_mask.shape[1]):
         counters[GROW_NEEDED] |= GROW_SOLVER
         return False
     return True

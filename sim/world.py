@@ -112,7 +112,7 @@ class World:
                             points within a pair's slop count as touching; pairs of small bodies
                             use a fraction of their size instead (``sim.tolerances``)
       speculative_distance  m, cap of the distance at which contacts are made before touching
-                            (default 0.02); grows with the approach speed
+                            (default 0.02); grows with the bodies' speeds
       contact_hertz         Hz, stiffness of a contact between moving bodies (default None: an
                             eighth of the substep rate, 30 Hz at 4 substeps of 1/60 s; raised for
                             small bodies; never above that eighth; doubled against immovable
@@ -513,6 +513,16 @@ class World:
                 f"freeze={self.freeze!r}, step={self.step_count})")
 
 
+def _pair_colours(solver, contact_int, n_colours):
+    out = {}
+    for colour in range(n_colours):
+        lanes = solver.lane_slot[solver.colour_batches[colour] * soft_step.LANES:
+                                 solver.colour_batches[colour + 1] * soft_step.LANES]
+        for slot in lanes[lanes >= 0]:
+            out[(int(contact_int[slot, D.BODY_A]), int(contact_int[slot, D.BODY_B]))] = colour
+    return out
+
+
 class Inspection:
     """What a World's solver holds after its last step, as plain copies (changing them changes
     nothing in the World).
@@ -521,9 +531,14 @@ class Inspection:
       n_contacts           live contact slots: pairs whose fat boxes overlap
       n_awake_contacts     of those, the ones with an awake body (looked at every step)
       n_active             of those, the ones with points this step (solved)
+      n_refreshed          of the awake ones, refreshed from their stored points last step
+      n_skipped            of the awake ones, skipped last step: apart by more than they could
+                           close (``contacts.update_manifolds``)
       awake                (n_awake,) indices of the awake bodies
       solver_inv_mass      (N,) 1/kg the solver used (0 for frozen and held bodies)
       n_colours, n_batches the last step's constraint colours and batches of ``LANES``
+      pair_colour          {(body_a, body_b): colour} of the last step's active contacts, in the
+                           order the sweeps solve them (body_a = -1: the floor)
       lanes                soft_step.LANES
       batch_fill           fraction of the batch lanes that hold a contact
       resting_rebuilds     how many times the resting grid was rebuilt since the start
@@ -540,10 +555,14 @@ class Inspection:
         self.n_contacts = int(c[D.N_LIVE])
         self.n_awake_contacts = int(c[D.N_AWAKE_CONTACTS])
         self.n_active = int(c[D.N_ACTIVE])
+        self.n_refreshed = int(c[D.N_REFRESHED])
+        self.n_skipped = int(c[D.N_SKIPPED])
         self.awake = world._activity.awake[:int(c[D.N_AWAKE])].copy()
         self.solver_inv_mass = world._activity.solver_inv_mass[:world.n_bodies].copy()
         self.n_colours = int(c[D.N_COLOURS])
         self.n_batches = int(c[D.N_BATCHES])
+        self.pair_colour = _pair_colours(world._solver, world._contacts.contact_int,
+                                         self.n_colours)
         self.lanes = soft_step.LANES
         self.batch_fill = (self.n_active / (self.n_batches * self.lanes)
                            if self.n_batches else 1.0)

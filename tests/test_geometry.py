@@ -127,7 +127,7 @@ def kernel_collide(a, b, margin):
     seps = np.full(2, np.nan)
     ids = np.full(2, -1, dtype=np.int64)
     normal = np.full(2, np.nan)
-    count, flip, edge = geometry.collide_polygons(a, geometry.edge_normals(a), b,
+    count, flip, edge, _ = geometry.collide_polygons(a, geometry.edge_normals(a), b,
                                                   geometry.edge_normals(b), float(margin),
                                                   pts, seps, ids, normal)
     return {"count": int(count), "flip": int(flip), "edge": int(edge), "points": pts[:count],
@@ -138,7 +138,7 @@ def kernel_floor(v, floor_y, margin):
     pts = np.full((2, 2), np.nan)
     seps = np.full(2, np.nan)
     ids = np.full(2, -1, dtype=np.int64)
-    count = geometry.collide_floor(v, geometry.edge_normals(v), float(floor_y), float(margin),
+    count, _ = geometry.collide_floor(v, geometry.edge_normals(v), float(floor_y), float(margin),
                                    pts, seps, ids)
     return int(count), pts[:count], seps[:count], ids[:count].tolist()
 
@@ -598,7 +598,7 @@ def test_packed_row_kernels_match_per_polygon_wrappers(pair, other, margin_frac,
     seps = np.full(2, np.nan)
     ids = np.full(2, -1, dtype=np.int64)
     normal = np.full(2, np.nan)
-    count, flip, edge = geometry.collide_polygon_rows(
+    count, flip, edge, _ = geometry.collide_polygon_rows(
         verts, normals, starts[ia], starts[ia + 1], starts[ib], starts[ib + 1], float(margin),
         1e-4, pts, seps, ids, normal)
     want = kernel_collide(a, b, margin)
@@ -609,7 +609,7 @@ def test_packed_row_kernels_match_per_polygon_wrappers(pair, other, margin_frac,
     if count:
         assert np.array_equal(normal, want["normal"])
     floor_y = float(b[:, 1].min()) + 0.1 * margin_frac * inner
-    count = geometry.collide_floor_rows(verts, normals, starts[ib], starts[ib + 1], floor_y,
+    count, _ = geometry.collide_floor_rows(verts, normals, starts[ib], starts[ib + 1], floor_y,
                                         float(margin), pts, seps, ids)
     want_count, want_pts, want_seps, want_ids = kernel_floor(b, floor_y, margin)
     assert count == want_count and ids[:count].tolist() == want_ids

@@ -17,19 +17,35 @@ sweep's configuration); a file with a different header is set aside (renamed ``*
 mixed in. JSON-ready results are stored as JSON (readable); any other picklable result (numpy
 arrays, say) as base64 pickle on its line, restored exactly.
 
+A store cannot lie: every run's line carries the SHA-256 of its content, and a line that fails it
+(a flipped bit), is not a run of the expected shape, or is torn (a run killed mid-write) is dropped
+with a warning naming the line, its run is redone, and the file is rewritten without it (atomically)
+before anything is appended, so a later line is never glued onto a fragment.
+
+Interrupts: Ctrl-C (SIGINT) stops a sweep at once: queued runs are cancelled, running workers are
+terminated, every finished run is already in the store, and KeyboardInterrupt propagates. Pool
+workers watch their parent and exit within WATCH_S seconds of it dying, however it died (SIGTERM,
+SIGKILL): no orphaned processes.
+
 ``fn`` must be a module-level function and every task picklable; each task should carry
 everything its run needs (scene parameters, system, settings), so a run is reproducible alone.
 """
 import base64
+import hashlib
 import json
 import os
 import pickle
+import threading
+import time
+import warnings
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 from tqdm import tqdm
 
 SCHEDULER_ENV = "FREEZE2D_SCHEDULER"
+#: s: how often a pool worker checks that the process that started it is still alive
+WATCH_S = 0.2
 
 
 def default_workers():
@@ -38,12 +54,15 @@ def default_workers():
 
 class ResultStore:
     """Finished runs of one sweep in a JSON-lines file: line 1 the header, then one
-    ``{"key": ..., "result": ...}`` per run. A torn last line (a run killed mid-write) is ignored."""
+    ``{"key": ..., "result": ..., "sha256": ...}`` (or ``"pickle"`` instead of ``"result"``) per
+    run. Lines that are torn, of the wrong shape or fail their checksum are dropped (see the module
+    docstring): ``dropped`` lists them as (line number, why)."""
 
     def __init__(self, path, header):
         self.path = Path(path)
         self.header = json.loads(json.dumps(header))      # compare as JSON would store it
         self.done = {}
+        self.dropped = []
         if self.path.exists():
             self._load()
         if not self.path.exists():
@@ -51,26 +70,57 @@ class ResultStore:
             self._append({"header": self.header})
 
     def _load(self):
-        lines = self.path.read_text().splitlines()
+        lines = self.path.read_bytes().decode("utf-8", errors="replace").split("\n")
+        torn = lines[-1] != ""                            # no newline after the last line
+        lines = lines[:-1] if not torn else lines
         try:
             first = json.loads(lines[0]) if lines else {}
         except json.JSONDecodeError:
             first = {}
-        if first.get("header") != self.header:
+        if not isinstance(first, dict) or first.get("header") != self.header:
             stale = self.path.with_suffix(self.path.suffix + ".stale")
             os.replace(self.path, stale)
             print(f"{self.path}: made by a different commit or configuration; moved to {stale}, "
                   f"starting afresh")
             return
-        for line in lines[1:]:
-            try:
-                entry = json.loads(line)
-            except json.JSONDecodeError:
-                continue                                  # torn write: that run is redone
-            if "pickle" in entry:
-                self.done[entry["key"]] = pickle.loads(base64.b64decode(entry["pickle"]))
+        kept = [lines[0]]
+        for number, line in enumerate(lines[1:], start=2):
+            why = self._read(line)
+            if why is None:
+                kept.append(line)
             else:
-                self.done[entry["key"]] = entry["result"]
+                self.dropped.append((number, why))
+        if torn and self.dropped and self.dropped[-1][0] == len(lines):
+            self.dropped[-1] = (len(lines), "torn (no end of line): a run killed mid-write")
+        if self.dropped:
+            warnings.warn(f"{self.path}: dropped {len(self.dropped)} stored run(s), to be redone: "
+                          + "; ".join(f"line {n}: {why}" for n, why in self.dropped[:5])
+                          + (" ..." if len(self.dropped) > 5 else ""), stacklevel=3)
+        if self.dropped or torn:
+            tmp = self.path.with_suffix(self.path.suffix + ".tmp")
+            tmp.write_text("".join(line + "\n" for line in kept))
+            os.replace(tmp, self.path)
+
+    def _read(self, line):
+        """Take one stored run into ``done``; returns None, or why the line is not a run."""
+        try:
+            entry = json.loads(line)
+        except json.JSONDecodeError:
+            return "not JSON"
+        if (not isinstance(entry, dict) or set(entry) not in ({"key", "result", "sha256"},
+                                                               {"key", "pickle", "sha256"})
+                or not isinstance(entry["key"], str)):
+            return "not a stored run (expected key, result or pickle, sha256)"
+        if entry["sha256"] != _digest(entry):
+            return "checksum mismatch: the line was changed after it was written"
+        if "pickle" in entry:
+            try:
+                self.done[entry["key"]] = pickle.loads(base64.b64decode(entry["pickle"]))
+            except Exception as exc:           # a valid checksum makes this a bug, not damage
+                return f"pickle unreadable ({type(exc).__name__})"
+        else:
+            self.done[entry["key"]] = entry["result"]
+        return None
 
     def _append(self, entry):
         with open(self.path, "a") as f:
@@ -85,7 +135,24 @@ class ResultStore:
             entry = {"key": key, "result": result}
         except (TypeError, ValueError):
             entry = {"key": key, "pickle": base64.b64encode(pickle.dumps(result)).decode("ascii")}
+        entry["sha256"] = _digest(entry)
         self._append(entry)
+
+
+def _digest(entry):
+    """SHA-256 of a stored run's content (everything but the digest), as its JSON is written."""
+    content = {k: v for k, v in entry.items() if k != "sha256"}
+    return hashlib.sha256(json.dumps(content, sort_keys=True).encode("utf-8")).hexdigest()
+
+
+def _watch_parent(parent):
+    """Pool worker initializer: exit as soon as the process that started the pool is gone (a
+    parent killed by SIGTERM or SIGKILL cannot shut its pool down)."""
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(WATCH_S)
+        os._exit(1)
+    threading.Thread(target=watch, daemon=True).start()
 
 
 def run_tasks(fn, tasks, desc="runs", workers=None, scheduler=None, store=None, header=None,
@@ -125,11 +192,30 @@ def run_tasks(fn, tasks, desc="runs", workers=None, scheduler=None, store=None, 
             for i in todo:
                 finish(i, _call(fn, tasks[i]))
         else:
-            with ProcessPoolExecutor(max_workers=min(workers, len(todo))) as pool:
-                futures = {pool.submit(_call, fn, tasks[i]): i for i in todo}
-                for future in as_completed(futures):
-                    finish(futures[future], future.result())
+            _run_pool(fn, tasks, todo, min(workers, len(todo)), finish)
     return [results[k] for k in keys]
+
+
+def _run_pool(fn, tasks, todo, workers, finish):
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=_watch_parent,
+                               initargs=(os.getpid(),))
+    try:
+        futures = {pool.submit(_call, fn, tasks[i]): i for i in todo}
+        for future in as_completed(futures):
+            finish(futures[future], future.result())
+    except BaseException:
+        # Ctrl-C or a failed run: stop now. Waiting for the queue (the default) ran every queued
+        # run to the end and threw it away; finished runs are already in the store.
+        # the pool's public API cannot stop a run in progress (cancel_futures only drops queued
+        # ones), so its worker processes are terminated directly
+        processes = list(getattr(pool, "_processes", {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            process.terminate()
+        for process in processes:
+            process.join(timeout=5)
+        raise
+    pool.shutdown(wait=True)
 
 
 def _run_dask(fn, tasks, todo, address, finish):

@@ -52,8 +52,11 @@ def pack(scene):
     vertices = np.concatenate([dynamic.vertices, static.vertices])            # (V,2) m
     vert_start = np.concatenate([dynamic.vert_start,
                                  static.vert_start[1:] + dynamic.vert_start[-1]])
-    mass, centroid, inertia = mass_properties_many(
-        vertices, vert_start, np.concatenate([dynamic.density, static.density]))
+    # extreme but finite fields can overflow these: the World checks them and names the body
+    # (world._check_mass_properties), so numpy need not warn as well
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        mass, centroid, inertia = mass_properties_many(
+            vertices, vert_start, np.concatenate([dynamic.density, static.density]))
     local = vertices - np.repeat(centroid, np.diff(vert_start), axis=0)
     normals = edge_normals_many(local, vert_start)
     angle = np.concatenate([dynamic.angle, static.angle])
@@ -69,9 +72,10 @@ def pack(scene):
     angular_velocity = np.zeros(m)
     angular_velocity[:n] = dynamic.angular_velocity
     inv_mass = np.zeros(m)
-    inv_mass[:n] = 1.0 / mass[:n]
     inv_inertia = np.zeros(m)
-    inv_inertia[:n] = 1.0 / inertia[:n]
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        inv_mass[:n] = 1.0 / mass[:n]
+        inv_inertia[:n] = 1.0 / inertia[:n]
     bullet = np.zeros(m, dtype=bool)
     bullet[:n] = dynamic.bullet
     return Packed(

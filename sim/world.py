@@ -1,8 +1,12 @@
 """``sim.World``: the Python facade. It validates a Scene and the settings, packs the bodies into
 struct-of-arrays (``sim.packing``), builds the named state the kernels share (``sim.data``), and
 hands whole runs of steps to the compiled step loop (``sim.kernel.run``)."""
+import contextlib
 import math
 import numbers
+import signal
+import threading
+import time
 
 import numpy as np
 
@@ -43,6 +47,23 @@ class SimulationError(RuntimeError):
     """A run that cannot go on: a body's state became NaN or infinite, or flew out of range."""
 
 
+#: s: ``step(n)`` calls the compiled step loop in pieces of about this long. Ctrl-C cannot stop
+#: compiled code, and is seen between the pieces: a long ``step`` stops within about this long, at
+#: a step boundary (the pieces are the same steps: the run is bit-identical however it is cut).
+CHUNK_S = 0.05
+#: steps of the first piece, before the World has measured how long a step takes
+FIRST_CHUNK = 64
+
+#: Caps on the solver's counts. A step is compiled code that Ctrl-C cannot stop (it is seen only
+#: between steps): iterations=10**9 made one step of one box take over a minute. Far beyond any
+#: accuracy the sweeps buy (fig_tradeoff: the error stops falling long before), and each step
+#: still a fraction of a second on a small scene.
+MAX_SUBSTEPS = 1000
+MAX_SWEEPS = 1000               # iterations, and relax_iterations, per substep
+MAX_INITIAL_ITERATIONS = 10 ** 6
+LIMITS_WHY = ("a step cannot be interrupted, and more sweeps than this buy no accuracy "
+              "(see sim.world.MAX_SWEEPS)")
+
 #: the solver's fast paths (see World's ``fast_paths``)
 FAST_PATHS = ("friction",)
 
@@ -74,10 +95,49 @@ def _positive(value, what, allow_zero=False):
     return x
 
 
-def _count(value, what, minimum):
+def _count(value, what, minimum, maximum=None):
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
         raise ValueError(f"{what} must be an integer >= {minimum}, got {value!r}")
+    if maximum is not None and value > maximum:
+        raise ValueError(f"{what} must be at most {maximum:,}, got {value!r}: {LIMITS_WHY}")
     return int(value)
+
+
+def _check_mass_properties(packed, describe):
+    """ValueError naming the first dynamic body whose mass properties float64 cannot hold:
+    finite fields can still overflow them (vertices at 1e155 m square to inf: mass inf, inertia
+    NaN), or underflow them (density 1e-320 kg/m^2: a mass whose inverse is inf)."""
+    n = packed.n_dynamic
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        fine = (np.isfinite(packed.mass) & (packed.mass > 0.0) & np.isfinite(1.0 / packed.mass)
+                & np.isfinite(packed.inertia) & (packed.inertia > 0.0)
+                & np.isfinite(1.0 / packed.inertia)
+                & np.isfinite(packed.position[:n]).all(axis=1)
+                & np.isfinite(packed.extent[:n]) & np.isfinite(packed.size[:n]))
+    if not fine.all():
+        i = int(np.flatnonzero(~fine)[0])
+        raise ValueError(
+            f"{describe(i)}: its mass properties are beyond float64 (mass {packed.mass[i]:.4g} "
+            f"kg, moment of inertia {packed.inertia[i]:.4g} kg m^2, extent "
+            f"{packed.extent[i]:.4g} m): its size or density is too extreme; scale the scene")
+
+
+@contextlib.contextmanager
+def _deferred_sigint():
+    """Within: Ctrl-C (SIGINT) is recorded, not raised; yields a function saying whether it came.
+    Raised inside the compiled step loop, KeyboardInterrupt surfaced only when the call returned,
+    as "SystemError: CPUDispatcher(run) returned a result with an exception set". Only the main
+    thread can take signals, and a handler the program installed itself is left alone."""
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
+        yield lambda: False
+        return
+    came = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: came.append(signum))
+    try:
+        yield lambda: bool(came)
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def _aligned(shape, dtype=np.float64):
@@ -156,9 +216,9 @@ class World:
         scene.validate()
         self.scene = scene
         self.dt = _positive(dt, "dt")
-        self.substeps = _count(substeps, "substeps", 1)
-        self.iterations = _count(iterations, "iterations", 1)
-        self.relax_iterations = _count(relax_iterations, "relax_iterations", 0)
+        self.substeps = _count(substeps, "substeps", 1, MAX_SUBSTEPS)
+        self.iterations = _count(iterations, "iterations", 1, MAX_SWEEPS)
+        self.relax_iterations = _count(relax_iterations, "relax_iterations", 0, MAX_SWEEPS)
         self.slop = _positive(slop, "slop", allow_zero=True)
         self.speculative_distance = _positive(speculative_distance, "speculative_distance",
                                               allow_zero=True)
@@ -173,7 +233,8 @@ class World:
         self.continuous = bool(continuous)
         self.fast_paths = _fast_paths(fast_paths)
         self.overlap_tolerance = _positive(overlap_tolerance, "overlap_tolerance", allow_zero=True)
-        self.initial_iterations = _count(initial_iterations, "initial_iterations", 0)
+        self.initial_iterations = _count(initial_iterations, "initial_iterations", 0,
+                                         MAX_INITIAL_ITERATIONS)
         self.freeze = freeze
         self.policy, self.policy_parameters = resolve(freeze, policy_parameters)
 
@@ -183,12 +244,15 @@ class World:
         self.inertias = packed.inertia                    # (N,) kg m^2 about the COM
         self.extents = packed.extent                      # (M,) m, COM to farthest vertex
         self.sizes = packed.size                          # (M,) m, thinnest width
+        _check_mass_properties(packed, self._describe)
         g = float(np.hypot(*scene.gravity))
         check_step(packed.size[:self.n_bodies], self._describe, self.dt, self.substeps, g)
         self._build(scene, packed)
         self.events = []            # (step, body, from_state, to_state, cause)
         self.max_penetration = 0.0  # m, deepest contact penetration seen since the start
         self.penetration = 0.0      # m, after the last step
+        self._step_s = None         # s, wall time of a step, as last measured (sizes the pieces)
+        self._diverged = None       # why the World cannot step any more, once it diverged
         self._detect()
         self._check_initial_overlap()
         if self.initial_iterations and self.warm_starting:
@@ -365,25 +429,40 @@ class World:
     def _run(self, n, settings):
         if n == 0:
             return self
-        min_sep = np.zeros(n)
+        if self._diverged:
+            raise SimulationError(f"{self._diverged}; this World cannot step any further: build a "
+                                  f"new one (from the scene, or from poses saved before step "
+                                  f"{self.step_count})")
         done = 0
-        while done < n:
-            status, steps = K.run(n - done, *self._state(settings), min_sep[done:])
-            done += steps
-            self._flush_events()
-            if status == K.GROW:
-                self._grow()
-            elif status == K.NON_FINITE:
-                self._record_penetration(min_sep[:done])
-                i = int(self._counters[D.BAD_BODY])
-                raise SimulationError(
-                    f"step {self.step_count}: {self._describe(i)} diverged (non-finite, or "
-                    f"farther than {K.MAX_COORDINATE:g} m) "
-                    f"(position {self._bodies.position[i].tolist()}, angle "
-                    f"{self._bodies.angle[i]}, velocity {self._bodies.velocity[i].tolist()}, "
-                    f"angular velocity {self._bodies.angular_velocity[i]}); "
-                    f"try a smaller dt, more substeps, or check the scene")
-        self._record_penetration(min_sep)
+        with _deferred_sigint() as interrupted:
+            while done < n:
+                chunk = n - done
+                chunk = min(chunk, FIRST_CHUNK if self._step_s is None
+                            else max(1, int(CHUNK_S / max(self._step_s, 1e-9))))
+                min_sep = np.zeros(chunk)
+                start = time.perf_counter()
+                status, steps = K.run(chunk, *self._state(settings), min_sep)
+                if steps:
+                    self._step_s = (time.perf_counter() - start) / steps
+                done += steps
+                self._flush_events()
+                self._record_penetration(min_sep[:steps])
+                if status == K.GROW:
+                    self._grow()
+                elif status == K.NON_FINITE:
+                    i = int(self._counters[D.BAD_BODY])
+                    self._diverged = (
+                        f"step {self.step_count}: {self._describe(i)} diverged (non-finite, or "
+                        f"farther than {K.MAX_COORDINATE:g} m) "
+                        f"(position {self._bodies.position[i].tolist()}, angle "
+                        f"{self._bodies.angle[i]}, velocity {self._bodies.velocity[i].tolist()}, "
+                        f"angular velocity {self._bodies.angular_velocity[i]})")
+                    raise SimulationError(f"{self._diverged}; try a smaller dt, more substeps, "
+                                          f"or check the scene")
+                if interrupted():
+                    raise KeyboardInterrupt(
+                        f"World.step interrupted after {done} of {n} steps; the World is whole, "
+                        f"at step {self.step_count}, and can step on")
         return self
 
     def profile(self, n=1):
@@ -410,6 +489,7 @@ class World:
             self._counters[D.N_EVENTS] = 0
 
     def _record_penetration(self, min_sep):
+        """Penetration after the last of these steps, and the deepest over them (m)."""
         if len(min_sep):
             self.penetration = max(0.0, -float(min_sep[-1]))
             self.max_penetration = max(self.max_penetration, -float(min_sep.min()))

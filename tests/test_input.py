@@ -205,3 +205,24 @@ def test_vertices_edited_in_place_are_caught_by_the_world():
     body.vertices[:] = body.vertices[::-1].copy()
     with pytest.raises(ValueError, match="clockwise"):
         sim.World(scene)
+
+
+# ---- extreme but finite inputs, and counts that would make a step unstoppable --------------------
+@pytest.mark.parametrize("make, why", [
+    (lambda: sim.Body(vertices=[[-1e155, -1e155], [1e155, -1e155], [1e155, 1e155],
+                                [-1e155, 1e155]], name="huge"), "mass inf"),
+    (lambda: sim.Body.box(1, 1, position=(0, 0.5), density=1e-320, name="airy"), "mass 1e-320"),
+])
+def test_bodies_whose_mass_properties_overflow_are_refused_by_name(make, why):
+    body = make()
+    with pytest.raises(ValueError, match=rf"{body.name}: its mass properties are beyond "
+                                         rf"float64 \({why}"):
+        sim.World(sim.Scene(bodies=[body]))
+
+
+@pytest.mark.parametrize("field, value", [("iterations", 10 ** 9), ("relax_iterations", 1001),
+                                          ("substeps", 10 ** 6),
+                                          ("initial_iterations", 10 ** 7)])
+def test_solver_counts_beyond_what_a_step_can_afford_are_refused(field, value):
+    with pytest.raises(ValueError, match=rf"{field} must be at most .*cannot be interrupted"):
+        sim.World(sim.scenes.single_box(), **{field: value})

@@ -42,6 +42,25 @@ def _validated_polygon(vertices, name):
     return v
 
 
+def _canonical(value):
+    """A field as a value that compares whole: arrays as (dtype, shape, bytes), sequences of
+    numbers as tuples of floats, everything else as it is."""
+    if isinstance(value, np.ndarray):
+        a = np.ascontiguousarray(value, dtype=np.float64) if value.dtype.kind in "iuf" else value
+        return (a.dtype.str, a.shape, a.tobytes())
+    if isinstance(value, (list, tuple)):
+        return _canonical(np.asarray(value, dtype=np.float64)) if _numeric(value) else value
+    return value
+
+
+def _numeric(seq):
+    try:
+        np.asarray(seq, dtype=np.float64)
+        return True
+    except (TypeError, ValueError):
+        return False
+
+
 def finite_pair(value, what, name):
     """(x, y) as a tuple of finite floats, or ValueError naming ``name`` and ``what``."""
     try:
@@ -169,11 +188,20 @@ class Body:
 
     def _fingerprint(self):
         """Every field as it stands, so that any change (in-place edits of the vertex array
-        included) forces a full check."""
+        included) forces a full check. Arrays by dtype, shape and bytes: ``==`` on an array is
+        elementwise (``body.position = world.positions[i]`` made the comparison raise)."""
         v = self.vertices
-        return (v.tobytes() if isinstance(v, np.ndarray) else repr(v), getattr(v, "shape", None),
-                self.position, self.angle, self.velocity, self.angular_velocity, self.density,
-                self.friction, self.restitution, self.bullet)
+        return (_canonical(v) if isinstance(v, np.ndarray) else repr(v),
+                *map(_canonical, (self.position, self.angle, self.velocity, self.angular_velocity,
+                                  self.density, self.friction, self.restitution, self.bullet)))
+
+    def __eq__(self, other):
+        """Same fields (arrays compared whole, not elementwise), name included."""
+        if not isinstance(other, Body):
+            return NotImplemented
+        return all(_canonical(getattr(self, f)) == _canonical(getattr(other, f))
+                   for f in ("vertices", "position", "angle", "velocity", "angular_velocity",
+                             "density", "friction", "restitution", "name", "bullet"))
 
     @classmethod
     def box(cls, width, height, **kwargs):
@@ -187,8 +215,8 @@ class Body:
     def regular(cls, n, radius, **kwargs):
         """A regular n-gon of circumradius ``radius``, centred, with a flat bottom edge."""
         name = kwargs.get("name") or "regular polygon"
-        if isinstance(n, bool) or not isinstance(n, numbers.Integral):
-            raise PolygonError(f"{name}: the vertex count must be an integer, got {n!r}")
+        if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 3:
+            raise PolygonError(f"{name}: the vertex count must be an integer >= 3, got {n!r}")
         if not (isinstance(radius, numbers.Real) and math.isfinite(radius) and radius > 0):
             raise PolygonError(f"{name}: radius must be > 0 and finite, got {radius!r}")
         phase = -math.pi / 2 - math.pi / n

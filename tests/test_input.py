@@ -226,3 +226,31 @@ def test_bodies_whose_mass_properties_overflow_are_refused_by_name(make, why):
 def test_solver_counts_beyond_what_a_step_can_afford_are_refused(field, value):
     with pytest.raises(ValueError, match=rf"{field} must be at most .*cannot be interrupted"):
         sim.World(sim.scenes.single_box(), **{field: value})
+
+
+# ---- numpy values in bodies and scenes ---------------------------------------------------------
+def test_a_body_restarted_from_a_worlds_arrays_builds_a_world():
+    world = sim.World(sim.scenes.stack(3)).step(30)
+    scene = sim.scenes.stack(3)
+    for i, body in enumerate(scene.bodies):            # the natural restart: numpy rows and floats
+        body.position, body.velocity = world.positions[i], world.velocities[i]
+        body.angle, body.angular_velocity = world.angles[i], world.angular_velocities[i]
+    again = sim.World(scene, initial_iterations=0)
+    assert np.allclose(again.positions, world.positions, atol=1e-12)
+
+
+def test_bodies_and_scenes_compare_whole():
+    a, b, c = sim.Body.box(1, 1), sim.Body.box(1, 1), sim.Body.box(1, 2)
+    assert a == b and a != c
+    assert sim.Scene(bodies=[a]) == sim.Scene(bodies=[b])
+    assert sim.Scene(bodies=[a]) != sim.Scene(bodies=[c])
+    b.position = np.array([0.0, 0.0])
+    assert a == b                                        # an array equal to the tuple
+    b.name = "other"
+    assert a != b
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, -3])
+def test_a_regular_polygon_needs_three_vertices(n):
+    with pytest.raises(ValueError, match="vertex count must be an integer >= 3"):
+        sim.Body.regular(n, 1.0)

@@ -9,10 +9,7 @@ import numbers
 
 import numpy as np
 
-from .geometry import PolygonError, mass_properties, validate_polygon
-
-#: m; bodies beyond this are treated as diverged by the step loop (sim.kernel.MAX_COORDINATE)
-MAX_COORDINATE = 1e12
+from .geometry import MAX_COORDINATE, PolygonError, mass_properties, validate_polygon
 
 #: Polygons (shape, bytes of the float64 vertex array) that passed ``validate_polygon``: a scene of
 #: 10^5 equal boxes checks its one polygon once instead of 10^5 times (~70 us each). The check is

@@ -15,6 +15,10 @@ from .jit import inline_kernel, kernel
 
 #: Largest vertex count a polygon may have: feature ids pack vertex indices into 10 bits.
 MAX_VERTICES = 1024
+#: m; bodies beyond this are treated as diverged by the step loop, and no vertex may lie farther
+#: from its body's origin (squares of larger coordinates overflow the convexity test and the mass
+#: properties: a square of side 2e155 passed validation with NaN turn angles)
+MAX_COORDINATE = 1e12
 
 
 class PolygonError(ValueError):
@@ -41,6 +45,9 @@ def validate_polygon(vertices, name="polygon"):
         raise PolygonError(f"{name}: at most {MAX_VERTICES} vertices are supported, got {k}")
     if not np.all(np.isfinite(v)):
         raise PolygonError(f"{name}: vertices contain NaN or inf")
+    if np.abs(v).max() > MAX_COORDINATE:
+        raise PolygonError(f"{name}: a vertex lies {np.abs(v).max():.4g} m from the body's origin, "
+                           f"beyond {MAX_COORDINATE:g} m (the solver's range)")
     scale = float(np.max(np.abs(v - v.mean(axis=0))))
     if scale <= 0.0:
         raise PolygonError(f"{name}: degenerate polygon (all vertices coincide)")

@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from .geometry import MAX_VERTICES, PolygonError, validate_polygon
+from .geometry import MAX_COORDINATE, MAX_VERTICES, PolygonError, validate_polygon
 
 # The tolerances of geometry.validate_polygon, widened by margins far larger than the rounding
 # differences between its one-polygon arithmetic and the vectorised arithmetic here (a shoelace
@@ -102,7 +102,7 @@ def polygon_suspects(vertices, vert_start):
             cosine = (edges[..., 0] * nxt[..., 0] + edges[..., 1] * nxt[..., 1]) / norm
             reflex = np.any(sine < _REFLEX_TURN, axis=1)
             winding = ~(np.abs(np.arctan2(sine, cosine).sum(axis=1) - 2.0 * math.pi) <= _WINDING)
-        finite = np.isfinite(g).all(axis=(1, 2))
+        finite = np.isfinite(g).all(axis=(1, 2)) & (np.abs(g).max(axis=(1, 2)) <= MAX_COORDINATE)
         suspect[index] = ~finite | short | thin | reflex | winding
     return suspect
 

@@ -208,9 +208,20 @@ def test_vertices_edited_in_place_are_caught_by_the_world():
 
 
 # ---- extreme but finite inputs, and counts that would make a step unstoppable --------------------
+def test_vertices_beyond_the_solvers_range_are_refused():
+    # squared, 1e155 overflows: the square passed the convexity test on NaN turn angles and
+    # reached the World with mass inf and inertia NaN
+    with pytest.raises(ValueError, match=r"huge: a vertex lies 1e\+155 m from the body's origin"):
+        sim.Body(vertices=[[-1e155, -1e155], [1e155, -1e155], [1e155, 1e155], [-1e155, 1e155]],
+                 name="huge")
+    with pytest.raises(ValueError, match=r"body 0: a vertex lies 1e\+155 m"):   # the array path
+        sim.Scene.from_arrays(np.array([[[-1e155, -1e155], [1e155, -1e155], [1e155, 1e155],
+                                         [-1e155, 1e155]]]), np.zeros((1, 2)))
+
+
 @pytest.mark.parametrize("make, why", [
-    (lambda: sim.Body(vertices=[[-1e155, -1e155], [1e155, -1e155], [1e155, 1e155],
-                                [-1e155, 1e155]], name="huge"), "mass inf"),
+    (lambda: sim.Body.box(1e12, 1e12, position=(0, 5e11), density=1e300, name="dense"),
+     "mass inf"),
     (lambda: sim.Body.box(1, 1, position=(0, 0.5), density=1e-320, name="airy"), "mass 1e-320"),
 ])
 def test_bodies_whose_mass_properties_overflow_are_refused_by_name(make, why):

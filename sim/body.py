@@ -60,6 +60,8 @@ def _numeric(seq):
 
 def finite_pair(value, what, name):
     """(x, y) as a tuple of finite floats, or ValueError naming ``name`` and ``what``."""
+    if isinstance(value, (str, bytes)):          # "12" would unpack to (1.0, 2.0)
+        raise ValueError(f"{name}: {what} must be a pair of numbers, got {value!r}")
     try:
         x, y = (float(c) for c in value)
     except (TypeError, ValueError):
@@ -71,6 +73,8 @@ def finite_pair(value, what, name):
 
 def finite_number(value, what, name):
     """``value`` as a finite float, or ValueError naming ``name`` and ``what``."""
+    if isinstance(value, (str, bytes)):          # a number given as text is a mistake
+        raise ValueError(f"{name}: {what} must be a number, got {value!r}")
     try:
         x = float(value)
     except (TypeError, ValueError):

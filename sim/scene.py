@@ -92,7 +92,14 @@ class Scene:
                 raise ValueError("scene: needs at least one body in `bodies`")
             self.bodies = list(self.bodies)
             _check_bodies(self.bodies, "body")
-        self.static_bodies = list(self.static_bodies)
+        if self.static_bodies is None or isinstance(self.static_bodies, (str, bytes)):
+            raise ValueError(f"static_bodies must be a list of sim.Body, got "
+                             f"{self.static_bodies!r}")
+        try:
+            self.static_bodies = list(self.static_bodies)
+        except TypeError:
+            raise ValueError(f"static_bodies must be a list of sim.Body, got "
+                             f"{self.static_bodies!r}") from None
         _check_bodies(self.static_bodies, "static body")
         for i, b in enumerate(self.static_bodies):
             if b.velocity != (0.0, 0.0) or b.angular_velocity != 0.0:

@@ -68,6 +68,13 @@ LIMITS_WHY = ("a step cannot be interrupted, and more sweeps than this buy no ac
 FAST_PATHS = ("friction",)
 
 
+def _flag(value, what):
+    """A switch must be a bool: ``bool("no")`` is True."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{what} must be True or False, got {value!r}")
+    return bool(value)
+
+
 def _fast_paths(value):
     """The fast paths switched on, as a sorted tuple of names; ValueError for unknown names."""
     if value is True:
@@ -76,7 +83,11 @@ def _fast_paths(value):
         return ()
     if isinstance(value, str):
         value = (value,)
-    names = tuple(sorted(set(value)))
+    try:
+        names = tuple(sorted(set(value)))
+    except TypeError:
+        raise ValueError(f"fast_paths must be True, False or a collection of names from "
+                         f"{FAST_PATHS}, got {value!r}") from None
     unknown = [n for n in names if n not in FAST_PATHS]
     if unknown:
         raise ValueError(f"unknown fast path(s) {unknown}; choose from {sorted(FAST_PATHS)}")
@@ -229,8 +240,8 @@ class World:
         self.load_time = _positive(load_time, "load_time", allow_zero=True)
         self.restitution_threshold = _positive(restitution_threshold, "restitution_threshold",
                                                allow_zero=True)
-        self.warm_starting = bool(warm_starting)
-        self.continuous = bool(continuous)
+        self.warm_starting = _flag(warm_starting, "warm_starting")
+        self.continuous = _flag(continuous, "continuous")
         self.fast_paths = _fast_paths(fast_paths)
         self.overlap_tolerance = _positive(overlap_tolerance, "overlap_tolerance", allow_zero=True)
         self.initial_iterations = _count(initial_iterations, "initial_iterations", 0,

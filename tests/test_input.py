@@ -265,3 +265,24 @@ def test_bodies_and_scenes_compare_whole():
 def test_a_regular_polygon_needs_three_vertices(n):
     with pytest.raises(ValueError, match="vertex count must be an integer >= 3"):
         sim.Body.regular(n, 1.0)
+
+
+# ---- the right exception type, and no text taken as a number ----------------------------------------
+@pytest.mark.parametrize("build, match", [
+    (lambda: sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5))], static_bodies=None),
+     "static_bodies must be a list"),
+    (lambda: sim.World(sim.scenes.single_box(), freeze="extended", rest_steps=10 ** 30),
+     r"rest_steps must be an integer >= 1 \(and < 2\*\*62\)"),
+    (lambda: sim.World(sim.scenes.single_box(), fast_paths=1), "fast_paths must be True, False"),
+    (lambda: sim.Body.box(1, 1, position="12"), "position must be a pair of numbers, got '12'"),
+    (lambda: sim.Body.box(1, 1, density="2"), "density must be a number, got '2'"),
+    (lambda: sim.World(sim.scenes.single_box(), warm_starting="no"),
+     "warm_starting must be True or False, got 'no'"),
+    (lambda: sim.World(sim.scenes.single_box(), continuous="no"),
+     "continuous must be True or False"),
+    (lambda: sim.World(sim.scenes.single_box(), freeze="paper", impulse_threshold="0.1"),
+     "impulse_threshold must be a number, got '0.1'"),
+])
+def test_bad_values_raise_a_value_error_that_names_them(build, match):
+    with pytest.raises(ValueError, match=match):
+        build()

@@ -31,12 +31,17 @@ def resolve(name, params):
     values = {**policy.PARAMETERS, **params}
     for key, value in values.items():
         integral = key in policy.INT_PARAMETERS
+        if isinstance(value, (str, bytes, bool)):      # "0.1" is not taken as a number
+            raise ValueError(f"{key} must be a number, got {value!r}")
         try:
             x = float(value)
         except (TypeError, ValueError):
             raise ValueError(f"{key} must be a number, got {value!r}") from None
-        if not math.isfinite(x) or x < 0 or (integral and (x != int(x) or x < 1)):
-            raise ValueError(f"{key} must be {'an integer >= 1' if integral else 'finite and >= 0'}"
+        # counts are int64 in the step loop
+        if (not math.isfinite(x) or x < 0
+                or (integral and (x != int(x) or x < 1 or x >= 2 ** 62))):
+            kind = "an integer >= 1 (and < 2**62)" if integral else "finite and >= 0"
+            raise ValueError(f"{key} must be {kind}"
                              f", got {value!r}")
         values[key] = int(x) if integral else x
     return policy, values

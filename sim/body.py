@@ -9,7 +9,8 @@ import numbers
 
 import numpy as np
 
-from .geometry import MAX_COORDINATE, PolygonError, mass_properties, validate_polygon
+from .geometry import (MAX_COORDINATE, MAX_SPEED, MAX_VERTICES, PolygonError, mass_properties,
+                       validate_polygon)
 
 #: Polygons (shape, bytes of the float64 vertex array) that passed ``validate_polygon``: a scene of
 #: 10^5 equal boxes checks its one polygon once instead of 10^5 times (~70 us each). The check is
@@ -94,8 +95,14 @@ def check_fields(name, position, velocity, angle, angular_velocity, density, fri
         raise ValueError(f"{name}: position {position} is beyond {MAX_COORDINATE:g} m, "
                          f"where the solver stops as diverged")
     velocity = finite_pair(velocity, "velocity", name)
+    if max(abs(velocity[0]), abs(velocity[1])) > MAX_SPEED:
+        raise ValueError(f"{name}: velocity {velocity} is beyond {MAX_SPEED:g} m/s, faster than "
+                         f"the solver can follow (sim.geometry.MAX_SPEED)")
     angle = finite_number(angle, "angle", name)
     angular_velocity = finite_number(angular_velocity, "angular_velocity", name)
+    if abs(angular_velocity) > MAX_SPEED:
+        raise ValueError(f"{name}: angular_velocity {angular_velocity} is beyond {MAX_SPEED:g} "
+                         f"rad/s, faster than the solver can follow (sim.geometry.MAX_SPEED)")
     density = finite_number(density, "density", name)
     if density <= 0.0:
         raise ValueError(f"{name}: density must be > 0, got {density}")
@@ -117,6 +124,8 @@ def failing_fields(position, velocity, angle, angular_velocity, density, frictio
     with np.errstate(invalid="ignore"):
         fine = (np.isfinite(position).all(axis=1)
                 & (np.abs(position).max(axis=1) <= MAX_COORDINATE)
+                & (np.abs(velocity).max(axis=1) <= MAX_SPEED)
+                & (np.abs(angular_velocity) <= MAX_SPEED)
                 & np.isfinite(velocity).all(axis=1)
                 & np.isfinite(angle) & np.isfinite(angular_velocity)
                 & np.isfinite(density) & (density > 0.0)
@@ -153,7 +162,7 @@ class Body:
     _validated: tuple = field(init=False, repr=False, compare=False, default=None)
 
     def __post_init__(self):
-        self.validate(self.name or "body")
+        self.validate(self.name if isinstance(self.name, str) and self.name else "body")
 
     def validate(self, name):
         """Check every field; raise ValueError naming ``name`` and the problem.
@@ -161,6 +170,11 @@ class Body:
         A body is checked in full only when a field differs from the last time it passed (a
         cheap fingerprint of every field): scenes and Worlds re-validate their bodies, and the
         full check (~0.2 ms) made building a 10^4-body World cost seconds."""
+        if self.name is None:
+            self.name = ""
+        if not isinstance(self.name, str):       # messages and results files print it
+            raise ValueError(f"{name if isinstance(name, str) else 'body'}: name must be a "
+                             f"string, got {self.name!r}")
         if self._validated is not None and self._validated == self._fingerprint():
             return
         self.vertices = _validated_polygon(self.vertices, name)
@@ -207,17 +221,21 @@ class Body:
     @classmethod
     def box(cls, width, height, **kwargs):
         """A width x height rectangle centred on its centre of mass."""
-        w, h = 0.5 * float(width), 0.5 * float(height)
+        name = kwargs.get("name") or "box"
+        w = 0.5 * finite_number(width, "width", name)
+        h = 0.5 * finite_number(height, "height", name)
         if not (w > 0 and h > 0):
-            raise PolygonError(f"{kwargs.get('name') or 'box'}: width and height must be > 0, got {width} x {height}")
+            raise PolygonError(f"{name}: width and height must be > 0, got {width} x {height}")
         return cls(vertices=[(-w, -h), (w, -h), (w, h), (-w, h)], **kwargs)
 
     @classmethod
     def regular(cls, n, radius, **kwargs):
         """A regular n-gon of circumradius ``radius``, centred, with a flat bottom edge."""
         name = kwargs.get("name") or "regular polygon"
-        if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 3:
-            raise PolygonError(f"{name}: the vertex count must be an integer >= 3, got {n!r}")
+        if isinstance(n, bool) or not isinstance(n, numbers.Integral) or not 3 <= n <= MAX_VERTICES:
+            # checked before the vertices are made: n = 10**30 filled the memory
+            raise PolygonError(f"{name}: the vertex count must be an integer from 3 to "
+                               f"{MAX_VERTICES}, got {n!r}")
         if not (isinstance(radius, numbers.Real) and math.isfinite(radius) and radius > 0):
             raise PolygonError(f"{name}: radius must be > 0 and finite, got {radius!r}")
         phase = -math.pi / 2 - math.pi / n

@@ -19,6 +19,10 @@ MAX_VERTICES = 1024
 #: from its body's origin (squares of larger coordinates overflow the convexity test and the mass
 #: properties: a square of side 2e155 passed validation with NaN turn angles)
 MAX_COORDINATE = 1e12
+#: m/s and rad/s: no body may start faster. It would cross the solver's whole range within a
+#: second, and its kinetic energy could overflow float64 while its state stays finite
+#: (angular_velocity 1e300 rad/s made kinetic_energy() inf).
+MAX_SPEED = 1e12
 
 
 class PolygonError(ValueError):

@@ -6,6 +6,7 @@ create and check one by one (more for varied polygons), the same bodies as array
 a fraction of a second. An array-backed scene creates its Body objects only if ``scene.bodies``
 is read; from then on that list is the scene's truth (edits to those bodies are seen, as in any
 Body-list scene)."""
+import copy as _copy
 from dataclasses import dataclass, field
 import math
 import tomllib
@@ -104,6 +105,10 @@ class Scene:
         for i, b in enumerate(self.static_bodies):
             if b.velocity != (0.0, 0.0) or b.angular_velocity != 0.0:
                 raise ValueError(f"static body {i}: static bodies cannot move (velocity must be zero)")
+        if not isinstance(self.name, str):
+            raise ValueError(f"scene: name must be a string, got {self.name!r}")
+        if not isinstance(self.params, dict):
+            raise ValueError(f"scene: params must be a dict, got {self.params!r}")
         if self.floor_y is not None:
             self.floor_y = finite_number(self.floor_y, "floor_y", "scene")
         self.gravity = finite_pair(self.gravity, "gravity", "scene")
@@ -144,6 +149,26 @@ class Scene:
         scene.validate()
         return scene
 
+    def snapshot(self):
+        """This scene as it stands now, as a separate array-backed Scene: later edits to this one
+        (its fields, its body list, its bodies) do not reach the snapshot, nor the reverse.
+        What a World or a runner keeps: a run must not half-see an edit made after it was built
+        (``potential_energy`` used the new gravity while the steps kept the old). Cheap: the
+        bodies are gathered into arrays once (``pack`` reuses them), not copied one by one."""
+        self.validate()
+        arrays = self.body_arrays
+        if arrays is None:
+            arrays = BodyArrays.from_bodies(self.bodies)
+            for a in arrays[:-1]:
+                a.flags.writeable = False       # as in every array-backed scene
+        copy = object.__new__(type(self))
+        copy.floor_y, copy.gravity = self.floor_y, tuple(self.gravity)
+        copy.floor_friction, copy.floor_restitution = self.floor_friction, self.floor_restitution
+        copy.static_bodies = _copy.deepcopy(self.static_bodies)
+        copy.name, copy.params = self.name, _copy.deepcopy(self.params)
+        copy._arrays = arrays
+        return copy
+
     @property
     def body_arrays(self):
         """The dynamic bodies as ``BodyArrays`` while the scene is array-backed; None once
@@ -183,40 +208,39 @@ class Scene:
     # ---- files -------------------------------------------------------------------------------
     @classmethod
     def from_dict(cls, data):
+        """A scene from the dict ``to_dict`` gives (and ``from_file`` reads): ValueError naming
+        the entry ("body 3", "static body 0 (wall)") and the field for a bad one."""
+        if not isinstance(data, dict):
+            raise ValueError(f"scene: expected a table of scene fields, got {type(data).__name__}")
         data = dict(data)
-        def make(entries, kind):
-            out = []
-            for i, e in enumerate(entries):
-                e = dict(e)
-                if "box" in e:                       # shorthand: box = [width, height]
-                    w, h = e.pop("box")
-                    out.append(Body.box(w, h, **e))
-                elif "vertices" in e:
-                    out.append(Body(**e))
-                else:
-                    raise ValueError(f"{kind} {i}: needs `vertices` or `box = [width, height]`")
-            return out
+        bodies = _from_entries(data.pop("bodies", []), "body")
+        statics = _from_entries(data.pop("static_bodies", []), "static body")
+        if data.get("floor_y", 0.0) == "none":
+            data["floor_y"] = None
         try:
-            bodies = make(data.pop("bodies", []), "body")
-            statics = make(data.pop("static_bodies", []), "static body")
-            if data.get("floor_y", 0.0) == "none":
-                data["floor_y"] = None
             return cls(bodies=bodies, static_bodies=statics, **data)
         except TypeError as exc:                     # unknown or missing keys
-            raise ValueError(f"scene file: {exc}") from None
+            raise ValueError(f"scene: {exc}") from None
 
     @classmethod
     def from_file(cls, path):
         """Load a scene from TOML: top-level scene fields, ``[[bodies]]`` and ``[[static_bodies]]``
         tables with Body fields (or ``box = [w, h]`` instead of ``vertices``). ``floor_y = "none"``
-        removes the floor."""
+        removes the floor. Every error is a ValueError that starts with the file's path."""
         with open(path, "rb") as f:
             try:
                 data = tomllib.load(f)
             except tomllib.TOMLDecodeError as exc:
                 raise ValueError(f"{path}: not valid TOML ({exc})") from None
+            except UnicodeDecodeError as exc:        # a binary file, or not UTF-8
+                raise ValueError(f"{path}: not valid TOML (not UTF-8 text: {exc})") from None
+            except RecursionError:                   # tomllib parses nested arrays recursively
+                raise ValueError(f"{path}: not valid TOML for a scene (nested too deeply)") from None
         data.setdefault("name", str(path))
-        return cls.from_dict(data)
+        try:
+            return cls.from_dict(data)
+        except ValueError as exc:
+            raise ValueError(f"{path}: {exc}") from None
 
     def to_dict(self):
         return {"name": self.name, "params": dict(self.params),
@@ -257,12 +281,47 @@ def _toml(d):
     return "\n".join(lines) + "\n"
 
 
+def _from_entries(entries, kind):
+    """Body objects from a scene file's ``[[bodies]]`` (or ``[[static_bodies]]``) tables; a bad
+    entry is a ValueError naming it by index (and name, if it has one) and the field."""
+    if not isinstance(entries, (list, tuple)):
+        raise ValueError(f"{kind} entries must be a list of tables, got {type(entries).__name__}")
+    out = []
+    for i, e in enumerate(entries):
+        if not isinstance(e, dict):
+            raise ValueError(f"{kind} {i}: expected a table of body fields, got {e!r}")
+        e = dict(e)
+        name = e.get("name")
+        where = f"{kind} {i}" + (f" ({name})" if isinstance(name, str) and name else "")
+        try:
+            if "box" in e:                           # shorthand: box = [width, height]
+                box = e.pop("box")
+                if not isinstance(box, (list, tuple)) or len(box) != 2:
+                    raise ValueError(f"box must be [width, height], got {box!r}")
+                out.append(Body.box(*box, **e))
+            elif "vertices" in e:
+                out.append(Body(**e))
+            else:
+                raise ValueError("needs `vertices` or `box = [width, height]`")
+        except TypeError as exc:                     # unknown or missing fields
+            raise ValueError(f"{where}: {exc}") from None
+        except ValueError as exc:
+            # Body's own messages start with its name, or "body" when unnamed: say which entry
+            message = str(exc)
+            unnamed = ("body: ", "box: ")             # Body's and Body.box's default names
+            for prefix in ((f"{name}: ",) if isinstance(name, str) and name else unnamed):
+                if message.startswith(prefix):
+                    message = message[len(prefix):]
+            raise ValueError(f"{where}: {message}") from None
+    return out
+
+
 def _check_bodies(bodies, kind):
     """Each of ``bodies`` must be a valid sim.Body; messages name "<kind> <i>" or the body."""
     for i, b in enumerate(bodies):
         if not isinstance(b, Body):
             raise ValueError(f"{kind} {i}: expected sim.Body, got {type(b).__name__}")
-        b.validate(b.name or f"{kind} {i}")
+        b.validate(b.name if isinstance(b.name, str) and b.name else f"{kind} {i}")
 
 
 # ---- array-backed scenes: arguments to BodyArrays, BodyArrays to Body objects and dicts ---------
@@ -337,7 +396,10 @@ def _bullets(value, n):
 def _names(names, n):
     if names is None:
         return None
-    names = () if isinstance(names, str) else tuple(names)
+    try:
+        names = () if isinstance(names, (str, bytes)) else tuple(names)
+    except TypeError:                            # not a collection at all
+        names = ()
     if len(names) != n or not all(isinstance(s, str) for s in names):
         raise ValueError(f"Scene.from_arrays: names must be None or N = {n} strings")
     return tuple(map(str, names))

@@ -66,10 +66,13 @@ def check_step(sizes, names, dt, substeps, gravity):
     need = math.sqrt(STIFFNESS_RATIO * gravity / sizes[i]) / (2.0 * math.pi)      # Hz
     rate = substeps / dt                                                           # Hz
     if need > DYNAMIC_CAP * rate:
+        substeps_needed = need / DYNAMIC_CAP * dt
+        fix = (f"Use substeps >= {math.ceil(substeps_needed)} (or dt <= "
+               f"{substeps * DYNAMIC_CAP / need:.3g} s), or larger bodies"
+               if math.isfinite(substeps_needed) else       # gravity near float64's limit
+               f"No step can: gravity {gravity:.3g} m/s^2 is beyond what float64 can resolve")
         raise ValueError(
             f"{names(i)} is {sizes[i]:.3g} m thick: its contacts would need {need:.3g} Hz "
             f"of stiffness to hold it up without rocking, and at dt={dt:.4g} s with {substeps} "
             f"substeps a contact can be at most {DYNAMIC_CAP * rate:.3g} Hz stiff (1/"
-            f"{1 / DYNAMIC_CAP:.0f} of the substep rate). Use substeps >= "
-            f"{math.ceil(need / DYNAMIC_CAP * dt)} (or dt <= {substeps * DYNAMIC_CAP / need:.3g} "
-            f"s), or larger bodies")
+            f"{1 / DYNAMIC_CAP:.0f} of the substep rate). {fix}")

@@ -3,7 +3,6 @@ struct-of-arrays (``sim.packing``), builds the named state the kernels share (``
 hands whole runs of steps to the compiled step loop (``sim.kernel.run``)."""
 import contextlib
 import math
-import numbers
 import signal
 import threading
 import time
@@ -13,6 +12,7 @@ import numpy as np
 from . import data as D
 from . import kernel as K
 from . import soft_step
+from .arguments import count, flag, positive
 from .activity import CAUSES, initial_activity
 from .broadphase import grid_buffers
 from .clock import ticks_per_second
@@ -68,13 +68,6 @@ LIMITS_WHY = ("a step cannot be interrupted, and more sweeps than this buy no ac
 FAST_PATHS = ("friction",)
 
 
-def _flag(value, what):
-    """A switch must be a bool: ``bool("no")`` is True."""
-    if not isinstance(value, (bool, np.bool_)):
-        raise ValueError(f"{what} must be True or False, got {value!r}")
-    return bool(value)
-
-
 def _fast_paths(value):
     """The fast paths switched on, as a sorted tuple of names; ValueError for unknown names."""
     if value is True:
@@ -90,47 +83,37 @@ def _fast_paths(value):
                          f"{FAST_PATHS}, got {value!r}") from None
     unknown = [n for n in names if n not in FAST_PATHS]
     if unknown:
-        raise ValueError(f"unknown fast path(s) {unknown}; choose from {sorted(FAST_PATHS)}")
+        raise ValueError(f"fast_paths: unknown fast path(s) {unknown}; choose from "
+                         f"{sorted(FAST_PATHS)}")
     return names
 
 
-def _positive(value, what, allow_zero=False):
-    if isinstance(value, bool):
-        raise ValueError(f"{what} must be a number, got {value!r}")
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{what} must be a number, got {value!r}") from None
-    if not math.isfinite(x) or x < 0.0 or (x == 0.0 and not allow_zero):
-        raise ValueError(f"{what} must be {'>= 0' if allow_zero else '> 0'} and finite, got {value!r}")
-    return x
-
-
-def _count(value, what, minimum, maximum=None):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
-        raise ValueError(f"{what} must be an integer >= {minimum}, got {value!r}")
-    if maximum is not None and value > maximum:
-        raise ValueError(f"{what} must be at most {maximum:,}, got {value!r}: {LIMITS_WHY}")
-    return int(value)
+#: kg and kg m^2: a dynamic body's mass and moment of inertia must lie in this range. A step
+#: multiplies them by speeds squared (kinetic energy), by each other (a pair's effective mass) and
+#: by their inverses; float64 holds 1e308, and 1e100 either way leaves room for all of those (a
+#: 1 m box of density 1e308 built a World whose kinetic energy was inf).
+MASS_RANGE = (1e-100, 1e100)
 
 
 def _check_mass_properties(packed, describe):
-    """ValueError naming the first dynamic body whose mass properties float64 cannot hold:
+    """ValueError naming the first dynamic body whose mass properties the solver cannot use:
     finite fields can still overflow them (vertices at 1e155 m square to inf: mass inf, inertia
-    NaN), or underflow them (density 1e-320 kg/m^2: a mass whose inverse is inf)."""
+    NaN), underflow them (density 1e-320 kg/m^2: a mass whose inverse is inf), or leave
+    ``MASS_RANGE``."""
     n = packed.n_dynamic
+    lo, hi = MASS_RANGE
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        fine = (np.isfinite(packed.mass) & (packed.mass > 0.0) & np.isfinite(1.0 / packed.mass)
-                & np.isfinite(packed.inertia) & (packed.inertia > 0.0)
-                & np.isfinite(1.0 / packed.inertia)
+        fine = ((packed.mass >= lo) & (packed.mass <= hi)
+                & (packed.inertia >= lo) & (packed.inertia <= hi)
                 & np.isfinite(packed.position[:n]).all(axis=1)
                 & np.isfinite(packed.extent[:n]) & np.isfinite(packed.size[:n]))
     if not fine.all():
         i = int(np.flatnonzero(~fine)[0])
         raise ValueError(
-            f"{describe(i)}: its mass properties are beyond float64 (mass {packed.mass[i]:.4g} "
-            f"kg, moment of inertia {packed.inertia[i]:.4g} kg m^2, extent "
-            f"{packed.extent[i]:.4g} m): its size or density is too extreme; scale the scene")
+            f"{describe(i)}: its mass properties are beyond what the solver can use (mass "
+            f"{packed.mass[i]:.4g} kg, moment of inertia {packed.inertia[i]:.4g} kg m^2, extent "
+            f"{packed.extent[i]:.4g} m; both must lie in [{lo:g}, {hi:g}]): its size or density "
+            f"is too extreme; scale the scene")
 
 
 @contextlib.contextmanager
@@ -171,6 +154,9 @@ def _mixed_masses(inv_mass):
 
 class World:
     """A running simulation of a ``sim.Scene``.
+
+    The World keeps a copy of the scene as it was when built (``world.scene``, array-backed):
+    edits to the scene afterwards do not reach the run; build a new World to run an edited scene.
 
     Parameters (SI units)
       dt                    time step, s (default 1/60)
@@ -224,28 +210,35 @@ class World:
             raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
         for name in sorted(set(policy_parameters) & set(REMOVED)):
             raise ValueError(f"World does not take {name}: {REMOVED[name]}")
-        scene.validate()
-        self.scene = scene
-        self.dt = _positive(dt, "dt")
-        self.substeps = _count(substeps, "substeps", 1, MAX_SUBSTEPS)
-        self.iterations = _count(iterations, "iterations", 1, MAX_SWEEPS)
-        self.relax_iterations = _count(relax_iterations, "relax_iterations", 0, MAX_SWEEPS)
-        self.slop = _positive(slop, "slop", allow_zero=True)
-        self.speculative_distance = _positive(speculative_distance, "speculative_distance",
+        # A copy taken now (validated): the steps, the reports (potential_energy, the names in
+        # messages) and ``world.scene`` all see the scene as it was when the World was built.
+        # Holding the caller's object, a later edit was half-seen: potential_energy() used the
+        # new gravity while the steps kept the old.
+        self.scene = scene = scene.snapshot()
+        self._gravity = np.array(scene.gravity, dtype=np.float64)      # (2,) m/s^2
+        self._names = (scene.body_arrays.body_name,
+                       tuple(b.name or f"static body {j}" for j, b in enumerate(scene.static_bodies)))
+        self.dt = positive(dt, "dt")
+        self.substeps = count(substeps, "substeps", 1, MAX_SUBSTEPS, LIMITS_WHY)
+        self.iterations = count(iterations, "iterations", 1, MAX_SWEEPS, LIMITS_WHY)
+        self.relax_iterations = count(relax_iterations, "relax_iterations", 0, MAX_SWEEPS,
+                                      LIMITS_WHY)
+        self.slop = positive(slop, "slop", allow_zero=True)
+        self.speculative_distance = positive(speculative_distance, "speculative_distance",
                                               allow_zero=True)
         self.contact_hertz = (None if contact_hertz is None
-                              else _positive(contact_hertz, "contact_hertz"))
-        self.damping_ratio = _positive(damping_ratio, "damping_ratio", allow_zero=True)
-        self.push_speed = _positive(push_speed, "push_speed")
-        self.load_time = _positive(load_time, "load_time", allow_zero=True)
-        self.restitution_threshold = _positive(restitution_threshold, "restitution_threshold",
+                              else positive(contact_hertz, "contact_hertz"))
+        self.damping_ratio = positive(damping_ratio, "damping_ratio", allow_zero=True)
+        self.push_speed = positive(push_speed, "push_speed")
+        self.load_time = positive(load_time, "load_time", allow_zero=True)
+        self.restitution_threshold = positive(restitution_threshold, "restitution_threshold",
                                                allow_zero=True)
-        self.warm_starting = _flag(warm_starting, "warm_starting")
-        self.continuous = _flag(continuous, "continuous")
+        self.warm_starting = flag(warm_starting, "warm_starting")
+        self.continuous = flag(continuous, "continuous")
         self.fast_paths = _fast_paths(fast_paths)
-        self.overlap_tolerance = _positive(overlap_tolerance, "overlap_tolerance", allow_zero=True)
-        self.initial_iterations = _count(initial_iterations, "initial_iterations", 0,
-                                         MAX_INITIAL_ITERATIONS)
+        self.overlap_tolerance = positive(overlap_tolerance, "overlap_tolerance", allow_zero=True)
+        self.initial_iterations = count(initial_iterations, "initial_iterations", 0,
+                                        MAX_INITIAL_ITERATIONS, LIMITS_WHY)
         self.freeze = freeze
         self.policy, self.policy_parameters = resolve(freeze, policy_parameters)
 
@@ -427,15 +420,13 @@ class World:
             raise ValueError(f"{what} (overlap_tolerance is {self.overlap_tolerance} m)")
 
     def _describe(self, i):
-        if i < self.n_bodies:
-            return self.scene.body_name(i)
-        j = i - self.n_bodies
-        return self.scene.static_bodies[j].name or f"static body {j}"
+        dynamic, static = self._names
+        return dynamic(i) if i < self.n_bodies else static[i - self.n_bodies]
 
     # ---- stepping ---------------------------------------------------------------------------
     def step(self, n=1):
         """Advance ``n`` steps (default 1). Raises SimulationError if a body goes non-finite."""
-        return self._run(_count(n, "n", 0), self._settings)
+        return self._run(count(n, "n", 0), self._settings)
 
     def _run(self, n, settings):
         if n == 0:
@@ -479,7 +470,7 @@ class World:
     def profile(self, n=1):
         """Run ``n`` steps with every stage timed; returns {stage: ms per step} (``data.STAGES``)
         for these steps, plus "total"."""
-        n = _count(n, "n", 1)
+        n = count(n, "n", 1)
         self._solver.profile[:] = 0
         self._solver.steps_profiled[0] = 0
         self._run(n, self._settings._replace(profile=True))
@@ -555,8 +546,7 @@ class World:
 
     def potential_energy(self):
         """Gravitational potential energy relative to the origin, J."""
-        g = np.asarray(self.scene.gravity)
-        return -float(self.masses @ (self._bodies.position[:self.n_bodies] @ g))
+        return -float(self.masses @ (self._bodies.position[:self.n_bodies] @ self._gravity))
 
     def vertices(self, i):
         """World vertices (K,2) of dynamic body ``i`` at the current pose, m."""

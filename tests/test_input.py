@@ -142,18 +142,19 @@ def test_bad_scene_file(tmp_path):
 
 
 def test_non_finite_run_names_step_and_body():
-    fast = sim.Body.box(1, 1, position=(0.0, 5.0), velocity=(1.7e308, 0.0), name="bullet")
+    # the fastest body allowed, over a step so long that its position overflows to inf
+    fast = sim.Body.box(1, 1, position=(0.0, 5.0), velocity=(1e12, 0.0), name="bullet")
     world = sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(-10, 0.5)), fast],
-                                gravity=(0, 0)), dt=10.0)
-    with pytest.raises(sim.SimulationError, match=r"step 1: bullet diverged"):
+                                gravity=(0, 0)), dt=1e297)
+    with pytest.raises(sim.SimulationError, match=r"step 1: bullet diverged .*position \[inf"):
         world.step(5)
     assert world.step_count == 1          # stopped at the bad step, not run on
 
 
 def test_body_flung_out_of_range_names_step_and_body():
     # finite, but far beyond any scene: the broadphase's cell indices would overflow first
-    rocket = sim.Body.box(1, 1, position=(0.0, 0.5), velocity=(1e21, 0.0), name="rocket")
-    world = sim.World(sim.Scene(bodies=[rocket]))
+    rocket = sim.Body.box(1, 1, position=(0.0, 0.5), velocity=(1e12, 0.0), name="rocket")
+    world = sim.World(sim.Scene(bodies=[rocket], gravity=(0, 0)), dt=10.0)
     with pytest.raises(sim.SimulationError, match=r"step 1: rocket diverged"):
         world.step(3)
 
@@ -223,12 +224,31 @@ def test_vertices_beyond_the_solvers_range_are_refused():
     (lambda: sim.Body.box(1e12, 1e12, position=(0, 5e11), density=1e300, name="dense"),
      "mass inf"),
     (lambda: sim.Body.box(1, 1, position=(0, 0.5), density=1e-320, name="airy"), "mass 1e-320"),
+    # finite, but its kinetic energy overflowed: kinetic_energy() was inf
+    (lambda: sim.Body.box(1, 1, position=(0, 0.5), density=1e308, name="dense"), "mass 1e\\+308"),
+    (lambda: sim.Body.box(1e-3, 1e-3, position=(0, 0.5), density=1e-100, name="airy"),
+     "mass 1e-106"),
 ])
 def test_bodies_whose_mass_properties_overflow_are_refused_by_name(make, why):
     body = make()
-    with pytest.raises(ValueError, match=rf"{body.name}: its mass properties are beyond "
-                                         rf"float64 \({why}"):
+    with pytest.raises(ValueError, match=rf"{body.name}: its mass properties are beyond what "
+                                         rf"the solver can use \({why}"):
         sim.World(sim.Scene(bodies=[body]))
+    lo, hi = sim.world.MASS_RANGE
+    assert not lo <= body.mass <= hi or not lo <= body.inertia <= hi
+
+
+@pytest.mark.parametrize("field, value", [("velocity", (-1.1e12, 0.0)),
+                                          ("angular_velocity", 2e12)])
+def test_bodies_faster_than_the_solver_can_follow_are_refused(field, value):
+    with pytest.raises(ValueError, match=rf"fast: {field} .* is beyond 1e\+12"):
+        sim.Body.box(1, 1, position=(0, 0.5), name="fast", **{field: value})
+    with pytest.raises(ValueError, match=rf"body 1: {field} .* is beyond 1e\+12"):
+        sim.Scene.from_arrays(sim.Body.box(1, 1).vertices, [(0, 0.5), (3, 0.5)],
+                              **{field: [0.0, value] if field == "angular_velocity"
+                                 else [(0, 0), value]})
+    sim.Body.box(1, 1, position=(0, 0.5), **{field: 1e12 if field == "angular_velocity"
+                                            else (1e12, -1e12)})
 
 
 @pytest.mark.parametrize("field, value", [("iterations", 10 ** 9), ("relax_iterations", 1001),
@@ -261,9 +281,9 @@ def test_bodies_and_scenes_compare_whole():
     assert a != b
 
 
-@pytest.mark.parametrize("n", [0, 1, 2, -3])
-def test_a_regular_polygon_needs_three_vertices(n):
-    with pytest.raises(ValueError, match="vertex count must be an integer >= 3"):
+@pytest.mark.parametrize("n", [0, 1, 2, -3, 1025, 10 ** 30])
+def test_a_regular_polygon_needs_three_vertices_and_no_more_than_the_solver_takes(n):
+    with pytest.raises(ValueError, match="vertex count must be an integer from 3 to 1024"):
         sim.Body.regular(n, 1.0)
 
 
@@ -286,3 +306,78 @@ def test_a_regular_polygon_needs_three_vertices(n):
 def test_bad_values_raise_a_value_error_that_names_them(build, match):
     with pytest.raises(ValueError, match=match):
         build()
+
+
+@pytest.mark.parametrize("contents, match", [
+    (bytes(range(256)), r"bad\.toml: not valid TOML \(not UTF-8 text"),
+    (("a = " + "[" * 3000 + "]" * 3000 + "\n").encode(), r"bad\.toml: not valid TOML .*nested"),
+    (b'[[bodies]]\nbox = [1, 1]\nposition = [0, 1]\n\n[[bodies]]\nbox = [1, 1]\n'
+     b'position = [0, "x"]\n', r"bad\.toml: body 1: position must be a pair of numbers"),
+    (b'[[bodies]]\nbox = [1, 1]\nposition = [0, 1]\n[[static_bodies]]\nname = "wall"\n'
+     b'box = [1, 1]\nposition = [0, 1, 3]\n',
+     r"bad\.toml: static body 0 \(wall\): position must be a pair"),
+    (b'[[bodies]]\nbox = [1, "x"]\n', r"bad\.toml: body 0: height must be a number, got 'x'"),
+    (b'[[bodies]]\nbox = 3\n', r"bad\.toml: body 0: box must be \[width, height\], got 3"),
+    (b'[[bodies]]\nbox = [1, 1]\ncolour = 3\n', r"bad\.toml: body 0: .*'colour'"),
+    (b'bodies = 3\n', r"bad\.toml: body entries must be a list of tables"),
+    (b'bodies = [3]\n', r"bad\.toml: body 0: expected a table of body fields"),
+    (b'name = 3\n[[bodies]]\nbox = [1, 1]\n', r"bad\.toml: scene: name must be a string"),
+])
+def test_every_scene_file_error_is_a_value_error_naming_the_file_and_entry(tmp_path, contents,
+                                                                            match):
+    path = tmp_path / "bad.toml"
+    path.write_bytes(contents)
+    with pytest.raises(ValueError, match=match):
+        sim.Scene.from_file(path)
+
+
+@pytest.mark.parametrize("system", ["sim-off", "pymunk", "pybullet"])
+@pytest.mark.parametrize("setting, value", [("dt", "0.01"), ("iterations", 3.0),
+                                            ("iterations", "3"), ("dt", True),
+                                            ("iterations", 2 ** 31)])   # beyond a C int
+def test_runners_take_no_text_as_a_number_nor_counts_beyond_their_range(system, setting, value):
+    from experiments.peers import make_runner
+    with pytest.raises(ValueError, match=rf"{setting} must be"):
+        make_runner(system, sim.scenes.single_box(), **{setting: value})
+
+
+def test_names_must_be_strings():
+    with pytest.raises(ValueError, match=r"body: name must be a string, got \['a'\]"):
+        sim.Body.box(1, 1, name=["a"])
+    assert sim.Body.box(1, 1, name=None).name == ""
+    body = sim.Body.box(1, 1, position=(0, 0.5))
+    body.name = 3
+    with pytest.raises(ValueError, match="body 0: name must be a string, got 3"):
+        sim.Scene(bodies=[body])
+    with pytest.raises(ValueError, match="scene: name must be a string"):
+        sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5))], name=3)
+
+
+# ---- a World is not changed by edits to its scene after it was built -------------------------------
+def test_edits_to_the_scene_after_the_world_is_built_reach_neither_the_run_nor_its_reports():
+    scene = sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 5), name="a")])
+    world = sim.World(scene)
+    twin = sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 5), name="a")]))
+    pe = world.potential_energy()
+    scene.gravity = (0.0, -100.0)                  # each of these was half-seen before
+    scene.bodies[0].name = "renamed"
+    scene.bodies.append(sim.Body.box(1, 1, position=(3, 5)))
+    scene.floor_y = 2.0
+    assert world.potential_energy() == pe
+    assert world.scene.gravity == (0.0, -9.81) and world.scene.n_bodies == 1
+    assert world.scene.floor_y == 0.0 and world.scene.bodies[0].name == "a"
+    world.step(90), twin.step(90)
+    assert np.array_equal(world.positions, twin.positions)      # the run as built
+    # and editing the World's own copy changes nothing either
+    world.scene.gravity = (0.0, -100.0)
+    assert world.potential_energy() == twin.potential_energy()
+
+
+def test_a_scene_snapshot_is_equal_and_independent():
+    scene = sim.scenes.drop(5, seed=2)
+    copy = scene.snapshot()
+    assert copy.body_arrays is not None          # gathered into arrays, not body by body
+    assert copy == scene
+    scene.bodies[0].position = (9.0, 9.0)
+    scene.params["seed"] = 99
+    assert copy != scene and copy.params["seed"] == 2

@@ -63,9 +63,9 @@ def test_ctrl_c_stops_a_long_step_at_a_step_boundary():
 
 
 def test_a_diverged_world_refuses_to_step_again_and_says_why():
-    fast = sim.Body.box(1, 1, position=(0.0, 5.0), velocity=(1.7e308, 0.0), name="bullet")
+    fast = sim.Body.box(1, 1, position=(0.0, 5.0), velocity=(1e12, 0.0), name="bullet")
     world = sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(-10, 0.5)), fast],
-                                gravity=(0, 0)), dt=10.0)
+                                gravity=(0, 0)), dt=1e297)
     with pytest.raises(sim.SimulationError, match=r"step 1: bullet diverged"):
         world.step(5)
     for _ in range(2):

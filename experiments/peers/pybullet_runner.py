@@ -81,8 +81,11 @@ import numpy as np
 import pybullet as pb
 
 import sim
+from sim.arguments import count, flag, positive
 from sim.geometry import mass_properties
 from sim.scene import Scene
+
+from .limits import LIMITS_WHY, MAX_ITERATIONS
 
 #: Solver iterations when none are given (see the module docstring).
 DEFAULT_ITERATIONS = 50
@@ -260,23 +263,21 @@ class PybulletRunner:
                  sleep_threshold=None, restitution_threshold=RESTITUTION_THRESHOLD):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
-        if not (dt > 0 and math.isfinite(dt)):
-            raise ValueError(f"dt must be > 0 and finite, got {dt!r}")
-        if isinstance(iterations, bool) or int(iterations) != iterations or iterations < 1:
-            raise ValueError(f"iterations must be an integer >= 1, got {iterations!r}")
-        if sleep_threshold is not None and not (sleep_threshold >= 0 and
-                                                math.isfinite(sleep_threshold)):
-            raise ValueError(f"sleep_threshold must be >= 0 and finite, got {sleep_threshold!r}")
-        scene.validate()
-        self.scene = scene
-        self.dt = float(dt)
-        self.sleeping = bool(sleeping)
+        self.dt = positive(dt, "dt")
+        iterations = count(iterations, "iterations", 1, MAX_ITERATIONS, LIMITS_WHY)
+        self.sleeping = flag(sleeping, "sleeping")
+        if sleep_threshold is not None:
+            sleep_threshold = positive(sleep_threshold, "sleep_threshold", allow_zero=True)
+        restitution_threshold = positive(restitution_threshold, "restitution_threshold",
+                                         allow_zero=True)
+        # a copy: edits to the caller's scene after this do not reach the run (nor its reports)
+        self.scene = scene.snapshot()
         self.step_count = 0
         self._client = pb.connect(pb.DIRECT)
         if self._client < 0:
             raise RuntimeError("pybullet could not start a DIRECT client")
         try:
-            self._build(scene, int(iterations), sleep_threshold, float(restitution_threshold))
+            self._build(self.scene, iterations, sleep_threshold, restitution_threshold)
         except BaseException:
             self.close()
             raise

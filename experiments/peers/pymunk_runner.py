@@ -41,8 +41,11 @@ import numpy as np
 import pymunk
 from pymunk._chipmunk import lib as _chipmunk   # the C API; pymunk's own pickling uses this call
 
+from sim.arguments import count, flag, positive
 from sim.geometry import MAX_VERTICES, mass_properties
 from sim.scene import Scene
+
+from .limits import LIMITS_WHY, MAX_ITERATIONS
 
 #: First shape id given out by the space: above every vertex index a sim polygon can have.
 SHAPE_ID_START = MAX_VERTICES
@@ -97,23 +100,26 @@ class PymunkRunner:
                  idle_speed=None, collision_slop=0.005):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
-        if not (dt > 0 and math.isfinite(dt)):
-            raise ValueError(f"dt must be > 0 and finite, got {dt!r}")
-        if int(iterations) != iterations or iterations < 1:
-            raise ValueError(f"iterations must be an integer >= 1, got {iterations!r}")
-        scene.validate()
-        self.scene = scene
-        self.dt = float(dt)
+        self.dt = positive(dt, "dt")
+        iterations = count(iterations, "iterations", 1, MAX_ITERATIONS, LIMITS_WHY)
+        sleeping = flag(sleeping, "sleeping")
+        sleep_time = positive(sleep_time, "sleep_time", allow_zero=True)
+        idle_speed = None if idle_speed is None else positive(idle_speed, "idle_speed",
+                                                              allow_zero=True)
+        collision_slop = positive(collision_slop, "collision_slop", allow_zero=True)
+        # a copy: edits to the caller's scene after this do not reach the run (nor its reports)
+        self.scene = scene.snapshot()
         self.step_count = 0
+        scene = self.scene
 
         space = pymunk.Space()
         _chipmunk.cpSpaceSetShapeIDCounter(space._space, SHAPE_ID_START)
         space.gravity = scene.gravity
-        space.iterations = int(iterations)
-        space.collision_slop = float(collision_slop)
-        space.sleep_time_threshold = float(sleep_time) if sleeping else float("inf")
+        space.iterations = iterations
+        space.collision_slop = collision_slop
+        space.sleep_time_threshold = sleep_time if sleeping else float("inf")
         if idle_speed is not None:
-            space.idle_speed_threshold = float(idle_speed)
+            space.idle_speed_threshold = idle_speed
         self.space = space
 
         self._bodies = []

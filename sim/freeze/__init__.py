@@ -5,6 +5,7 @@ policy name and its parameters for ``sim.World``.
 """
 import math
 
+from ..arguments import number
 from . import extended, off, paper, sleep
 
 #: Every policy the study compares, in the order of the paper.
@@ -30,18 +31,12 @@ def resolve(name, params):
         raise ValueError(f"freeze={name!r} does not take {', '.join(unknown)} (it takes {takes})")
     values = {**policy.PARAMETERS, **params}
     for key, value in values.items():
+        x = number(value, key)                # "0.1" is not taken as a number
         integral = key in policy.INT_PARAMETERS
-        if isinstance(value, (str, bytes, bool)):      # "0.1" is not taken as a number
-            raise ValueError(f"{key} must be a number, got {value!r}")
-        try:
-            x = float(value)
-        except (TypeError, ValueError):
-            raise ValueError(f"{key} must be a number, got {value!r}") from None
         # counts are int64 in the step loop
         if (not math.isfinite(x) or x < 0
                 or (integral and (x != int(x) or x < 1 or x >= 2 ** 62))):
             kind = "an integer >= 1 (and < 2**62)" if integral else "finite and >= 0"
-            raise ValueError(f"{key} must be {kind}"
-                             f", got {value!r}")
+            raise ValueError(f"{key} must be {kind}, got {value!r}")
         values[key] = int(x) if integral else x
     return policy, values

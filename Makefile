@@ -64,35 +64,40 @@ venv: $(STAMP)
 test: $(STAMP)
 	$(PY) -m pytest -q
 
-SIM_SOURCES  := $(wildcard sim/*.py sim/freeze/*.py)
-EXP_SOURCES  := $(wildcard experiments/peers/*.py) experiments/common.py experiments/metadata.py \
-                experiments/paths.py experiments/timing.py experiments/executor.py \
-                experiments/filmstrip.py experiments/scenarios.py experiments/overlap.py
-ANA_SOURCES  := analysis/style.py
+# The build graph: each output depends on every repository file its script runs, found from the
+# imports by tools/makedeps.py (a list kept by hand went stale: an edit to bench_freeze.py did not
+# rerun the figures that import it). The rules are remade whenever a source changes.
+SOURCES := $(shell find sim experiments analysis -name '*.py' -not -path '*/__pycache__/*')
+DEPS    := .make/deps.mk
+$(DEPS): tools/makedeps.py $(SOURCES) Makefile
+	@mkdir -p $(dir $@)
+	@$(PYTHON_SYS) tools/makedeps.py $(ALL) > $@.tmp && mv $@.tmp $@
+include $(DEPS)
 
 reproduce: paper recordings glance
 
-# Simulation: results/data/<name>.csv (+ .json) is rebuilt when its script or the solver changes.
-$(DATA)/%.csv: experiments/%.py $(SIM_SOURCES) $(EXP_SOURCES) | $(STAMP)
+# Simulation: results/data/<name>.csv (+ .json) is rebuilt when its script or anything it imports
+# (the solver included) changes; the prerequisites beyond the script come from $(DEPS).
+$(DATA)/%.csv: experiments/%.py | $(STAMP)
 	$(PY) -m experiments.$* $(QUICKFLAG)
 
 # Analysis: figures, tables and the numbers the paper quotes; never simulates.
-$(GEN)/%.json: $(DATA)/%.csv analysis/%.py $(ANA_SOURCES) | $(STAMP)
+$(GEN)/%.json: $(DATA)/%.csv analysis/%.py | $(STAMP)
 	$(PY) -m analysis.$*
 
 figures: $(foreach n,$(ALL),$(GEN)/$(n).json)
 
 paper: $(PAPER_OUT)/paper.pdf
-$(PAPER_OUT)/paper.pdf: paper/paper.typ analysis/paper.py $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
+$(PAPER_OUT)/paper.pdf: paper/paper.typ $(PAPER_DEPS) $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
 	$(PY) -m analysis.paper
 
 # Results at a glance (and, for full runs, the README block between its markers).
 glance: $(GEN)/glance.md
-$(GEN)/glance.md: analysis/glance.py $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
+$(GEN)/glance.md: $(GLANCE_DEPS) $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
 	$(PY) -m analysis.glance $(if $(QUICK),,--readme README.md)
 
 recordings: $(foreach r,$(RECORDINGS),$(RECS)/$(r).rrd)
-$(RECS)/%.rrd: analysis/trace.py $(SIM_SOURCES) | $(STAMP)
+$(RECS)/%.rrd: $(TRACE_DEPS) | $(STAMP)
 	$(PY) -m analysis.trace $(word 1,$(subst __, ,$*)) $(word 2,$(subst __, ,$*)) \
 	    --steps $(RECORD_STEPS) --out $@
 

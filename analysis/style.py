@@ -21,7 +21,8 @@ import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first
 import pandas as pd  # noqa: E402
 
 from experiments import paths  # noqa: E402
-from experiments.metadata import _atomic_write, _jsonable  # noqa: E402
+from experiments.metadata import jsonable  # noqa: E402
+from sim.files import write_text_atomically  # noqa: E402
 
 #: one colour, marker and line per system, everywhere (colour-blind-safe Okabe-Ito palette; sleeping
 #: variants of the peers dashed)
@@ -82,7 +83,7 @@ def save_figure(fig, name):
 def write_table(table, name):
     """Write ``paper/generated/<name>.csv`` (a table the paper shows as is)."""
     path = paths.ensure(paths.GENERATED) / f"{name}.csv"
-    _atomic_write(path, table.to_csv(index=False))
+    write_text_atomically(path, table.to_csv(index=False))
     return path
 
 
@@ -96,7 +97,7 @@ def write_numbers(name, numbers, meta):
            "quick": bool(meta.get("parameters", {}).get("quick", False)),
            "date_utc": meta.get("date_utc", "unknown")}
     path = paths.ensure(paths.GENERATED) / f"{name}.json"
-    _atomic_write(path, json.dumps(_jsonable(out), indent=2) + "\n")
+    write_text_atomically(path, json.dumps(jsonable(out), indent=2) + "\n")
     return path
 
 

@@ -17,7 +17,7 @@ import pandas as pd
 
 import sim
 from experiments import executor, paths
-from experiments.metadata import _git_state, _jsonable, collect, write_results
+from experiments.metadata import git_state, jsonable, collect, write_results
 from experiments.peers import engine_of, make_runner
 from experiments.timing import timed
 
@@ -112,7 +112,7 @@ def sweep_store(name, quick, config):
     for f in sorted(list((paths.ROOT / "sim").rglob("*.py"))
                     + list((paths.ROOT / "experiments").rglob("*.py"))):
         digest.update(f.read_bytes())
-    header = {"commit": _git_state()["commit"], "config": _jsonable(config),
+    header = {"commit": git_state()["commit"], "config": jsonable(config),
               "source": digest.hexdigest()[:16]}
     return store_path(name, quick), header
 

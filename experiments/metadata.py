@@ -12,8 +12,8 @@ import os
 import platform
 import subprocess
 import sys
-import tempfile
-from pathlib import Path
+
+from sim.files import write_text_atomically
 
 from . import paths
 
@@ -32,9 +32,9 @@ def collect(scene_or_scenes, parameters, script, seed=None):
     return {
         "script": script,
         "scenes": _describe_scenes(scene_or_scenes),
-        "parameters": _jsonable(dict(parameters)),
+        "parameters": jsonable(dict(parameters)),
         "seed": seed,
-        "git": _git_state(),
+        "git": git_state(),
         "packages": {name: _version(name) for name in PACKAGES},
         "python": sys.version.split()[0],
         "platform": platform.platform(),
@@ -52,8 +52,8 @@ def write_results(name, dataframe, metadata, folder=None):
     folder = paths.ensure(paths.DATA if folder is None else folder)
     csv_path = folder / f"{name}.csv"
     json_path = folder / f"{name}.json"
-    _atomic_write(csv_path, dataframe.to_csv(index=False))
-    _atomic_write(json_path, json.dumps(_jsonable(metadata), indent=2) + "\n")
+    write_text_atomically(csv_path, dataframe.to_csv(index=False))
+    write_text_atomically(json_path, json.dumps(jsonable(metadata), indent=2) + "\n")
     return csv_path, json_path
 
 
@@ -62,11 +62,11 @@ def _describe_scenes(scene_or_scenes):
     if scene_or_scenes is None:
         return []
     scenes = [scene_or_scenes] if hasattr(scene_or_scenes, "bodies") else list(scene_or_scenes)
-    return [{"name": s.name, "params": _jsonable(dict(s.params)), "bodies": len(s.bodies)}
+    return [{"name": s.name, "params": jsonable(dict(s.params)), "bodies": len(s.bodies)}
             for s in scenes]
 
 
-def _git_state():
+def git_state():
     """Commit hash and whether tracked or untracked files differ from it ("unknown" without git)."""
     def git(*args):
         return subprocess.run(["git", *args], cwd=paths.ROOT, capture_output=True, text=True,
@@ -100,14 +100,14 @@ def _cpu_model():
     return platform.processor() or "unknown"
 
 
-def _jsonable(value):
+def jsonable(value):
     """Turn numpy scalars/arrays, tuples, paths and non-finite floats into plain JSON values."""
     if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
+        return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
+        return [jsonable(v) for v in value]
     if hasattr(value, "tolist"):                 # numpy scalar or array
-        return _jsonable(value.tolist())
+        return jsonable(value.tolist())
     if isinstance(value, float) and not math.isfinite(value):
         return str(value)                        # JSON has no inf/nan
     if isinstance(value, (str, int, float, bool)) or value is None:
@@ -115,16 +115,3 @@ def _jsonable(value):
     return str(value)
 
 
-def _atomic_write(path, text):
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", newline="") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.chmod(tmp, 0o644)                     # mkstemp makes it owner-only
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise

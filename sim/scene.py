@@ -8,13 +8,14 @@ is read; from then on that list is the scene's truth (edits to those bodies are 
 Body-list scene)."""
 import copy as _copy
 from dataclasses import dataclass, field
-import math
 import tomllib
 from typing import NamedTuple
 
 import numpy as np
+import tomli_w
 
 from .body import Body, check_fields, failing_fields, finite_number, finite_pair
+from .files import write_text_atomically
 from .geometry import validate_polygon
 from .polygons import check_packed, polygon_suspects
 
@@ -252,33 +253,14 @@ class Scene:
                 "static_bodies": [b.to_dict() for b in self.static_bodies]}
 
     def to_file(self, path):
-        """Write the scene as TOML that ``from_file`` reads back to an equal scene."""
-        with open(path, "w") as f:
-            f.write(_toml(self.to_dict()))
-
-
-def _toml_value(v):
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, float)):
-        return repr(float(v)) if isinstance(v, float) and math.isfinite(v) else repr(v)
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{" + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + "}"
-    raise TypeError(f"cannot write {type(v).__name__} to TOML")
-
-
-def _toml(d):
-    lines = [f"{k} = {_toml_value(v)}" for k, v in d.items() if not isinstance(v, list) or not v or not isinstance(v[0], dict)]
-    for k, v in d.items():
-        if isinstance(v, list) and v and isinstance(v[0], dict):
-            for item in v:
-                lines.append(f"\n[[{k}]]")
-                lines.extend(f"{kk} = {_toml_value(vv)}" for kk, vv in item.items())
-    return "\n".join(lines) + "\n"
+        """Write the scene as TOML that ``from_file`` reads back to an equal scene (any name,
+        any params key). The text is made before the file is touched, and written atomically:
+        a value TOML cannot hold is a ValueError, and a failed write leaves the old file whole."""
+        try:
+            text = tomli_w.dumps(self.to_dict())
+        except TypeError as exc:                 # e.g. None or an object in params
+            raise ValueError(f"scene {self.name!r}: cannot be written as TOML ({exc})") from None
+        write_text_atomically(path, text)
 
 
 def _from_entries(entries, kind):

@@ -18,7 +18,7 @@ import pytest
 import sim
 from conftest import tilted_box
 from experiments import peer_agreement
-from experiments.metadata import _jsonable
+from experiments.metadata import jsonable
 from experiments.peers import (DEFAULT_ITERATIONS, SIM_DEFAULT_SUBSTEPS, SYSTEMS, Runner,
                                SimRunner, engine_of, make_runner, solver_summary)
 
@@ -49,7 +49,7 @@ def test_every_system_satisfies_the_runner_interface(system):
         assert runner.settings["system"] == system
         assert runner.settings["dt"] == DT and runner.dt == DT
         assert runner.settings["iterations"] == DEFAULT_ITERATIONS[engine_of(system)]
-        json.dumps(_jsonable(runner.settings))                       # storable as metadata
+        json.dumps(jsonable(runner.settings))                       # storable as metadata
         assert runner.step_count == 0 and runner.time == 0.0
         runner.step(3)
         assert runner.step_count == 3 and runner.time == pytest.approx(3 * DT)

@@ -1,9 +1,11 @@
 """Scene builders and scene files."""
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import sim
-from sim import scenes
+from sim import files, scenes
 
 
 @pytest.mark.parametrize("name,args", [
@@ -73,3 +75,42 @@ def test_positions_are_centres_of_mass():
     world = sim.World(sim.Scene(bodies=[tri]))
     np.testing.assert_allclose(world.positions[0], [2 + 1 / 3, 1 / 3], atol=1e-12)
     np.testing.assert_allclose(world.vertices(0), [(2, 0), (3, 0), (2, 1)], atol=1e-12)
+
+
+# ---- any name and any params key round-trip; a failed write leaves the old file ------------------
+_VALUES = st.one_of(st.text(max_size=12), st.booleans(), st.integers(-2 ** 63, 2 ** 63 - 1),
+                    st.floats(allow_nan=False), st.lists(st.integers(-5, 5), max_size=3))
+
+
+@settings(max_examples=150, deadline=None)
+@given(name=st.text(max_size=20), body_name=st.text(max_size=20),
+       params=st.dictionaries(st.text(max_size=10), _VALUES, max_size=5))
+def test_any_name_and_params_key_round_trip_through_a_scene_file(tmp_path_factory, name,
+                                                                 body_name, params):
+    # newlines, quotes, backslashes, dots and spaces in keys: the hand-written writer mangled
+    # "a.b" keys and wrote names with a newline that did not read back
+    scene = sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5), name=body_name)],
+                      name=name, params=params)
+    path = tmp_path_factory.mktemp("toml") / "scene.toml"
+    scene.to_file(path)
+    loaded = sim.Scene.from_file(path)
+    assert loaded == scene
+    assert loaded.name == name and loaded.params == params
+
+
+def test_a_failed_write_leaves_the_old_file_whole(tmp_path, monkeypatch):
+    path = tmp_path / "scene.toml"
+    scenes.single_box().to_file(path)
+    before = path.read_bytes()
+    unwritable = sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5))],
+                           params={"callback": None})           # TOML has no null
+    with pytest.raises(ValueError, match="cannot be written as TOML"):
+        unwritable.to_file(path)
+    assert path.read_bytes() == before
+    def full_disk(fd):                                           # fails after the text is written
+        raise OSError(28, "No space left on device")
+    monkeypatch.setattr(files.os, "fsync", full_disk)
+    with pytest.raises(OSError, match="No space left"):
+        scenes.drop(4, seed=1).to_file(path)
+    assert path.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]   # no temporary left

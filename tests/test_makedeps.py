@@ -1,0 +1,81 @@
+"""The Makefile's build graph comes from the imports (tools/makedeps.py): an edit to any module
+reruns exactly the experiments and analyses that run it, and nothing else."""
+import os
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tools"))
+import makedeps  # noqa: E402
+
+
+def _make_list(variable):
+    out = subprocess.run(["make", "-s", f"print-{variable}"], cwd=ROOT, capture_output=True,
+                         text=True, check=True).stdout
+    return out.split()
+
+
+def test_dependencies_follow_imports_through_other_modules():
+    speedup = makedeps.dependencies("experiments.fig_speedup")
+    assert "experiments/bench_freeze.py" in speedup            # a script used as a library
+    assert "experiments/common.py" in speedup and "sim/world.py" in speedup
+    assert "sim/freeze/extended.py" in speedup                 # through sim/freeze/__init__
+    assert "experiments/fig_states.py" not in speedup
+    table = makedeps.dependencies("analysis.table_extremes")
+    assert "experiments/table_extremes.py" in table            # analysis importing an experiment
+    # a relative import (experiments/metadata.py: from . import paths)
+    assert "experiments/paths.py" in makedeps.dependencies("experiments.metadata")
+
+
+@pytest.fixture(scope="module")
+def built_tree(tmp_path_factory):
+    """A results tree in which every data file and figure is up to date (newer than any source)."""
+    results = tmp_path_factory.mktemp("results")
+    paper = tmp_path_factory.mktemp("paper")
+    names = _make_list("ALL")
+    later = time.time() + 3600
+    for i, (folder, suffix) in enumerate(((results / "data", ".csv"),
+                                          (paper / "generated", ".json"))):
+        folder.mkdir(parents=True, exist_ok=True)
+        for name in names:
+            target = folder / f"{name}{suffix}"
+            target.write_text("")
+            os.utime(target, (later + 60 * i, later + 60 * i))     # figures after their data
+    return results, paper, names
+
+
+def _rebuilt(built_tree, edited):
+    """(experiments rerun, analyses rerun) by `make -n figures` if ``edited`` were changed."""
+    results, paper, _ = built_tree
+    out = subprocess.run(["make", "-n", "-W", edited, f"RESULTS_DIR={results}",
+                          f"PAPER_OUT={paper}", "figures"], cwd=ROOT, capture_output=True,
+                         text=True, check=True).stdout
+    return (set(re.findall(r"-m experiments\.(\w+)", out)),
+            set(re.findall(r"-m analysis\.(\w+)", out)))
+
+
+def test_an_up_to_date_tree_rebuilds_nothing(built_tree):
+    assert _rebuilt(built_tree, "README.md") == (set(), set())
+
+
+def test_an_edit_to_a_script_used_as_a_library_reruns_what_imports_it(built_tree):
+    users = {"bench_freeze", "fig_speedup", "fig_scaling", "fig_time_to_rest"}
+    assert _rebuilt(built_tree, "experiments/bench_freeze.py") == (users, users)
+
+
+def test_an_edit_to_the_solver_reruns_every_experiment(built_tree):
+    names = set(built_tree[2])
+    assert _rebuilt(built_tree, "sim/contacts.py") == (names, names)
+
+
+def test_an_edit_to_an_analysis_module_redraws_only_what_imports_it(built_tree):
+    assert _rebuilt(built_tree, "analysis/filmstrip.py") == (
+        set(), {"fig_states", "fig_edge_as_floor", "fig_overhang"})
+    # an experiment that an analysis imports: its data and both figures' drawing
+    experiments, analyses = _rebuilt(built_tree, "experiments/table_extremes.py")
+    assert experiments == {"table_extremes"} and analyses == {"table_extremes"}

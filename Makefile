@@ -47,7 +47,7 @@ FREEZE ?= paper
 # Results are never intermediate files: make must not delete results/data/*.csv after drawing.
 .SECONDARY:
 
-.PHONY: all venv test reproduce figures paper glance recordings trace lock clean distclean $(ALL)
+.PHONY: all venv test test-fast reproduce figures paper glance recordings trace lock clean distclean $(ALL)
 
 all: test
 
@@ -63,6 +63,11 @@ venv: $(STAMP)
 
 test: $(STAMP)
 	$(PY) -m pytest -q
+
+# Every test but the slow tier (pipelines: make, scripts end to end; see tests/conftest.py), for
+# development; CI runs `make test`.
+test-fast: $(STAMP)
+	$(PY) -m pytest -q -m "not slow"
 
 # The build graph: each output depends on every repository file its script runs, found from the
 # imports by tools/makedeps.py (a list kept by hand went stale: an edit to bench_freeze.py did not

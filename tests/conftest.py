@@ -32,3 +32,19 @@ def run_until(world, seconds):
 def _compile_once():
     """Compile (or load from the cache) every kernel once, before timing-sensitive tests."""
     sim.World(sim.scenes.stack(2)).step(2)
+
+
+#: The slow tier, skipped by ``make test-fast`` (``pytest -m "not slow"``): modules whose tests run a
+#: pipeline rather than a unit of code -- ``make`` itself, an experiment or analysis script end to
+#: end at quick sizes, or the compiled kernels' machine code. About 4 of the suite's 6 minutes.
+SLOW_MODULES = frozenset({
+    "test_reproduce", "test_makedeps", "test_bench_kernels", "test_bench_freeze",
+    "test_bench_step", "test_bench_fast_paths", "test_fig_scaling", "test_fig_speedup",
+    "test_fig_time_to_rest", "test_fig_tradeoff", "test_filmstrips", "test_table_extremes",
+    "test_table_failures", "test_trace"})
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if item.module.__name__.rpartition(".")[2] in SLOW_MODULES:
+            item.add_marker(pytest.mark.slow)

@@ -79,3 +79,11 @@ def test_an_edit_to_an_analysis_module_redraws_only_what_imports_it(built_tree):
     # an experiment that an analysis imports: its data and both figures' drawing
     experiments, analyses = _rebuilt(built_tree, "experiments/table_extremes.py")
     assert experiments == {"table_extremes"} and analyses == {"table_extremes"}
+
+
+def test_the_solver_imports_nothing_from_the_study():
+    # ARCHITECTURE §1: sim/ stands alone (the study imports it, never the reverse)
+    for path in sorted((ROOT / "sim").rglob("*.py")):
+        module = ".".join(path.relative_to(ROOT).with_suffix("").parts).removesuffix(".__init__")
+        outside = [f for f in makedeps.dependencies(module) if not f.startswith("sim/")]
+        assert not outside, f"{module} runs {outside}"

@@ -45,11 +45,12 @@ Four parts, one long-form table (column ``part``), each answering one of the iss
 ROTATION_STABLE body that still slides, is awake; part 3 also reports, for sim, the step at which
 every body had left FREE (``steps_to_all_not_free``), beside the frozen one.
 
-Method (docs/ARCHITECTURE.md §5): one throwaway tiny World per freeze policy compiles the Numba kernels
-first; every runner is built, then stepped (untimed) through warm-up; timed repeats call
-``runner.step(K)`` with the garbage collector paused, interleaved round-robin over all systems
-compared (order reversed on every other repeat); reported per step are the median and min over
-repeats (default 7), in ms. All systems use dt 1/60 s and each engine's own default solver
+Method (docs/ARCHITECTURE.md §5; the protocols are experiments/protocols.py's, shared with the
+figures): one throwaway tiny World per freeze policy compiles the Numba kernels first; every
+runner is built, then stepped (untimed) through warm-up; timed repeats call ``runner.step(K)``
+with the garbage collector paused, interleaved round-robin over all systems compared (order
+reversed on every other repeat); reported per step are the median and min over repeats (default
+7), in ms. All systems use dt 1/60 s and each engine's own default solver
 settings (experiments.peers.DEFAULT_ITERATIONS): sim its soft step with 4 substeps per step and
 1 biased + 1 relax sweep per substep, pymunk 10 iterations per step, pybullet 50; slop (sim) and
 collision_slop (pymunk) 0.005 m. Every system's full settings (``runner.settings``) are in the
@@ -74,25 +75,21 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from experiments.timing import interleaved
+from experiments.common import DT, SLOP, build, compile_kernels, label, n_awake
 from experiments.metadata import collect, write_results
-from experiments.common import (DT, SLOP, awake_mask, build, calibrate, compile_kernels, label,
-                                n_awake, step_until_frozen)
-from experiments.peers import engine_of
+from experiments.protocols import (FALL_HEIGHT, FLY_PITCH, FREEZE_HOLD_S, FREEZING, MIX_SYSTEMS,
+                                   WARMUP_STEPS, block, fall_scene, flight_budget, freeze_run,
+                                   freeze_tasks, long_row, mix_scene, per_body_cost,
+                                   settle_and_time, timing_rows)
+from experiments.timing import interleaved
 
 NAME = "bench_freeze"
-WARMUP_STEPS = 10           # untimed steps after build (and after freezing) before any timing
-FALL_HEIGHT = 3000.0        # m, bottom of the falling block (parts 2 and 4)
-FLY_PITCH = 2.0             # m between falling/drifting boxes (unit boxes: never touching at rest)
 DRIFT_SPEED = 3.0           # m/s, the drifting block's common velocity along x (part 4)
 DRIFT_SPREAD = 0.5          # m/s, +- uniform spread per velocity component; spin +- 1 rad/s
 SEED = 0                    # the drift scene's random velocities
-FREEZE_HOLD_S = 1.0         # s stepped after all froze, to see whether the freeze holds
 
-FREEZING = ("sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep", "pybullet-sleep")
 FROZEN_SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep")
 FROZEN_SYSTEMS_PB = FROZEN_SYSTEMS + ("pybullet-sleep",)
-MIX_SYSTEMS = ("sim-extended", "sim-off")
 FLIGHT_SYSTEMS = ("sim-off", "sim-extended")
 
 #: the issue's targets
@@ -130,37 +127,7 @@ QUICK = {
 }
 
 
-# ---- scenes ------------------------------------------------------------------------------------
-
-
-def _block(n, y0, velocity=None, angular_velocity=None, x0=0.0):
-    """``n`` unit boxes in a block ~sqrt(n) columns wide, FLY_PITCH apart, bottom row at y0."""
-    cols = max(1, math.ceil(math.sqrt(n)))
-    bodies = []
-    for i in range(n):
-        row, col = divmod(i, cols)
-        v = (0.0, 0.0) if velocity is None else tuple(float(x) for x in velocity[i])
-        w = 0.0 if angular_velocity is None else float(angular_velocity[i])
-        bodies.append(sim.Body.box(1.0, 1.0, position=(x0 + col * FLY_PITCH, y0 + row * FLY_PITCH),
-                                   velocity=v, angular_velocity=w, friction=0.6))
-    return bodies
-
-
-def mix_scene(n_frozen, n_awake, height=FALL_HEIGHT):
-    """rest_row(n_frozen) (bodies 0..n_frozen-1) plus n_awake boxes falling from ``height`` m."""
-    bodies = list(sim.scenes.rest_row(n_frozen).bodies) if n_frozen else []
-    bodies += _block(n_awake, height)
-    return sim.Scene(bodies=bodies, name="mix",
-                     params={"n_frozen": n_frozen, "n_awake": n_awake, "height": height,
-                             "pitch": FLY_PITCH, "row": "rest_row(n_frozen)"})
-
-
-def fall_scene(n, height=FALL_HEIGHT):
-    """n boxes falling from ``height`` m, never touching each other before the floor."""
-    return sim.Scene(bodies=_block(n, height), name="fall",
-                     params={"n": n, "height": height, "pitch": FLY_PITCH})
-
-
+# ---- scenes (the mixes and the fall scene are experiments.protocols') --------------------------
 def drift_scene(n, seed=SEED):
     """n boxes in zero gravity, no floor, moving at DRIFT_SPEED m/s along x with a random spread
     and spin: neighbours close in and collide, but no body is ever slow."""
@@ -168,82 +135,12 @@ def drift_scene(n, seed=SEED):
     v = np.column_stack([DRIFT_SPEED + rng.uniform(-DRIFT_SPREAD, DRIFT_SPREAD, n),
                          rng.uniform(-DRIFT_SPREAD, DRIFT_SPREAD, n)])
     w = rng.uniform(-1.0, 1.0, n)
-    return sim.Scene(bodies=_block(n, 0.0, v, w), name="drift", floor_y=None, gravity=(0.0, 0.0),
+    return sim.Scene(bodies=block(n, 0.0, v, w), name="drift", floor_y=None, gravity=(0.0, 0.0),
                      params={"n": n, "seed": seed, "speed": DRIFT_SPEED, "spread": DRIFT_SPREAD,
                              "pitch": FLY_PITCH})
 
 
-def flight_budget(height=FALL_HEIGHT, clearance=10.0):
-    """Steps a box starting at rest ``height`` m up stays more than ``clearance`` m above the
-    floor under semi-implicit Euler at DT (it has fallen g dt^2 n (n+1) / 2 after n steps)."""
-    g = 9.81
-    n = int(math.sqrt(2.0 * (height - clearance) / (g * DT * DT)))
-    while g * DT * DT * n * (n + 1) / 2 > height - clearance:
-        n -= 1
-    return n
-
-
-# ---- running -----------------------------------------------------------------------------------
-def _row(part, scene, system, bodies, n_aw, n_fr, metric, value, unit, flag=""):
-    return {"part": part, "scene": scene, "system": system, "bodies": bodies, "n_awake": n_aw,
-            "n_frozen": n_fr, "metric": metric, "value": value, "unit": unit, "flag": flag}
-
-
-def _timing_rows(common, times, before, after, steps, repeats):
-    """The rows every timed run reports: median and min ms/step, awake counts around the timing,
-    and how it was timed."""
-    return [_row(**common, metric="ms_per_step_median", value=statistics.median(times),
-                 unit="ms"),
-            _row(**common, metric="ms_per_step_min", value=min(times), unit="ms"),
-            _row(**common, metric="n_awake_before", value=before, unit="bodies"),
-            _row(**common, metric="n_awake_after", value=after, unit="bodies"),
-            _row(**common, metric="steps_per_repeat", value=steps, unit="steps"),
-            _row(**common, metric="repeats", value=repeats, unit="count")]
-
-
-def _moved(runner, start):
-    return float(np.hypot(*(runner.positions - start).T).max())
-
-
 # ---- part 1: a fully frozen scene --------------------------------------------------------------
-def settle_and_time(scene, systems, cap_steps, repeat_s, repeats, progress, age_steps=None):
-    """Build every system on ``scene``, bring it to rest, and time its steps, interleaved.
-
-    Each freezing system (FREEZING) is stepped one step at a time until no body is solved, or
-    ``cap_steps``. With ``age_steps``, every system is then stepped on to that many steps, so that
-    all are timed at the same simulated age (without it, systems that do not freeze are timed
-    right after build: bench_freeze's part 1). Then WARMUP_STEPS untimed steps, a repeat length
-    calibrated to ``repeat_s`` s, and ``repeats`` repeats interleaved over all systems.
-    Returns one dict per system: ``froze_at`` (step count when none was solved, or None),
-    ``before``/``after`` (awake counts around the timing), ``times`` (ms/step of each repeat),
-    ``steps`` (steps per repeat), ``age`` (steps taken before the warm-up), ``moved`` (m, largest
-    distance a body moved from its start, measured after the timing). Runners are closed."""
-    tag = label(scene)
-    runners, froze_at, steps, starts, ages = [], [], [], [], []
-    try:
-        for system in systems:
-            progress.set_postfix_str(f"{tag} {system}: build, freeze")
-            runner = build(system, scene)
-            runners.append(runner)
-            starts.append(runner.positions)
-            froze_at.append(step_until_frozen(runner, cap_steps) if system in FREEZING else None)
-            if age_steps is not None and runner.step_count < age_steps:
-                runner.step(age_steps - runner.step_count)
-            ages.append(runner.step_count)
-            runner.step(WARMUP_STEPS)
-            steps.append(calibrate(runner, repeat_s))
-        before = [n_awake(r) for r in runners]
-        progress.set_postfix_str(f"{tag}: timing")
-        times = interleaved(runners, steps, repeats, progress)
-        after = [n_awake(r) for r in runners]
-        return [{"froze_at": froze_at[k], "before": before[k], "after": after[k],
-                 "times": times[k], "steps": steps[k], "age": ages[k],
-                 "moved": _moved(runners[k], starts[k])} for k in range(len(systems))]
-    finally:
-        for r in runners:
-            r.close()
-
-
 def frozen_cost(config, repeats, progress):
     rows = []
     for name, n, systems in config["frozen_cost"]:
@@ -265,200 +162,26 @@ def frozen_cost(config, repeats, progress):
             common = dict(part="frozen_cost", scene=tag, system=system, bodies=n,
                           n_aw=before, n_fr=n - before, flag=flag)
             rows += [
-                _row(**common, metric="ms_per_step_median", value=med, unit="ms"),
-                _row(**common, metric="ms_per_step_min", value=low, unit="ms"),
-                _row(**common, metric="speedup_vs_off", value=off_median / med, unit="ratio"),
-                _row(**common, metric="n_awake_before", value=before, unit="bodies"),
-                _row(**common, metric="n_awake_after", value=after, unit="bodies"),
-                _row(**common, metric="steps_to_all_frozen",
-                     value=math.nan if run["froze_at"] is None else run["froze_at"],
-                     unit="steps"),
-                _row(**common, metric="steps_per_repeat", value=run["steps"], unit="steps"),
-                _row(**common, metric="repeats", value=repeats, unit="count"),
-                _row(**common, metric="max_displacement", value=run["moved"], unit="m"),
+                long_row(**common, metric="ms_per_step_median", value=med, unit="ms"),
+                long_row(**common, metric="ms_per_step_min", value=low, unit="ms"),
+                long_row(**common, metric="speedup_vs_off", value=off_median / med,
+                         unit="ratio"),
+                long_row(**common, metric="n_awake_before", value=before, unit="bodies"),
+                long_row(**common, metric="n_awake_after", value=after, unit="bodies"),
+                long_row(**common, metric="steps_to_all_frozen",
+                         value=math.nan if run["froze_at"] is None else run["froze_at"],
+                         unit="steps"),
+                long_row(**common, metric="steps_per_repeat", value=run["steps"], unit="steps"),
+                long_row(**common, metric="repeats", value=repeats, unit="count"),
+                long_row(**common, metric="max_displacement", value=run["moved"], unit="m"),
             ]
     return rows
-
-
-# ---- part 2: cost of a frozen body-step vs an awake body-step ----------------------------------
-def fit_cost(n_aw, n_fr, ms):
-    """Least squares ms = a n_aw + b n_fr + c: dict of a, b, c, their standard errors, b/a and
-    its standard error (delta method, with the a-b covariance), RMS and largest residual (ms),
-    R^2 and the number of points."""
-    x = np.column_stack([n_aw, n_fr, np.ones(len(ms))]).astype(float)
-    y = np.asarray(ms, dtype=float)
-    coef, _, rank, _ = np.linalg.lstsq(x, y, rcond=None)
-    resid = y - x @ coef
-    dof = len(y) - 3
-    sigma2 = float(resid @ resid) / dof if dof > 0 else math.nan
-    try:
-        cov = sigma2 * np.linalg.inv(x.T @ x)
-    except np.linalg.LinAlgError:
-        cov = np.full((3, 3), math.nan)
-    stderr = np.sqrt(np.diag(cov))
-    total = float(((y - y.mean()) ** 2).sum())
-    a, b, c = (float(v) for v in coef)
-    # d(b/a) = (-b/a^2, 1/a, 0) . d(a, b, c)
-    grad = np.array([-b / (a * a), 1.0 / a, 0.0]) if a else np.full(3, math.nan)
-    return {"a": a, "b": b, "c": c, "a_stderr": float(stderr[0]), "b_stderr": float(stderr[1]),
-            "c_stderr": float(stderr[2]), "b_over_a": b / a if a else math.nan,
-            "rms_residual": float(np.sqrt(np.mean(resid ** 2))),
-            "max_abs_residual": float(np.abs(resid).max()),
-            "r2": 1.0 - float(resid @ resid) / total if total > 0 else math.nan,
-            "points": len(y), "rank": int(rank),
-            "b_over_a_stderr": float(np.sqrt(max(0.0, grad @ cov @ grad)))
-            if np.isfinite(grad).all() and np.isfinite(cov).all() else math.nan}
-
-
-FIT_UNITS = {"a": "ms/(step*body)", "b": "ms/(step*body)", "c": "ms/step",
-             "a_stderr": "ms/(step*body)", "b_stderr": "ms/(step*body)", "c_stderr": "ms/step",
-             "b_over_a": "ratio", "rms_residual": "ms/step", "max_abs_residual": "ms/step",
-             "r2": "ratio", "points": "count", "rank": "count"}
-
-
-def expected_awake(system, n_frozen, n_awake):
-    """Bodies a mix should have solved once settled: the flyers only, if the system freezes the
-    resting row; every body otherwise."""
-    return n_awake if system in FREEZING else n_awake + n_frozen
-
-
-def relative_to_off(fits):
-    """Add b_over_b_off and a_over_a_off (against the sim-off fit, if there is one) to every other
-    system's fit, in place."""
-    off = fits.get("sim-off")
-    if off is None:
-        return fits
-    for system, fit in fits.items():
-        if system != "sim-off":
-            fit["b_over_b_off"] = fit["b"] / off["b"] if off["b"] else math.nan
-            fit["a_over_a_off"] = fit["a"] / off["a"] if off["a"] else math.nan
-    return fits
-
-
-def per_body_cost(config, repeats, progress, systems=MIX_SYSTEMS, extra_units=None,
-                  scenes_out=None):
-    """Part 2 on ``config``'s mixes for ``systems``: (rows, fits). A system that sleeps the row
-    only after a timer (sim-sleep, pymunk-sleep: 0.5 s) is stepped, after the warm-up, until only
-    the flyers are solved, for at most ``config["mix_settle_s"]`` s (default 0). Fit rows are
-    written for the keys of FIT_UNITS (+ ``extra_units``, key -> unit). The mix scenes are
-    appended to the list ``scenes_out`` if one is given (for the metadata: building thousands of
-    bodies again takes seconds)."""
-    mixes = [(nf, na) for nf in config["mix_frozen"] for na in config["mix_awake"]]
-    settle_cap = WARMUP_STEPS + int(round(config.get("mix_settle_s", 0.0) / DT))
-    runners, keys = [], []
-    try:
-        for nf, na in mixes:
-            scene = mix_scene(nf, na)
-            if scenes_out is not None:
-                scenes_out.append(scene)
-            for system in systems:
-                progress.set_postfix_str(f"{label(scene)} {system}: build")
-                runner = build(system, scene)
-                runners.append(runner)
-                runner.step(WARMUP_STEPS)
-                while (runner.step_count < settle_cap
-                       and n_awake(runner) != expected_awake(system, nf, na)):
-                    runner.step(1)
-                keys.append((label(scene), system, nf, na))
-        # the flyers must still be in flight at the end of the timing
-        aged = max(r.step_count for r in runners)
-        steps = max(1, min(config["mix_steps"], (flight_budget() - aged) // repeats))
-        before = [n_awake(r) for r in runners]
-        progress.set_postfix_str(f"{len(runners)} worlds: timing")
-        times = interleaved(runners, [steps] * len(runners), repeats, progress)
-        after = [n_awake(r) for r in runners]
-        lowest = [float(runners[k].positions[nf:, 1].min()) if na else math.nan
-                  for k, (_, _, nf, na) in enumerate(keys)]
-    finally:
-        for r in runners:
-            r.close()
-    rows, fits = [], {}
-    for k, (tag, system, nf, na) in enumerate(keys):
-        expected = expected_awake(system, nf, na)
-        ok = before[k] == expected and after[k] == expected and (not na or lowest[k] > 5.0)
-        common = dict(part="per_body_cost", scene=tag, system=system, bodies=nf + na, n_aw=na,
-                      n_fr=nf, flag="" if ok else "awake count or flight check failed")
-        rows += _timing_rows(common, times[k], before[k], after[k], steps, repeats)
-        rows.append(_row(**common, metric="lowest_flying_y", value=lowest[k], unit="m"))
-    for system in systems:
-        ks = [k for k, key in enumerate(keys) if key[1] == system]
-        fit = fit_cost([keys[k][3] for k in ks], [keys[k][2] for k in ks],
-                       [statistics.median(times[k]) for k in ks])
-        fits[system] = fit
-    relative_to_off(fits)
-    units = {**FIT_UNITS, "b_over_b_off": "ratio", "a_over_a_off": "ratio", **(extra_units or {})}
-    for system, fit in fits.items():
-        for key, value in fit.items():
-            if key in units:
-                rows.append(_row("per_body_cost", "fit", system, math.nan, math.nan, math.nan,
-                                 f"fit_{key}", value, units[key]))
-    return rows, fits
-
-
-# ---- part 3: steps until everything is frozen --------------------------------------------------
-def freeze_run(task):
-    """One run of part 3: ``task`` = (builder name, builder params, system, cap s). Steps the
-    scene one step at a time until every body is frozen/asleep or the cap, then (if it froze)
-    FREEZE_HOLD_S more to see whether the freeze holds; returns the run's rows. Module-level and
-    self-contained, so sweeps can hand it to ``experiments.executor.run_tasks``."""
-    name, params, system, cap_s = task
-    scene = sim.scenes.BUILDERS[name](**params)
-    tag = label(scene)
-    n = len(scene.bodies)
-    cap = int(round(cap_s / DT))
-    hold = int(round(FREEZE_HOLD_S / DT))
-    with build(system, scene) as runner:
-        start = runner.positions
-        is_sim = engine_of(system) == "sim"
-        frozen_at = observable_at = None
-        while runner.step_count < cap:
-            runner.step(1)
-            if is_sim and observable_at is None and \
-                    (runner.world.states != sim.State.FREE).all():
-                observable_at = runner.step_count
-            if not awake_mask(runner).any():
-                frozen_at = runner.step_count
-                break
-        end_awake = n_awake(runner)
-        end_not_free = (int((runner.world.states != sim.State.FREE).sum()) if is_sim
-                        else math.nan)
-        moved = _moved(runner, start)
-        held = math.nan
-        if frozen_at is not None:
-            runner.step(hold)
-            held = n_awake(runner)
-    never = frozen_at is None
-    flag = "never" if never else ""
-    common = dict(part="time_to_freeze", scene=tag, system=system, bodies=n,
-                  n_aw=end_awake, n_fr=n - end_awake, flag=flag)
-    rows = [
-        _row(**common, metric="steps_to_all_frozen",
-             value=math.nan if never else frozen_at, unit="steps"),
-        _row(**common, metric="time_to_all_frozen",
-             value=math.nan if never else frozen_at * DT, unit="s"),
-        _row(**common, metric="n_awake_at_end", value=end_awake, unit="bodies"),
-        _row(**common, metric="n_awake_1s_after", value=held, unit="bodies"),
-        _row(**common, metric="max_displacement", value=moved, unit="m"),
-        _row(**common, metric="cap_steps", value=cap, unit="steps"),
-    ]
-    if is_sim:
-        rows += [
-            _row(**common, metric="steps_to_all_not_free",
-                 value=math.nan if observable_at is None else observable_at, unit="steps"),
-            _row(**common, metric="n_not_free_at_end", value=end_not_free, unit="bodies"),
-        ]
-    return rows
-
-
-def freeze_tasks(scenes, cap_s, systems=FREEZING):
-    """The tasks of part 3 for ``scenes`` ((builder name, params) pairs), scene-major."""
-    return [(name, dict(params), system, cap_s) for name, params in scenes for system in systems]
 
 
 def time_to_freeze(config, progress):
     rows = []
     for task in freeze_tasks(config["ttf_scenes"], config["ttf_cap_s"]):
-        progress.set_postfix_str(f"{task[0]}{task[1]} {task[2]}")
+        progress.set_postfix_str(f"{task.builder}{task.params} {task.system}")
         rows += freeze_run(task)
         progress.update()
     return rows
@@ -493,14 +216,17 @@ def in_flight_overhead(config, repeats, progress):
             common = dict(part="in_flight_overhead", scene=tag, system=system, bodies=n,
                           n_aw=before[k], n_fr=n - before[k],
                           flag="" if ok else "a body froze: not an in-flight scene")
-            rows += _timing_rows(common, times[k], before[k], after[k], steps, repeats)
+            rows += timing_rows(common, times[k], before[k], after[k], steps, repeats)
             if system == "sim-extended":
                 rows += [
-                    _row(**common, metric="ratio_to_off_median", value=ratio_med, unit="ratio"),
-                    _row(**common, metric="ratio_to_off_min", value=ratio_min, unit="ratio"),
-                    _row(**common, metric="ratio_to_off_paired", value=paired, unit="ratio"),
-                    _row(**common, metric="min_speed_after", value=float(speed.min()),
-                         unit="m/s"),
+                    long_row(**common, metric="ratio_to_off_median", value=ratio_med,
+                             unit="ratio"),
+                    long_row(**common, metric="ratio_to_off_min", value=ratio_min,
+                             unit="ratio"),
+                    long_row(**common, metric="ratio_to_off_paired", value=paired,
+                             unit="ratio"),
+                    long_row(**common, metric="min_speed_after", value=float(speed.min()),
+                             unit="m/s"),
                 ]
         for r in runners:
             r.close()

@@ -4,8 +4,8 @@ Question: what does one more awake body cost per step (a), and one more frozen b
 is ms/step = a * N_awake + b * N_frozen + c; freezing is ideal when b = 0 (a frozen body costs
 nothing), and the measured b/a says how far from that each system is.
 
-Scenes: the mixes of bench_freeze part 2 (``bench_freeze.mix_scene``): rest_row(N_frozen) (unit
-boxes on the floor, frozen once the system freezes them) plus N_awake unit boxes in a block
+Scenes: the mixes of bench_freeze part 2 (``experiments.protocols.mix_scene``): rest_row(N_frozen)
+(unit boxes on the floor, frozen once the system freezes them) plus N_awake unit boxes in a block
 (pitch 2 m, never touching) that start at rest 3000 m up and fall through the whole timing, so they
 stay awake and never touch anything (checked: the awake count equals the design before and after
 the timing, and the lowest flyer stays above 5 m). Grid: N_frozen in {0, 1000, 2000, 4000} x
@@ -20,20 +20,20 @@ asleep bodies leave sim's awake list exactly as extended's frozen ones do, so it
 mechanism measured twice. pybullet is left out: its deactivation takes 2 s and it costs ~40 ms
 per step per 1000 awake boxes.
 
-Method (bench_freeze.per_body_cost, reused): every world of the sweep is built and settled first,
-then timed in 7 repeats of 50 steps, round-robin over all 48 worlds (order reversed on every other
-repeat), the garbage collector paused, Numba kernels compiled before; ms/step is the median over
-repeats. The fit is least squares over the 16 mixes of each system, with standard errors of a, b,
-c and of b/a (delta method, with the a-b covariance), the RMS and largest residual and R^2, and
-b/b_off, a/a_off against sim-off. The same fit is also made on each mix's fastest repeat (scene
-"fit_min"): on a machine shared with other work, load spikes hit a few repeats of some mixes,
-and the minimum is the estimate least touched by them; the figure shows the median fit, the table
-both, so a disagreement between them is visible rather than hidden. The awake bodies are the
-cheapest kind (no contacts), so a is low and b/a is a conservative (high) ratio. dt 1/60 s; each
-engine at its own default solver settings (experiments.peers.DEFAULT_ITERATIONS: sim its soft step
-with 4 substeps per step and 1 biased + 1 relax sweep per substep, pymunk 10 iterations per step);
-slop (sim) and collision_slop (pymunk) 0.005 m; every system's full settings (``runner.settings``)
-are in the metadata's ``system_settings``.
+Method (experiments.protocols.per_body_cost, bench_freeze's part 2): every world of the sweep is
+built and settled first, then timed in 7 repeats of 50 steps, round-robin over all 48 worlds (order
+reversed on every other repeat), the garbage collector paused, Numba kernels compiled before;
+ms/step is the median over repeats. The fit is least squares over the 16 mixes of each system, with
+standard errors of a, b, c and of b/a (delta method, with the a-b covariance), the RMS and largest
+residual and R^2, and b/b_off, a/a_off against sim-off. The same fit is also made on each mix's
+fastest repeat (scene "fit_min"): on a machine shared with other work, load spikes hit a few
+repeats of some mixes, and the minimum is the estimate least touched by them; the figure shows the
+median fit, the table both, so a disagreement between them is visible rather than hidden. The awake
+bodies are the cheapest kind (no contacts), so a is low and b/a is a conservative (high) ratio. dt
+1/60 s; each engine at its own default solver settings (experiments.peers.DEFAULT_ITERATIONS: sim
+its soft step with 4 substeps per step and 1 biased + 1 relax sweep per substep, pymunk 10
+iterations per step); slop (sim) and collision_slop (pymunk) 0.005 m; every system's full settings
+(``runner.settings``) are in the metadata's ``system_settings``.
 
 Columns (long form, bench_freeze's): part ("per_body_cost"), scene (mix label, "fit" or
 "fit_min"), system, bodies, n_awake, n_frozen (the mix's design), metric, value, unit, flag (""
@@ -48,8 +48,10 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from experiments import bench_freeze
 from experiments.common import DT, SLOP, build, compile_kernels, entry
+from experiments.cost_fit import fit_cost, relative_to_off
+from experiments.protocols import (FALL_HEIGHT, FLY_PITCH, WARMUP_STEPS, flight_budget,
+                                   per_body_cost)
 
 NAME = "fig_scaling"
 SYSTEMS = ("sim-extended", "sim-off", "pymunk-sleep")
@@ -61,14 +63,14 @@ QUICK = {"mix_frozen": (0, 200, 400), "mix_awake": (20, 50),
 
 
 def fit_fastest(rows):
-    """system -> bench_freeze.fit_cost over each mix's fastest repeat (ms_per_step_min), with
+    """system -> fit_cost over each mix's fastest repeat (ms_per_step_min), with
     b/b_off and a/a_off against sim-off as for the median fit."""
     t = pd.DataFrame(rows)
     t = t[(t["part"] == "per_body_cost") & (t["scene"] != "fit")
           & (t["metric"] == "ms_per_step_min")]
-    fits = {system: bench_freeze.fit_cost(g["n_awake"], g["n_frozen"], g["value"])
+    fits = {system: fit_cost(g["n_awake"], g["n_frozen"], g["value"])
             for system, g in t.groupby("system", sort=False)}
-    return bench_freeze.relative_to_off(fits)
+    return relative_to_off(fits)
 
 
 def fit_min_rows(rows, fits_min):
@@ -87,9 +89,8 @@ def run(config, args):
     n_worlds = len(config["mix_frozen"]) * len(config["mix_awake"]) * len(SYSTEMS)
     scenes = []
     with tqdm(total=n_worlds * repeats, desc=f"{NAME} timing", unit="repeat") as bar:
-        rows, fits = bench_freeze.per_body_cost(config, repeats, bar, systems=SYSTEMS,
-                                                extra_units={"b_over_a_stderr": "ratio"},
-                                                scenes_out=scenes)
+        rows, fits = per_body_cost(config, repeats, bar, systems=SYSTEMS,
+                                   extra_units={"b_over_a_stderr": "ratio"}, scenes_out=scenes)
     fits_min = fit_fastest(rows)
     rows += fit_min_rows(rows, fits_min)
     probe = sim.scenes.single_box()
@@ -97,9 +98,9 @@ def run(config, args):
     for system in SYSTEMS:
         with build(system, probe) as r:
             settings[system] = r.settings
-    parameters = {"dt": DT, "slop": SLOP, "warmup_steps": bench_freeze.WARMUP_STEPS,
-                  "fall_height_m": bench_freeze.FALL_HEIGHT, "fly_pitch_m": bench_freeze.FLY_PITCH,
-                  "flight_budget_steps": bench_freeze.flight_budget(), "systems": SYSTEMS,
+    parameters = {"dt": DT, "slop": SLOP, "warmup_steps": WARMUP_STEPS,
+                  "fall_height_m": FALL_HEIGHT, "fly_pitch_m": FLY_PITCH,
+                  "flight_budget_steps": flight_budget(), "systems": SYSTEMS,
                   "model": "ms/step = a N_awake + b N_frozen + c", "fits": fits,
                   "fits_min": fits_min,
                   "system_settings": settings}

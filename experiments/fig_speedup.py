@@ -55,10 +55,10 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from experiments import bench_freeze
 from experiments.common import (DT, FROZEN_MEANS, REFERENCE, SLOP, SYSTEMS, build,
                                 compile_kernels, entry, label)
 from experiments.peers import engine_of
+from experiments.protocols import FREEZING, WARMUP_STEPS, settle_and_time
 
 NAME = "fig_speedup"
 PYBULLET_MAX_BODIES = 1000      # larger scenes are not run under pybullet (cost, see docstring)
@@ -106,7 +106,7 @@ def scene_rows(scene, runs, systems, repeats):
                          "repeats": 0, "max_displacement_m": math.nan,
                          "flag": f"not run: pybullet capped at {PYBULLET_MAX_BODIES} bodies"})
             continue
-        if system not in bench_freeze.FREEZING:
+        if system not in FREEZING:
             flag = "reference: sleeping off"
         elif run["before"] == 0 and run["after"] == 0:
             flag = "all frozen"
@@ -137,15 +137,15 @@ def run(config, args):
     with tqdm(total=total, desc=f"{NAME} timing", unit="repeat") as bar:
         for scene in scenes:
             systems = systems_for(scene)
-            runs = bench_freeze.settle_and_time(scene, systems, cap, config["repeat_s"], repeats,
-                                                bar, age_steps=cap)
+            runs = settle_and_time(scene, systems, cap, config["repeat_s"], repeats, bar,
+                                   age_steps=cap)
             rows += scene_rows(scene, runs, systems, repeats)
     probe = sim.scenes.single_box()
     for system in SYSTEMS:
         with build(system, probe) as r:
             settings[system] = r.settings
     parameters = {"dt": DT, "slop": SLOP, "settle_cap_steps": cap,
-                  "warmup_steps": bench_freeze.WARMUP_STEPS,
+                  "warmup_steps": WARMUP_STEPS,
                   "pybullet_max_bodies": PYBULLET_MAX_BODIES, "reference": REFERENCE,
                   "frozen_means": FROZEN_MEANS, "system_settings": settings}
     return pd.DataFrame(rows), scenes, parameters

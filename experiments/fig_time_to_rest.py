@@ -11,19 +11,19 @@ drop(30, seed 0..4) (30 random convex polygons dropped on the floor), seed_fig1 
 floor, one tilted on its corner, one in the air), seed_fig2 (a box falling on a box), seed_fig3
 (a box sliding off a box).
 
-Method (bench_freeze.freeze_run, reused): each (scene, system) run is stepped one step at a time,
-dt 1/60 s, until every body is frozen/asleep (no work is done for it: sim's ``World.frozen``,
-out of the awake list; the peers' ``asleep``) or the cap of 30 s (1800 steps). A run that does not
-get there is kept, not dropped: NaN steps, flag "never", with the number still awake at the cap
-(``n_awake_at_end``). A run that froze is stepped 1 s more and the awake count then is recorded
-(a freeze that does not hold). Also recorded: the largest distance a body moved (m), and for sim
-the step at which no body was FREE any more (``steps_to_all_not_free``: under paper a pivoting or
-sliding body leaves FREE but stays awake). The runs are independent and untimed, so they go to the
-local process pool (experiments/executor.py). Each engine at its own default solver settings
-(experiments.peers.DEFAULT_ITERATIONS): sim its soft step with 4 substeps per step and 1 biased +
-1 relax sweep per substep, pymunk 10 iterations per step, pybullet 50; slop (sim) and
-collision_slop (pymunk) 0.005 m; every system's full settings (``runner.settings``) are in the
-metadata's ``system_settings``.
+Method (experiments.protocols.freeze_run, bench_freeze's part 3): each (scene, system) run is
+stepped one step at a time, dt 1/60 s, until every body is frozen/asleep (no work is done for it:
+sim's ``World.frozen``, out of the awake list; the peers' ``asleep``) or the cap of 30 s (1800
+steps). A run that does not get there is kept, not dropped: NaN steps, flag "never", with the
+number still awake at the cap (``n_awake_at_end``). A run that froze is stepped 1 s more and the
+awake count then is recorded (a freeze that does not hold). Also recorded: the largest distance a
+body moved (m), and for sim the step at which no body was FREE any more (``steps_to_all_not_free``:
+under paper a pivoting or sliding body leaves FREE but stays awake). The runs are independent and
+untimed, so they go to the local process pool (experiments/executor.py). Each engine at its own
+default solver settings (experiments.peers.DEFAULT_ITERATIONS): sim its soft step with 4 substeps
+per step and 1 biased + 1 relax sweep per substep, pymunk 10 iterations per step, pybullet 50; slop
+(sim) and collision_slop (pymunk) 0.005 m; every system's full settings (``runner.settings``) are
+in the metadata's ``system_settings``.
 
 Columns (long form, bench_freeze's): part ("time_to_freeze"), scene, system, bodies, n_awake,
 n_frozen (at the freeze, or at the cap), metric (steps_to_all_frozen, time_to_all_frozen,
@@ -37,12 +37,12 @@ stack(5), pyramid(5), drop(10, seed 0), seed_fig1..3, cap 5 s.
 import pandas as pd
 
 import sim
-from experiments import bench_freeze
 from experiments.common import DT, FROZEN_MEANS, SLOP, build, compile_kernels, entry
 from experiments.executor import run_tasks
+from experiments.protocols import FREEZE_HOLD_S, FREEZING, freeze_run, freeze_tasks
 
 NAME = "fig_time_to_rest"
-SYSTEMS = bench_freeze.FREEZING
+SYSTEMS = FREEZING
 SEED_FIGS = (("seed_fig1", {}), ("seed_fig2", {}), ("seed_fig3", {}))
 
 FULL = {"scenes": (("rest_row", {"n": 50}), ("stack", {"height": 5}), ("stack", {"height": 10}),
@@ -57,8 +57,8 @@ QUICK = {"scenes": (("rest_row", {"n": 50}), ("stack", {"height": 5}), ("pyramid
 def run(config, args):
     # compiled here once, so the pool's workers load the kernels from Numba's cache
     compile_kernels()
-    tasks = bench_freeze.freeze_tasks(config["scenes"], config["cap_s"], SYSTEMS)
-    rows = [row for rows in run_tasks(bench_freeze.freeze_run, tasks, desc=f"{NAME} runs")
+    tasks = freeze_tasks(config["scenes"], config["cap_s"], SYSTEMS)
+    rows = [row for rows in run_tasks(freeze_run, tasks, desc=f"{NAME} runs")
             for row in rows]
     scenes = [sim.scenes.BUILDERS[name](**params) for name, params in config["scenes"]]
     settings = {}
@@ -67,7 +67,7 @@ def run(config, args):
         with build(system, probe) as r:
             settings[system] = r.settings
     parameters = {"dt": DT, "slop": SLOP, "cap_steps": int(round(config["cap_s"] / DT)),
-                  "freeze_hold_s": bench_freeze.FREEZE_HOLD_S, "systems": SYSTEMS,
+                  "freeze_hold_s": FREEZE_HOLD_S, "systems": SYSTEMS,
                   "frozen_means": FROZEN_MEANS, "system_settings": settings}
     return pd.DataFrame(rows), scenes, parameters
 

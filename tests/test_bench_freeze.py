@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from experiments import bench_freeze
+from experiments import bench_freeze, cost_fit, protocols
 
 PARTS = ("frozen_cost", "per_body_cost", "time_to_freeze", "in_flight_overhead")
 FIT_METRICS = ("fit_a", "fit_b", "fit_c", "fit_a_stderr", "fit_b_stderr", "fit_c_stderr",
@@ -142,13 +142,13 @@ def test_metadata_has_fits_and_verdicts(quick_run):
 def test_fit_recovers_a_known_plane():
     n_aw = np.array([10, 20, 40, 10, 20, 40])
     n_fr = np.array([0, 0, 0, 100, 100, 100])
-    fit = bench_freeze.fit_cost(n_aw, n_fr, 0.5 * n_aw + 0.01 * n_fr + 2.0)
+    fit = cost_fit.fit_cost(n_aw, n_fr, 0.5 * n_aw + 0.01 * n_fr + 2.0)
     assert fit["a"] == pytest.approx(0.5) and fit["b"] == pytest.approx(0.01)
     assert fit["c"] == pytest.approx(2.0) and fit["b_over_a"] == pytest.approx(0.02)
     assert fit["rms_residual"] < 1e-9 and fit["r2"] == pytest.approx(1.0)
 
 
 def test_flight_budget_keeps_boxes_above_the_floor():
-    n = bench_freeze.flight_budget(100.0, clearance=10.0)
-    fallen = lambda k: 9.81 * bench_freeze.DT ** 2 * k * (k + 1) / 2
+    n = protocols.flight_budget(100.0, clearance=10.0)
+    fallen = lambda k: 9.81 * protocols.DT ** 2 * k * (k + 1) / 2
     assert fallen(n) <= 90.0 < fallen(n + 1)

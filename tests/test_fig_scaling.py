@@ -1,5 +1,5 @@
 """experiments.fig_scaling and analysis.fig_scaling end to end on --quick sizes, into temporary
-folders, and the standard error of b/a that bench_freeze.fit_cost now reports.
+folders, and the standard error of b/a that cost_fit.fit_cost now reports.
 
 Asserted are the set-up's checks (the row frozen/asleep and the flyers awake and in flight while
 timed, for every system, including pymunk-sleep, whose row sleeps only after a 0.5 s timer), that a
@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 
 from analysis import fig_scaling as analysis
-from experiments import bench_freeze, fig_scaling, paths
+from experiments import cost_fit, fig_scaling, paths
 
 
 @pytest.fixture(scope="module")
@@ -92,10 +92,10 @@ def test_b_over_a_stderr_matches_the_spread_of_noisy_fits():
     a, b, c, noise = 1e-4, 2e-6, 5e-3, 2e-3           # ms; noise like the measured residuals
     ratios, stderrs = [], []
     for _ in range(2000):
-        fit = bench_freeze.fit_cost(n_aw, n_fr, a * n_aw + b * n_fr + c
+        fit = cost_fit.fit_cost(n_aw, n_fr, a * n_aw + b * n_fr + c
                                     + rng.normal(0.0, noise, n_aw.size))
         ratios.append(fit["b_over_a"])
         stderrs.append(fit["b_over_a_stderr"])
     assert np.median(stderrs) == pytest.approx(np.std(ratios), rel=0.15)
-    exact = bench_freeze.fit_cost(n_aw, n_fr, a * n_aw + b * n_fr + c)
+    exact = cost_fit.fit_cost(n_aw, n_fr, a * n_aw + b * n_fr + c)
     assert exact["b_over_a"] == pytest.approx(b / a) and exact["b_over_a_stderr"] < 1e-9

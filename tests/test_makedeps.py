@@ -22,10 +22,12 @@ def _make_list(variable):
 
 def test_dependencies_follow_imports_through_other_modules():
     speedup = makedeps.dependencies("experiments.fig_speedup")
-    assert "experiments/bench_freeze.py" in speedup            # a script used as a library
+    assert "experiments/protocols.py" in speedup               # a library module
+    assert "experiments/cost_fit.py" in speedup                # ... and what it imports
     assert "experiments/common.py" in speedup and "sim/world.py" in speedup
     assert "sim/freeze/extended.py" in speedup                 # through sim/freeze/__init__
     assert "experiments/fig_states.py" not in speedup
+    assert "experiments/bench_freeze.py" not in speedup        # a script: never a library
     table = makedeps.dependencies("analysis.table_extremes")
     assert "experiments/table_extremes.py" in table            # analysis importing an experiment
     # a relative import (experiments/metadata.py: from . import paths)
@@ -63,9 +65,13 @@ def test_an_up_to_date_tree_rebuilds_nothing(built_tree):
     assert _rebuilt(built_tree, "README.md") == (set(), set())
 
 
-def test_an_edit_to_a_script_used_as_a_library_reruns_what_imports_it(built_tree):
+def test_an_edit_to_a_library_module_reruns_what_imports_it(built_tree):
     users = {"bench_freeze", "fig_speedup", "fig_scaling", "fig_time_to_rest"}
-    assert _rebuilt(built_tree, "experiments/bench_freeze.py") == (users, users)
+    assert _rebuilt(built_tree, "experiments/protocols.py") == (users, users)
+    assert _rebuilt(built_tree, "experiments/cost_fit.py") == (users, users)   # via protocols
+    # a script is imported by nothing: its edit reruns itself only
+    assert _rebuilt(built_tree, "experiments/bench_freeze.py") == (
+        {"bench_freeze"}, {"bench_freeze"})
 
 
 def test_an_edit_to_the_solver_reruns_every_experiment(built_tree):

@@ -3,11 +3,12 @@
     python3 tools/makedeps.py NAME [NAME ...]      make rules on standard output
 
 A results file depends on every repository module its script imports, directly or through other
-modules (``fig_speedup`` imports ``bench_freeze``, which imports ``common``, which imports
-``sim``...). Listed by hand, these went stale: after an edit to ``bench_freeze.py``, ``make
-reproduce`` did not rerun ``fig_speedup``, ``fig_scaling`` nor ``fig_time_to_rest``. Here they are
-found by parsing the imports (``ast``: nothing is imported or run, so this needs no virtualenv and
-takes a fraction of a second), so the build graph is right by construction.
+modules (``fig_speedup`` imports ``protocols``, which imports ``common``, which imports
+``sim``...). Listed by hand, these went stale: after an edit to ``bench_freeze.py`` (then also the
+figures' library), ``make reproduce`` did not rerun ``fig_speedup``, ``fig_scaling`` nor
+``fig_time_to_rest``. Here they are found by parsing the imports (``ast``: nothing is imported or
+run, so this needs no virtualenv and takes a fraction of a second), so the build graph is right by
+construction.
 
 Printed rules only add prerequisites; the recipes stay in the Makefile:
     $(DATA)/<name>.csv    experiments/<name>.py and all it imports

@@ -1,7 +1,7 @@
 """Table "table_extremes" and figure "fig_extremes": every (axis, value) x system run of the
 extremes sweep marked stable / degraded / failed / rejected / not run by the experiment's stated
-rules (experiments/table_extremes.py), drawn as a grid; the numbers say, per axis, which system
-breaks first and how many cells each system has of each mark.
+rules (experiments/table_extremes.py, experiments/extremes/), drawn as a grid; the numbers say, per
+axis, which system breaks first and how many cells each system has of each mark.
 
 Two things are kept apart, for fairness by construction:
 - the eight systems as they run by default (sim with its presolve: a scene placed at rest starts
@@ -27,8 +27,8 @@ from matplotlib.patches import Patch
 
 from analysis import style
 from experiments.common import REFERENCE, SYSTEMS
-from experiments.table_extremes import (NO_PRESOLVE, NO_PRESOLVE_SYSTEMS, SIM_ONLY_AXES, applies,
-                                        runner_system)
+from experiments.extremes.axes import (AXES, NO_PRESOLVE, NO_PRESOLVE_SYSTEMS, SIM_ONLY_AXES,
+                                       applies, runner_system)
 
 NAME = "table_extremes"
 FIGURE = "fig_extremes"
@@ -51,19 +51,8 @@ CODES = (("error", "X"), ("non-finite", "N"), ("explosion", "E"), ("tunnelling",
 CODE_TEXT = {"X": "error raised", "N": "non-finite", "E": "explosion", "T": "tunnelling",
              "C": "state chattering", "O": "outcome differs from reference",
              "p": "penetration", "d": "drift", "e": "energy growth"}
-AXIS_LABEL = {
-    "mass_heavy_on_light": "mass, heavy on light", "mass_light_on_heavy": "mass, light on heavy",
-    "size_small": "box size, small", "size_large": "box size, large",
-    "plank_flat": "plank across a box", "plank_upright": "plank on its end",
-    "polygon_vertices": "n-gon on a box", "collinear": "near-collinear vertex",
-    "projectile_stack": "projectile into stack", "projectile_wall": "projectile into wall",
-    "mass_dropped": "mass, heavy dropped on light",
-    "dt": "time step (10-box stack)", "iterations": "iterations (10-box stack; sim: /substep)",
-    "substeps": "sim substeps (10-box stack)",
-    "stack_height": "stack height", "pyramid_base": "pyramid base", "bodies": "many bodies",
-    "long_run": "long resting run", "impact_threshold": "impact at threshold",
-    "knife_edge": "knife edge",
-}
+#: the figure's words for each axis (its Axis record's label)
+AXIS_LABEL = {name: axis.label for name, axis in AXES.items()}
 
 
 def value_label(axis, value):

@@ -14,7 +14,9 @@ import numpy as np
 import pytest
 
 import sim
-from experiments import table_extremes as T
+from experiments.common import DT
+from experiments.extremes import geometry, rules, scenes, threshold
+from experiments.extremes.judge import KNIFE_TURN, STAND_MOVE, STAND_TURN
 from experiments.overlap import separation
 
 POLICIES = sim.POLICY_NAMES
@@ -38,19 +40,20 @@ def run_checked(w, steps):
         w.step(1)
         assert np.isfinite(w.positions).all() and np.isfinite(w.velocities).all()
         assert np.isfinite(w.angles).all() and np.isfinite(w.angular_velocities).all()
-        assert w.kinetic_energy() <= T.EXPLOSION_FACTOR * e_avail, f"explosion at {w.step_count}"
+        assert w.kinetic_energy() <= rules.EXPLOSION_FACTOR * e_avail, \
+            f"explosion at {w.step_count}"
     return w
 
 
-def assert_stands(w, start, turn=T.STAND_TURN, rest=None):
+def assert_stands(w, start, turn=STAND_TURN, rest=None):
     """No body moved more than half its thinnest width from ``rest`` (default: its start) nor
     turned more than ``turn`` rad (the experiment's "stands")."""
     pos0, ang0 = start
     target = pos0 if rest is None else np.asarray(rest, float)
-    widths = np.array([T.thinnest_width(b.vertices) for b in w.scene.bodies])
+    widths = np.array([geometry.thinnest_width(b.vertices) for b in w.scene.bodies])
     moved = np.hypot(*(w.positions - target).T)
     turned = np.abs(np.angle(np.exp(1j * (w.angles - ang0))))
-    assert (moved <= T.STAND_MOVE * widths).all(), f"moved {moved / widths} widths"
+    assert (moved <= STAND_MOVE * widths).all(), f"moved {moved / widths} widths"
     assert (turned <= turn).all(), f"turned {turned} rad"
 
 
@@ -61,19 +64,20 @@ def start_of(w):
 def overlap_now(w, shapes):
     """m: the deepest overlap at this pose (the experiment's separating-axis measure: body pairs,
     statics and the floor), independent of the solver's own contact data."""
-    return T.deepest_overlap(shapes, w.positions, w.angles)[0]
+    return geometry.deepest_overlap(shapes, w.positions, w.angles)[0]
 
 
 def deepest_overlap_over(w, steps):
     """Step ``steps`` steps (finite and explosion-checked); returns (deepest overlap seen at any
     step end, overlap at the last step) in m."""
-    shapes = T.Shapes(w.scene)
+    shapes = geometry.Shapes(w.scene)
     e_avail = available_energy(w)
     worst = 0.0
     for _ in range(steps):
         w.step(1)
         assert np.isfinite(w.positions).all() and np.isfinite(w.angles).all()
-        assert w.kinetic_energy() <= T.EXPLOSION_FACTOR * e_avail, f"explosion at {w.step_count}"
+        assert w.kinetic_energy() <= rules.EXPLOSION_FACTOR * e_avail, \
+            f"explosion at {w.step_count}"
         worst = max(worst, overlap_now(w, shapes))
     return worst, overlap_now(w, shapes)
 
@@ -82,7 +86,7 @@ def deepest_overlap_over(w, steps):
 @pytest.mark.parametrize("policy", POLICIES)
 @pytest.mark.parametrize("ratio", [1000.0, 0.001])
 def test_mass_ratio_1000_both_ways_stands_without_explosion(policy, ratio):
-    w = world(T.mass_stack(ratio), policy)
+    w = world(scenes.mass_stack(ratio), policy)
     start = start_of(w)
     assert_stands(run_checked(w, 180), start)
 
@@ -90,7 +94,7 @@ def test_mass_ratio_1000_both_ways_stands_without_explosion(policy, ratio):
 @pytest.mark.parametrize("policy", POLICIES)
 @pytest.mark.parametrize("builder", ["plank_flat", "plank_upright"])
 def test_plank_100_to_1_stands(policy, builder):
-    w = world(T.BUILDERS[builder](100), policy)
+    w = world(scenes.BUILDERS[builder](100), policy)
     start = start_of(w)
     assert_stands(run_checked(w, 180), start)
 
@@ -99,7 +103,7 @@ def test_plank_100_to_1_stands(policy, builder):
 @pytest.mark.parametrize("builder,arg", [("polygon_on_box", 64), ("collinear_box", 1e-9),
                                          ("collinear_box", 1e-2)])
 def test_64_gon_and_nearly_collinear_polygon_stand(policy, builder, arg):
-    w = world(T.BUILDERS[builder](arg), policy)
+    w = world(scenes.BUILDERS[builder](arg), policy)
     start = start_of(w)
     assert_stands(run_checked(w, 180), start)
 
@@ -117,7 +121,7 @@ def test_tenth_of_a_millimetre_boxes_stand_or_are_refused():
     # collapsed: top box ~10 widths sideways). Refusing with the remedy named is an acceptable
     # answer; a run that neither stands nor is refused is not.
     try:
-        w = world(T.size_stack(1e-4))
+        w = world(scenes.size_stack(1e-4))
     except ValueError as exc:
         assert substeps_named(exc) > 4
         return
@@ -131,11 +135,11 @@ def test_millimetre_boxes_are_refused_at_4_substeps_and_stand_at_the_substeps_na
     (measured: 11); at exactly that many they stand (measured: moved ~2e-12 widths, deepest
     overlap ~3e-9 widths in 3 s), and one fewer is still refused (the number is the least)."""
     with pytest.raises(ValueError, match="substeps") as refused:
-        world(T.size_stack(1e-3), substeps=4)
+        world(scenes.size_stack(1e-3), substeps=4)
     n = substeps_named(refused.value)
     with pytest.raises(ValueError):
-        world(T.size_stack(1e-3), substeps=n - 1)
-    w = world(T.size_stack(1e-3), substeps=n)
+        world(scenes.size_stack(1e-3), substeps=n - 1)
+    w = world(scenes.size_stack(1e-3), substeps=n)
     start = start_of(w)
     worst, _ = deepest_overlap_over(w, 180)
     assert_stands(w, start)
@@ -146,7 +150,7 @@ def test_millimetre_boxes_are_refused_at_4_substeps_and_stand_at_the_substeps_na
 def test_centimetre_boxes_stand_with_under_1_percent_penetration(policy):
     # measured: a placed column of three 1 cm boxes does not move (< 1e-10 widths) and overlaps by
     # < 1e-8 of a box in 3 s under every policy (the tolerances scale with the box, sim.tolerances)
-    w = world(T.size_stack(0.01), policy)
+    w = world(scenes.size_stack(0.01), policy)
     start = start_of(w)
     worst, _ = deepest_overlap_over(w, 180)
     assert_stands(w, start)
@@ -160,7 +164,7 @@ def test_dropped_100_to_1_stack_stands_with_under_1_percent_final_penetration(po
     # which holds the landing boxes); the deepest transient overlap is 65 mm when the heavy box
     # lands (0 under paper). Before contacts with immovable bodies were solved last in each sweep
     # (soft_step.colour) sleep left 11.2 mm: the island fell asleep still pushing out slowly.
-    scene = T.dropped_mass_stack(100.0)
+    scene = scenes.dropped_mass_stack(100.0)
     w = world(scene, policy)
     start = start_of(w)
     _, final = deepest_overlap_over(w, 180)
@@ -175,7 +179,7 @@ def test_dropped_1000_to_1_stack_stands_with_under_5_percent_final_penetration(p
     # paper holds each box landing on the frozen one below, so the heavy box lands on immovable
     # boxes (< 0.01 mm). Before the hard batches (soft_step.HARD_RATIO) it crushed the column:
     # final overlap 0.22-0.40 m, the column 0.86-1.04 m off its stacked pose.
-    scene = T.dropped_mass_stack(1000.0)
+    scene = scenes.dropped_mass_stack(1000.0)
     w = world(scene, policy)
     start = start_of(w)
     _, final = deepest_overlap_over(w, 180)
@@ -188,7 +192,7 @@ def test_dropped_1000_to_1_stack_stands_with_under_5_percent_final_penetration(p
 def test_50_box_column_without_presolve_stands(policy):
     # measured (5 s, initial_iterations=0): the column settles onto its contacts and stands; the
     # most any box moved is 0.5 mm (off), 20 mm (sleep), 0.2 mm (paper), 13 mm (extended)
-    w = world(T.column(50), policy, initial_iterations=0)
+    w = world(scenes.column(50), policy, initial_iterations=0)
     start = start_of(w)
     run_checked(w, 300)
     assert_stands(w, start)
@@ -202,14 +206,14 @@ def test_pile_dropped_from_35_m_never_penetrates_more_than_5_cm():
     # them last (soft_step.colour): a box of the third row, falling with the one below it, had no
     # speculative contact with it and flew on when that one was stopped mid-step; the margin now
     # counts both bodies' speeds, not their relative speed (contacts._closing_speed).
-    worst, _ = deepest_overlap_over(world(T.pile_drop()), 200)
+    worst, _ = deepest_overlap_over(world(scenes.pile_drop()), 200)
     assert worst <= 0.05, f"overlap {worst:.3g} m"
 
 
 # ---- speed -------------------------------------------------------------------------------------
 @pytest.mark.parametrize("policy", POLICIES)
 def test_200_m_per_s_projectile_into_a_stack_stays_finite(policy):
-    run_checked(world(T.projectile_stack(200.0), policy), 180)
+    run_checked(world(scenes.projectile_stack(200.0), policy), 180)
 
 
 @pytest.mark.parametrize("policy", POLICIES)
@@ -219,11 +223,11 @@ def test_fast_projectile_does_not_pass_through_an_unmoved_column(policy, speed):
     # under extended) and the column gives 0.2-0.6 m; at 200 m/s it knocks the column over (boxes
     # moved 1-2.7 m) and ends 0.1-1.7 m past it. Before solver v2 it passed through box 2 at both
     # speeds (ending 45 m and 95 m beyond) while the column moved < 3 mm.
-    w = world(T.projectile_stack(speed), policy)
+    w = world(scenes.projectile_stack(speed), policy)
     column0 = w.positions[:5]
     w.step(180)
     column_moved = float(np.hypot(*(w.positions[:5] - column0).T).max())
-    beyond = w.positions[5, 0] > 0.5 + T.PROJECTILE_SIZE / 2
+    beyond = w.positions[5, 0] > 0.5 + scenes.PROJECTILE_SIZE / 2
     assert not (beyond and column_moved < 0.01), (w.positions[5], column_moved)
 
 
@@ -239,10 +243,10 @@ def test_200_m_per_s_projectile_stops_at_a_5_cm_wall_from_any_phase(policy, phas
     overlaps the wall by at most the table's degraded threshold (a tenth of the wall's 5 cm).
     Measured (16 phases, every policy): deepest overlap with the wall 3.8 mm, centre never past
     x = -0.125 m (the projectile's face on the wall's face, -0.025 m)."""
-    thickness = T.WALL[0]
-    scene = T.projectile_wall(200.0, arrival_s=0.25 + phase / PHASES * T.DT)
+    thickness = scenes.WALL[0]
+    scene = scenes.projectile_wall(200.0, arrival_s=0.25 + phase / PHASES * DT)
     w = world(scene, policy)
-    shapes = T.Shapes(scene)
+    shapes = geometry.Shapes(scene)
     wall = shapes.statics[:1]
     worst, furthest = 0.0, -math.inf
     for _ in range(30):                     # 0.5 s: arrives in step 15 or 16
@@ -252,7 +256,7 @@ def test_200_m_per_s_projectile_stops_at_a_5_cm_wall_from_any_phase(policy, phas
         furthest = max(furthest, w.positions[0, 0])
     assert furthest < -thickness / 2, f"centre reached x = {furthest:.3g} m"
     assert w.positions[0, 0] < 0.0, "not stopped: ends beyond the wall"   # the table's "stopped"
-    assert worst <= T.PENETRATION_REL * thickness, f"overlap with the wall {worst:.3g} m"
+    assert worst <= rules.PENETRATION_REL * thickness, f"overlap with the wall {worst:.3g} m"
 
 
 def test_a_projectile_stopped_by_a_wall_is_not_kicked_by_its_own_impact():
@@ -260,14 +264,14 @@ def test_a_projectile_stopped_by_a_wall_is_not_kicked_by_its_own_impact():
     (friction, nothing presses it) or fall: no spin, and no downward speed beyond free fall.
     Measured before impacts were kept out of warm starting (soft_step.store): kicked to 162 rad/s
     and (-0.8, -10.9) m/s the step after it stopped; now it slides down the face, no spin."""
-    w = world(T.projectile_wall(200.0, arrival_s=0.25))
+    w = world(scenes.projectile_wall(200.0, arrival_s=0.25))
     w.step(15)                                        # it arrives in step 15
     assert abs(w.velocities[0, 0]) < 1.0              # stopped at the wall
     t0, vy0 = w.step_count, w.velocities[0, 1]
     for _ in range(10):
         w.step(1)
         assert abs(w.angular_velocities[0]) < 1.0, f"spins at {w.angular_velocities[0]:.3g} rad/s"
-        free_fall = vy0 - G * T.DT * (w.step_count - t0) - 0.05
+        free_fall = vy0 - G * DT * (w.step_count - t0) - 0.05
         assert w.velocities[0, 1] >= free_fall, f"vy {w.velocities[0, 1]:.3g} m/s"
 
 
@@ -275,12 +279,12 @@ def test_a_projectile_stopped_by_a_wall_is_not_kicked_by_its_own_impact():
 @pytest.mark.parametrize("policy", POLICIES)
 @pytest.mark.parametrize("builder", ["column", "dropped_column"])
 def test_dt_one_fifteenth_stays_finite(policy, builder):
-    run_checked(world(T.BUILDERS[builder](10), policy, dt=1 / 15), 75)
+    run_checked(world(scenes.BUILDERS[builder](10), policy, dt=1 / 15), 75)
 
 
 @pytest.mark.parametrize("policy", POLICIES)
 def test_placed_column_stands_at_dt_one_fifteenth(policy):
-    w = world(T.column(10), policy, dt=1 / 15)
+    w = world(scenes.column(10), policy, dt=1 / 15)
     start = start_of(w)
     w.step(75)
     assert_stands(w, start)
@@ -292,7 +296,7 @@ def test_dropped_column_stands_at_dt_one_thirtieth(policy):
     # (sleep), 1 mm (paper), 21 mm (extended) from the stacked pose. Before solver v2 it collapsed
     # under sim-off at dt 1/30 (10 iterations) while the fine reference, pymunk and pybullet kept
     # it standing.
-    scene = T.dropped_column(10)
+    scene = scenes.dropped_column(10)
     w = world(scene, policy, dt=1 / 30)
     start = start_of(w)
     run_checked(w, 150)
@@ -305,7 +309,7 @@ def v_star():
     """The hammer speed at which each policy's impact decision flips (bisection, ~0.4 s each)."""
     out = {}
     for policy in ("paper", "extended"):
-        t = T.find_threshold({"policy": policy, "steps": 120, "bisection_steps": 45})
+        t = threshold.find_threshold({"policy": policy, "steps": 120, "bisection_steps": 45})
         assert math.isfinite(t["v_star"]), t
         out[policy] = t["v_star"]
     return out
@@ -325,9 +329,9 @@ def state_changes(w):
 @pytest.mark.parametrize("policy", ["paper", "extended"])
 @pytest.mark.parametrize("eps", [-1e-3, -1e-6, 1e-6, 1e-3])
 def test_impact_at_threshold_plus_minus_eps_does_not_chatter(v_star, policy, eps):
-    w = world(T.impact(v_star[policy] * (1 + eps)), policy)
+    w = world(scenes.impact(v_star[policy] * (1 + eps)), policy)
     start = start_of(w)
-    decision = T.Decision(policy)
+    decision = threshold.Decision(policy)
     for _ in range(120):
         w.step(1)
         decision.watch(w)
@@ -342,7 +346,7 @@ def test_impact_at_threshold_plus_minus_eps_does_not_chatter(v_star, policy, eps
 
 # ---- knife edge --------------------------------------------------------------------------------
 def knife(policy, tilt, steps=240):
-    w = run_checked(world(T.knife_edge(tilt), policy), steps)
+    w = run_checked(world(scenes.knife_edge(tilt), policy), steps)
     turned = abs(w.angles[0] - math.pi / 4 - tilt)
     return w, turned
 
@@ -358,7 +362,7 @@ def test_knife_edge_is_finite_and_deterministic(policy, tilt):
 @pytest.mark.parametrize("policy", ["off", "paper"])
 def test_knife_edge_tilted_by_a_micro_radian_falls(policy):
     _, turned = knife(policy, 1e-6)
-    assert turned > T.KNIFE_TURN
+    assert turned > KNIFE_TURN
 
 
 @pytest.mark.parametrize("policy", [
@@ -370,7 +374,7 @@ def test_knife_edge_tilted_by_a_micro_radian_falls(policy):
     for p in ("sleep", "extended")])
 def test_knife_edge_tilted_by_a_micro_radian_falls_under_freezing(policy):
     _, turned = knife(policy, 1e-6)
-    assert turned > T.KNIFE_TURN
+    assert turned > KNIFE_TURN
 
 
 # ---- out-of-range input: a clear ValueError ----------------------------------------------------
@@ -399,7 +403,7 @@ def test_bad_bodies_raise_value_error(make):
 @pytest.mark.parametrize("policy", POLICIES)
 def test_bad_settings_raise_value_error(policy, settings):
     with pytest.raises(ValueError):
-        sim.World(T.column(3), freeze=policy, **settings)
+        sim.World(scenes.column(3), freeze=policy, **settings)
 
 
 def test_regular_polygon_with_negative_radius_is_refused():

@@ -29,7 +29,9 @@ def test_dependencies_follow_imports_through_other_modules():
     assert "experiments/fig_states.py" not in speedup
     assert "experiments/bench_freeze.py" not in speedup        # a script: never a library
     table = makedeps.dependencies("analysis.table_extremes")
-    assert "experiments/table_extremes.py" in table            # analysis importing an experiment
+    assert "experiments/extremes/axes.py" in table             # analysis importing a library
+    assert "experiments/extremes/__init__.py" in table         # (a package's __init__ runs)
+    assert "experiments/table_extremes.py" not in table
     # a relative import (experiments/metadata.py: from . import paths)
     assert "experiments/paths.py" in makedeps.dependencies("experiments.metadata")
 
@@ -82,9 +84,12 @@ def test_an_edit_to_the_solver_reruns_every_experiment(built_tree):
 def test_an_edit_to_an_analysis_module_redraws_only_what_imports_it(built_tree):
     assert _rebuilt(built_tree, "analysis/filmstrip.py") == (
         set(), {"fig_states", "fig_edge_as_floor", "fig_overhang"})
-    # an experiment that an analysis imports: its data and both figures' drawing
+    # an experiment script: its data, then its figure
     experiments, analyses = _rebuilt(built_tree, "experiments/table_extremes.py")
     assert experiments == {"table_extremes"} and analyses == {"table_extremes"}
+    # a library module that both the experiment and its analysis import
+    for edited in ("experiments/extremes/axes.py", "experiments/extremes/judge.py"):
+        assert _rebuilt(built_tree, edited) == ({"table_extremes"}, {"table_extremes"}), edited
 
 
 def test_the_solver_imports_nothing_from_the_study():
@@ -93,3 +98,23 @@ def test_the_solver_imports_nothing_from_the_study():
         module = ".".join(path.relative_to(ROOT).with_suffix("").parts).removesuffix(".__init__")
         outside = [f for f in makedeps.dependencies(module) if not f.startswith("sim/")]
         assert not outside, f"{module} runs {outside}"
+
+
+def _module(path):
+    """The dotted module name of a repository file."""
+    return ".".join(path.relative_to(ROOT).with_suffix("").parts).removesuffix(".__init__")
+
+
+def test_no_experiment_script_runs_another_nor_does_analysis():
+    """ARCHITECTURE §5: the experiment scripts (the Makefile's TABLES and STUDY) import library
+    modules only (experiments/common.py, protocols.py, extremes/, ...), never another script, so
+    that a script can change without changing another's results; the library modules and the
+    analysis import no script either. Read from the imports, transitively."""
+    scripts = {f"experiments/{name}.py" for name in _make_list("ALL")}
+    assert "experiments/bench_freeze.py" in scripts and "experiments/common.py" not in scripts
+    modules = sorted(ROOT.glob("experiments/**/*.py")) + sorted(ROOT.glob("analysis/**/*.py"))
+    for path in modules:
+        own = str(path.relative_to(ROOT))
+        runs = (set(makedeps.dependencies(_module(path))) & scripts) - {own}
+        assert not runs, (f"{own} imports the experiment script(s) {sorted(runs)}: move what it "
+                          f"uses into a library module")

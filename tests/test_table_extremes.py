@@ -11,14 +11,10 @@ import pytest
 import sim
 from analysis import table_extremes as analysis
 from experiments import paths, table_extremes as T
-from experiments.common import SYSTEMS
-
-COLUMNS = ["axis", "value", "unit", "system", "scene", "bodies", "dt_s", "iterations", "substeps",
-           "steps", "status", "reason", "outcome", "ref_outcome", "ref_valid", "error", "finite",
-           "exploded", "tunnelled", "chattering", "energy_growth", "ke_max_rel",
-           "penetration_max_m", "penetration_rel", "drift_max_m", "drift_rel", "wakes_max",
-           "state_changes_max", "asleep_before_event", "decision", "ms_per_step", "steps_done",
-           "wall_s"]
+from experiments.common import DT, SYSTEMS
+from experiments.extremes import axes, geometry, rules, runs, scenes
+from experiments.extremes.judge import Judge
+from experiments.extremes.record import COLUMNS, Measurement
 
 
 @pytest.fixture(scope="module")
@@ -49,20 +45,20 @@ def _row(table, axis, value, system):
 
 def test_every_cell_once_with_the_columns(quick_run):
     table, meta, _, results, _ = quick_run
-    assert list(table.columns) == COLUMNS
+    assert list(table.columns) == list(COLUMNS)        # the Row record's fields, in order
     # every applicable (axis, value, system) once: the no-presolve systems on the placed axes
     # only, the sim-only axes for sim only
     expected = {(a, float(v), s) for a, values in T.QUICK["axes"].items() for v in values
-                for s in T.ALL_SYSTEMS if T.applies(a, s)}
-    assert {s for _, _, s in expected} == set(T.ALL_SYSTEMS)
+                for s in axes.ALL_SYSTEMS if axes.applies(a, s)}
+    assert {s for _, _, s in expected} == set(axes.ALL_SYSTEMS)
     got = list(zip(table["axis"], table["value"].astype(float), table["system"]))
     assert len(got) == len(set(got)) == len(expected)
     assert set(got) == expected
-    assert set(table["status"]) <= set(T.STATUSES)
+    assert set(table["status"]) <= set(rules.STATUSES)
     # a finished sweep leaves no store behind (nothing left to resume); the store was used
     assert (results / "partial").is_dir()
     assert not list((results / "partial").glob("*.jsonl"))
-    assert meta["parameters"]["rules"]["penetration_rel"] == T.PENETRATION_REL
+    assert meta["parameters"]["rules"]["penetration_rel"] == rules.PENETRATION_REL
     # what ran is recorded: sim's iterations are per substep and its substeps are a column
     sim_rows = table[table["system"].str.startswith("sim-") & (table["status"] != "rejected")]
     assert (sim_rows["substeps"] >= 1).all()
@@ -72,8 +68,8 @@ def test_every_cell_once_with_the_columns(quick_run):
     it = table[(table["axis"] == "iterations") & (table["status"] != "not run")]
     assert (it["iterations"] == it["value"]).all()
     # the no-presolve runs are sim's four policies with initial_iterations=0, placed axes only
-    nop = table[table["system"].isin(T.NO_PRESOLVE_SYSTEMS)]
-    assert set(nop["axis"]) == set(T.PLACED_AXES) & set(T.QUICK["axes"])
+    nop = table[table["system"].isin(axes.NO_PRESOLVE_SYSTEMS)]
+    assert set(nop["axis"]) == set(axes.PLACED_AXES) & set(T.QUICK["axes"])
     assert meta["parameters"]["no_presolve"]["settings"] == {"initial_iterations": 0}
 
 
@@ -84,9 +80,9 @@ def test_marks_follow_the_stated_rules(quick_run):
     for r in ran.itertuples():
         if r.status == "stable":
             assert r.reason == "" or r.reason.startswith("reference not valid"), r
-            assert r.finite and not r.tunnelled and r.ke_max_rel <= T.EXPLOSION_FACTOR
-            assert r.penetration_rel <= T.PENETRATION_REL
-            assert not (r.drift_rel > T.DRIFT_REL) and r.energy_growth <= T.ENERGY_GROWTH
+            assert r.finite and not r.tunnelled and r.ke_max_rel <= rules.EXPLOSION_FACTOR
+            assert r.penetration_rel <= rules.PENETRATION_REL
+            assert not (r.drift_rel > rules.DRIFT_REL) and r.energy_growth <= rules.ENERGY_GROWTH
             if r.ref_valid:
                 assert r.outcome == r.ref_outcome
         else:
@@ -105,19 +101,20 @@ def test_physical_facts(quick_run):
     # stands in it
     for ref in meta["parameters"]["references"]:
         assert ref["valid"], ref
-        assert ref["iterations"] == T.REF_ITERATIONS and ref["substeps"] >= T.REF_SUBSTEPS, ref
+        assert ref["iterations"] == runs.REF_ITERATIONS, ref
+        assert ref["substeps"] >= runs.REF_SUBSTEPS, ref
     for axis in ("mass_light_on_heavy", "size_large", "polygon_vertices", "collinear"):
         for r in table[table["axis"] == axis].itertuples():
             assert r.ref_outcome == "stands", r
     # a light box on heavy ones stands in sim under every policy, with nothing measurable lost,
     # with or without the presolve
-    for system in ("sim-off", "sim-sleep", "sim-paper", "sim-extended") + T.NO_PRESOLVE_SYSTEMS:
+    for system in ("sim-off", "sim-sleep", "sim-paper", "sim-extended") + axes.NO_PRESOLVE_SYSTEMS:
         r = _row(table, "mass_light_on_heavy", 0.001, system)
         assert r.status == "stable" and r.outcome == "stands", r
     # sim refuses nothing at 1 cm; a refusal is a ValueError with its message, and only ever
     # sim's step-size check or a builder's range check
-    for system in T.ALL_SYSTEMS:
-        if T.applies("size_small", system):
+    for system in axes.ALL_SYSTEMS:
+        if axes.applies("size_small", system):
             assert _row(table, "size_small", 0.01, system).status != "rejected"
     for r in table[table["status"] == "rejected"].itertuples():
         assert r.error.startswith("ValueError: ") and r.reason == r.error, r
@@ -144,7 +141,7 @@ def test_impact_threshold_decisions_flip_at_v_star(quick_run):
         assert paper.decision == ("held" if eps < 0 else "bounces")
         assert extended.decision == ("anvil stays frozen" if eps < 0 else "anvil woken")
         for r in (paper, extended):
-            assert r.state_changes_max <= T.MAX_STATE_CHANGES and not r.chattering
+            assert r.state_changes_max <= rules.MAX_STATE_CHANGES and not r.chattering
 
 
 def test_analysis_outputs(quick_run):
@@ -154,13 +151,13 @@ def test_analysis_outputs(quick_run):
     text = svg.read_text()
     for system in SYSTEMS:
         assert system in text
-    for system in T.NO_PRESOLVE_SYSTEMS:
+    for system in axes.NO_PRESOLVE_SYSTEMS:
         assert system in text
     summary = pd.read_csv(paper / "generated" / f"{T.NAME}.csv", keep_default_na=False)
-    assert list(summary.columns) == ["axis", "value", *SYSTEMS, *T.NO_PRESOLVE_SYSTEMS]
+    assert list(summary.columns) == ["axis", "value", *SYSTEMS, *axes.NO_PRESOLVE_SYSTEMS]
     assert len(summary) == len(table.drop_duplicates(["axis", "value"]))
     # not applicable is written as such, never as a mark
-    for system in T.NO_PRESOLVE_SYSTEMS:
+    for system in axes.NO_PRESOLVE_SYSTEMS:
         marks = set(summary[system])
         assert analysis.NOT_APPLICABLE in marks and len(marks) > 1
     assert json.loads((paper / "generated" / f"{T.NAME}.json").read_text())["numbers"] == \
@@ -168,14 +165,14 @@ def test_analysis_outputs(quick_run):
     # the default systems and the no-presolve ones are counted apart, and every cell once
     nop = numbers["no_presolve"]
     assert set(numbers["counts"]) == set(SYSTEMS)
-    assert set(nop["counts"]) == set(T.NO_PRESOLVE_SYSTEMS)
+    assert set(nop["counts"]) == set(axes.NO_PRESOLVE_SYSTEMS)
     assert sum(sum(c.values()) for c in numbers["counts"].values()) == numbers["cells"]
     assert sum(sum(c.values()) for c in nop["counts"].values()) == nop["cells"]
     assert numbers["cells"] + nop["cells"] == len(table)
     assert set(numbers["per_axis"]) == set(T.QUICK["axes"])
-    assert set(nop["per_axis"]) == set(T.PLACED_AXES) & set(T.QUICK["axes"])
+    assert set(nop["per_axis"]) == set(axes.PLACED_AXES) & set(T.QUICK["axes"])
     # a sim-only axis names nobody as breaking first
-    for axis in T.SIM_ONLY_AXES:
+    for axis in axes.SIM_ONLY_AXES:
         assert numbers["per_axis"][axis]["breaks_first"] == []
         assert not numbers["per_axis"][axis]["compared"]
     # the first value at which a system breaks is one where it is degraded or failed; without
@@ -199,38 +196,39 @@ def _result(**kw):
     base = {"status_hint": "", "error": "", "finite": True, "exploded": False, "tunnelled": "",
             "outcome": "stands", "energy_growth": 0.0, "ke_max_rel": 0.5,
             "penetration_rel": 0.01, "drift_rel": 0.001, "chattering": ""}
-    return {**base, **kw}
+    return Measurement(**{**base, **kw})
 
 
 def test_classify_rules():
     ref = _result()
-    assert T.classify(_result(), ref) == ("stable", "")
-    assert T.classify(_result(penetration_rel=0.2), ref)[0] == "degraded"
-    assert T.classify(_result(drift_rel=0.02), ref)[0] == "degraded"
-    assert T.classify(_result(energy_growth=0.06), ref)[0] == "degraded"
-    assert T.classify(_result(finite=False, error="non-finite"), ref)[0] == "failed"
-    assert T.classify(_result(ke_max_rel=2.5), ref)[0] == "failed"
-    assert T.classify(_result(tunnelled="projectile passed through body 2"), ref)[0] == "failed"
-    assert T.classify(_result(outcome="collapsed"), ref)[0] == "failed"
-    assert T.classify(_result(chattering="a body woken 3 times"), ref)[0] == "failed"
+    assert rules.classify(_result(), ref) == ("stable", "")
+    assert rules.classify(_result(penetration_rel=0.2), ref)[0] == "degraded"
+    assert rules.classify(_result(drift_rel=0.02), ref)[0] == "degraded"
+    assert rules.classify(_result(energy_growth=0.06), ref)[0] == "degraded"
+    assert rules.classify(_result(finite=False, error="non-finite"), ref)[0] == "failed"
+    assert rules.classify(_result(ke_max_rel=2.5), ref)[0] == "failed"
+    assert rules.classify(_result(tunnelled="projectile passed through body 2"), ref)[0] \
+        == "failed"
+    assert rules.classify(_result(outcome="collapsed"), ref)[0] == "failed"
+    assert rules.classify(_result(chattering="a body woken 3 times"), ref)[0] == "failed"
     # an invalid reference is not compared with
     bad_ref = _result(tunnelled="projectile passed through the wall")
-    assert T.classify(_result(outcome="collapsed"), bad_ref)[0] == "stable"
-    assert T.classify(_result(status_hint="rejected", error="ValueError: x"), ref) == \
+    assert rules.classify(_result(outcome="collapsed"), bad_ref)[0] == "stable"
+    assert rules.classify(_result(status_hint="rejected", error="ValueError: x"), ref) == \
         ("rejected", "ValueError: x")
 
 
 def test_deepest_overlap_known_depths():
     scene = sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5)),
                               sim.Body.box(0.5, 0.5, position=(3, 0.25))])
-    shapes = T.Shapes(scene)
+    shapes = geometry.Shapes(scene)
     # box 1 pushed 0.1 m into box 0 from the right, and 0.02 m below the floor
     pos = np.array([[0.0, 0.5], [0.65, 0.23]])
-    depth, rel = T.deepest_overlap(shapes, pos, np.zeros(2))
+    depth, rel = geometry.deepest_overlap(shapes, pos, np.zeros(2))
     assert depth == pytest.approx(0.1) and rel == pytest.approx(0.1 / 0.5)
-    depth, rel = T.deepest_overlap(shapes, np.array([[0.0, 0.5], [3.0, 0.25]]), np.zeros(2))
+    depth, rel = geometry.deepest_overlap(shapes, np.array([[0.0, 0.5], [3.0, 0.25]]), np.zeros(2))
     assert depth == pytest.approx(0.0, abs=1e-12)
-    assert T.thinnest_width(sim.Body.box(2.0, 0.02).vertices) == pytest.approx(0.02)
+    assert geometry.thinnest_width(sim.Body.box(2.0, 0.02).vertices) == pytest.approx(0.02)
 
 
 class _Pose:
@@ -246,12 +244,12 @@ class _Pose:
 
 
 def test_tunnelling_is_seen_through_and_not_over():
-    scene = T.projectile_wall(100.0)
-    judge = T.Judge(scene, T.Shapes(scene))
+    scene = scenes.projectile_wall(100.0)
+    judge = Judge(scene, geometry.Shapes(scene))
     judge.sample(_Pose([[-0.5, 2.0]]), 0.0)
     judge.sample(_Pose([[1.2, 2.0]]), 0.1)                 # jumped through the wall
     assert "passed through the wall" in judge.tunnelled
-    judge = T.Judge(scene, T.Shapes(scene))
+    judge = Judge(scene, geometry.Shapes(scene))
     judge.sample(_Pose([[-0.5, 2.0]]), 0.0)
     judge.sample(_Pose([[-0.4, 4.5]]), 0.1)                # rose above the wall's top
     judge.sample(_Pose([[0.5, 4.5]]), 0.2)                 # passed over it
@@ -261,11 +259,11 @@ def test_tunnelling_is_seen_through_and_not_over():
 
 
 def test_tunnelling_over_several_steps_and_not_when_pushed_back():
-    scene = T.projectile_stack(100.0)             # body 2: the unit box centred at (0, 2.5)
+    scene = scenes.projectile_stack(100.0)             # body 2: the unit box centred at (0, 2.5)
     column = [[0.0, 0.5 + k] for k in range(5)]
 
     def judge_path(path):
-        judge = T.Judge(scene, T.Shapes(scene))
+        judge = Judge(scene, geometry.Shapes(scene))
         for k, xy in enumerate(path):
             judge.sample(_Pose(column + [xy]), 0.1 * k)
         return judge.tunnelled
@@ -278,9 +276,9 @@ def test_tunnelling_over_several_steps_and_not_when_pushed_back():
     assert judge_path([[-0.2, 2.4], [0.1, 2.3], [0.2, 2.2]]) == ""
     # in through the left face, out through the bottom: not counted
     assert judge_path([[-1.4, 2.4], [-0.2, 2.2], [-0.1, 1.6]]) == ""
-    assert T.clip_to_box(np.array([-2.0, 0.0]), np.array([2.0, 0.0]), np.array([0.5, 0.5])) \
+    assert geometry.clip_to_box(np.array([-2.0, 0.0]), np.array([2.0, 0.0]), np.array([0.5, 0.5])) \
         == ((0, -1), (0, 1))
-    assert T.clip_to_box(np.array([-2.0, 1.0]), np.array([2.0, 1.0]), np.array([0.5, 0.5])) \
+    assert geometry.clip_to_box(np.array([-2.0, 1.0]), np.array([2.0, 1.0]), np.array([0.5, 0.5])) \
         is None
 
 
@@ -292,23 +290,23 @@ def test_tunnelling_over_several_steps_and_not_when_pushed_back():
 ])
 def test_builders_refuse_out_of_range(builder, arg):
     with pytest.raises(ValueError):
-        T.BUILDERS[builder](arg)
+        scenes.BUILDERS[builder](arg)
 
 
 def test_a_refused_scene_is_recorded_not_raised():
     task = {"role": "run", "system": "sim-off", "scene": {"builder": "mass_stack", "args": [-1]},
             "dt": 1 / 60, "iterations": None, "steps": 10, "sample_every": 1, "budget_s": 5.0}
-    out = T.simulate(task)
-    assert out["status_hint"] == "rejected" and "mass ratio" in out["error"]
+    out = runs.simulate(task)
+    assert out.status_hint == "rejected" and "mass ratio" in out.error
 
 
 def test_a_body_too_small_for_the_step_is_refused_with_the_substeps_it_needs():
     """sim refuses 1 mm boxes at dt 1/60 s and 4 substeps with a ValueError naming the substeps
     that would do (11): recorded as "rejected" with the message, not as a failure of physics."""
-    task = T.run_task("size_small", 1e-3, "sim-off", T.QUICK)
-    out = T.simulate(task)
-    assert out["status_hint"] == "rejected" and "substeps >= 11" in out["error"], out["error"]
-    status, reason = T.classify(out, None)
+    task = runs.run_task("size_small", 1e-3, "sim-off", T.QUICK)
+    out = runs.simulate(task)
+    assert out.status_hint == "rejected" and "substeps >= 11" in out.error, out.error
+    status, reason = rules.classify(out, None)
     assert status == "rejected" and "substeps >= 11" in reason
 
 
@@ -316,19 +314,19 @@ def test_the_reference_is_sims_default_solver_at_a_fine_step():
     """The reference: sim-off at dt/fine with REF_SUBSTEPS substeps of REF_ITERATIONS sweeps,
     presolve on, whatever the run's own settings (so a no-presolve run, an iterations or a
     substeps row share their scene's reference)."""
-    assert (T.REF_SUBSTEPS, T.REF_ITERATIONS) == (4, 1)
+    assert (runs.REF_SUBSTEPS, runs.REF_ITERATIONS) == (4, 1)
     keys = set()
     for axis, value, system in (("stack_height", 20, "sim-off"),
                                 ("stack_height", 20, "sim-paper (no presolve)"),
                                 ("stack_height", 20, "pymunk")):
-        ref = T.reference_task(T.run_task(axis, value, system, T.FULL), T.FULL)
+        ref = runs.reference_task(runs.run_task(axis, value, system, T.FULL), T.FULL)
         assert ref["system"] == ref["runner"] == "sim-off"
-        assert ref["settings"] == {"substeps": T.REF_SUBSTEPS}
-        assert ref["iterations"] == T.REF_ITERATIONS
-        assert ref["dt"] == pytest.approx(T.DT / T.FULL["fine"])
-        keys.add(T.task_key(ref))
+        assert ref["settings"] == {"substeps": runs.REF_SUBSTEPS}
+        assert ref["iterations"] == runs.REF_ITERATIONS
+        assert ref["dt"] == pytest.approx(DT / T.FULL["fine"])
+        keys.add(runs.task_key(ref))
     assert len(keys) == 1
-    refs = {T.task_key(T.reference_task(T.run_task(a, v, "sim-off", T.FULL), T.FULL))
+    refs = {runs.task_key(runs.reference_task(runs.run_task(a, v, "sim-off", T.FULL), T.FULL))
             for a, v in (("dt", 1 / 60), ("iterations", 1), ("substeps", 1))}
     assert len(refs) == 1
 
@@ -336,36 +334,36 @@ def test_the_reference_is_sims_default_solver_at_a_fine_step():
 def test_a_reference_refused_at_its_step_gets_more_substeps():
     """0.1 mm boxes need more than 4 substeps even at dt 1/480 s: the reference doubles them
     (to 8) rather than losing the scene's reference; a run is never refined."""
-    ref = T.reference_task(T.run_task("size_small", 1e-4, "sim-off", T.FULL), T.FULL)
+    ref = runs.reference_task(runs.run_task("size_small", 1e-4, "sim-off", T.FULL), T.FULL)
     ref = {**ref, "steps": 20, "sample_every": 1}
-    out = T.simulate(ref)
-    assert out["status_hint"] == "" and out["substeps"] == 8, out
-    run = {**T.run_task("size_small", 1e-4, "sim-off", T.FULL), "steps": 20}
-    assert T.simulate(run)["status_hint"] == "rejected"
+    out = runs.simulate(ref)
+    assert out.status_hint == "" and out.substeps == 8, out
+    run = {**runs.run_task("size_small", 1e-4, "sim-off", T.FULL), "steps": 20}
+    assert runs.simulate(run).status_hint == "rejected"
 
 
 def test_systems_and_axes_that_apply():
     """The no-presolve systems run the placed axes only; the sim-only axes have no peer cell."""
-    assert T.NO_PRESOLVE_SYSTEMS == tuple(f"{s} (no presolve)" for s in SYSTEMS[:4])
-    for axis in T.AXES:
+    assert axes.NO_PRESOLVE_SYSTEMS == tuple(f"{s} (no presolve)" for s in SYSTEMS[:4])
+    for axis in axes.AXES:
         for system in SYSTEMS:
-            assert T.applies(axis, system) == (axis not in T.SIM_ONLY_AXES
+            assert axes.applies(axis, system) == (axis not in axes.SIM_ONLY_AXES
                                                or system.startswith("sim-"))
-        for system in T.NO_PRESOLVE_SYSTEMS:
-            assert T.applies(axis, system) == (axis in T.PLACED_AXES)
-    assert set(T.PLACED_AXES) <= set(T.AXES) and set(T.SIM_ONLY_AXES) <= set(T.AXES)
+        for system in axes.NO_PRESOLVE_SYSTEMS:
+            assert axes.applies(axis, system) == (axis in axes.PLACED_AXES)
+    assert set(axes.PLACED_AXES) <= set(axes.AXES) and set(axes.SIM_ONLY_AXES) <= set(axes.AXES)
     # the dropped columns start with nothing touching: no presolve to switch off
     for axis in ("dt", "iterations", "substeps", "mass_dropped", "projectile_wall"):
-        assert axis not in T.PLACED_AXES
+        assert axis not in axes.PLACED_AXES
 
 
 def test_a_no_presolve_run_starts_sim_with_initial_iterations_zero():
-    task = T.run_task("stack_height", 20, "sim-extended (no presolve)", T.QUICK)
+    task = runs.run_task("stack_height", 20, "sim-extended (no presolve)", T.QUICK)
     assert task["runner"] == "sim-extended" and task["settings"] == {"initial_iterations": 0}
-    runner = T.build_runner(task, T.scene_of(task["scene"]))
+    runner = runs.build_runner(task, scenes.scene_of(task["scene"]))
     assert runner.world.initial_iterations == 0 and runner.world.freeze == "extended"
-    task = T.run_task("substeps", 2, "sim-off", T.QUICK)
-    assert T.build_runner(task, T.scene_of(task["scene"])).world.substeps == 2
+    task = runs.run_task("substeps", 2, "sim-off", T.QUICK)
+    assert runs.build_runner(task, scenes.scene_of(task["scene"])).world.substeps == 2
 
 
 def _cells(rows):

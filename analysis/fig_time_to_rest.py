@@ -97,7 +97,28 @@ def draw(table, meta):
     style.save_figure(fig, NAME)
 
     style.write_table(_paper_table(runs, scenes, systems), NAME)
-    return _numbers(runs, scenes, systems, cap, dt)
+    return {**_numbers(runs, scenes, systems, cap, dt), "certificate": _certificate(table)}
+
+
+def _certificate(table):
+    """extended's rest certificate per scene (experiments.fig_time_to_rest.certificate_cost):
+    certificates tried, steps that tried any, steps run, and us of the rest-test stage per
+    certificate (an upper bound on one certificate's cost); plus the median of that over scenes."""
+    if "part" not in table or not (table["part"] == "certificate").any():
+        return None
+    t = table[table["part"] == "certificate"]
+    wide = t.pivot_table(index="scene", columns="metric", values="value", aggfunc="first")
+    per_scene = {scene: {"certificates": int(r.certificates),
+                         "steps_certifying": int(r.steps_certifying),
+                         "steps_run": int(r.steps_run),
+                         "us_per_certificate": (None if math.isnan(r.freeze_after_per_certificate)
+                                                else float(r.freeze_after_per_certificate))}
+                 for scene, r in wide.iterrows()}
+    costs = [v["us_per_certificate"] for v in per_scene.values()
+             if v["us_per_certificate"] is not None]
+    return {"scenes": per_scene,
+            "median_us_per_certificate": float(np.median(costs)) if costs else None,
+            "max_us_per_certificate": float(np.max(costs)) if costs else None}
 
 
 def _cell(r):

@@ -25,7 +25,12 @@ per step and 1 biased + 1 relax sweep per substep, pymunk 10 iterations per step
 (sim) and collision_slop (pymunk) 0.005 m; every system's full settings (``runner.settings``) are
 in the metadata's ``system_settings``.
 
-Columns (long form, bench_freeze's): part ("time_to_freeze"), scene, system, bodies, n_awake,
+Also, for sim-extended on every scene (``certificate_cost``, timed here after compilation): how
+often the rest certificate runs and what it costs, part "certificate": metrics certificates (tried
+in all), steps_certifying (steps that tried any), steps_run, freeze_after_per_certificate (us: the
+rest-test stage's time per certificate, an upper bound).
+
+Columns (long form, bench_freeze's): part ("time_to_freeze" or "certificate"), scene, system, bodies, n_awake,
 n_frozen (at the freeze, or at the cap), metric (steps_to_all_frozen, time_to_all_frozen,
 n_awake_at_end, n_awake_1s_after, max_displacement, cap_steps; sim also steps_to_all_not_free,
 n_not_free_at_end), value, unit, flag.
@@ -37,9 +42,9 @@ stack(5), pyramid(5), drop(10, seed 0), seed_fig1..3, cap 5 s.
 import pandas as pd
 
 import sim
-from experiments.common import DT, FROZEN_MEANS, SLOP, build, compile_kernels, entry
+from experiments.common import DT, FROZEN_MEANS, SLOP, build, compile_kernels, entry, label
 from experiments.executor import run_tasks
-from experiments.protocols import FREEZE_HOLD_S, FREEZING, freeze_run, freeze_tasks
+from experiments.protocols import FREEZE_HOLD_S, FREEZING, freeze_run, freeze_tasks, long_row
 
 NAME = "fig_time_to_rest"
 SYSTEMS = FREEZING
@@ -61,6 +66,7 @@ def run(config, args):
     rows = [row for rows in run_tasks(freeze_run, tasks, desc=f"{NAME} runs")
             for row in rows]
     scenes = [sim.scenes.BUILDERS[name](**params) for name, params in config["scenes"]]
+    rows += [row for scene in scenes for row in certificate_cost(scene, config["cap_s"])]
     settings = {}
     probe = sim.scenes.single_box()
     for system in SYSTEMS:
@@ -70,6 +76,33 @@ def run(config, args):
                   "freeze_hold_s": FREEZE_HOLD_S, "systems": SYSTEMS,
                   "frozen_means": FROZEN_MEANS, "system_settings": settings}
     return pd.DataFrame(rows), scenes, parameters
+
+
+def certificate_cost(scene, cap_s):
+    """What extended's rest certificate (sim/freeze/certificate.py) costs on ``scene``: stepped
+    with every stage timed until every body is frozen (or the cap), the certificates tried
+    (one per candidate body per step), the steps that tried any, and the time of the rest test
+    and freezing stage (``freeze_after``) per certificate: an upper bound on one certificate's
+    cost, since the stage also runs the cheap gates and freezes the bodies. In this process, after
+    compilation (the kernels are compiled before)."""
+    world = sim.World(scene, freeze="extended")
+    cap = int(round(cap_s / DT))
+    stage_ms = 0.0
+    busy = 0
+    tried = 0
+    while world.step_count < cap and world.n_awake > 0:
+        stage_ms += world.profile(1)["freeze_after"]
+        now = world.inspect().certificates
+        busy += now > tried
+        tried = now
+    common = {"part": "certificate", "scene": label(scene), "system": "sim-extended",
+              "bodies": len(scene.bodies), "n_aw": world.n_awake,
+              "n_fr": len(scene.bodies) - world.n_awake}
+    per = 1e3 * stage_ms / tried if tried else float("nan")
+    return [long_row(**common, metric="certificates", value=tried, unit="count"),
+            long_row(**common, metric="steps_certifying", value=busy, unit="steps"),
+            long_row(**common, metric="steps_run", value=world.step_count, unit="steps"),
+            long_row(**common, metric="freeze_after_per_certificate", value=per, unit="us")]
 
 
 main = entry(NAME, __doc__, FULL, QUICK, run)

@@ -37,6 +37,13 @@ Scenarios (each builder's docstring has its geometry and the physics of its expe
     wake_cascade          a projectile tips the first of a row of frozen dominoes    -> all fell
     three_bodies          three boxes, each over the one below, the top two together
                           past the bottom's edge (the seed's two-body rule passes)    -> toppled
+    unstable_ledge        unstable_equilibrium's danger on a static ledge: a block   -> tipped off
+    slow_glide            slow_sliding's danger with a hexagon on ice                -> slid
+    slope_creep_plank     slope_creep's danger with a wide plank, higher friction    -> slid
+
+The last three repeat a danger with other geometry: they were added when ``extended``'s rest test
+became a certificate of equilibrium (it fixed the first of each kind), to check the fix is not
+tied to one scene.
 
 Units: metres, seconds, kilograms (per square metre for densities), radians.
 """
@@ -266,6 +273,22 @@ def unstable_equilibrium(past=0.002, length=2.0, thickness=0.2, friction=0.6):
                              "friction": friction})
 
 
+def unstable_ledge(past=0.001, length=1.5, thickness=0.3, friction=0.6):
+    """``unstable_equilibrium`` with other geometry: a thicker block (``length`` x ``thickness``)
+    lies on a static ledge (a 1 x 1 m static box) with its centre of mass ``past`` m beyond the
+    ledge's edge. Its support cannot move, so only the block's own rest test decides: it must tip
+    about the edge, slowly at first (as the plank does), and fall.
+
+    Danger: as unstable_equilibrium's, on an immovable support: the block is slow for a second
+    or more, and rests on two points (a whole face), not one."""
+    ledge = sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=friction, name="ledge")
+    block = sim.Body.box(length, thickness, position=(0.5 + past, 1.0 + 0.5 * thickness),
+                         friction=friction, name="plank")
+    return sim.Scene(bodies=[block], static_bodies=[ledge], name="unstable_ledge",
+                     params={"past": past, "length": length, "thickness": thickness,
+                             "friction": friction})
+
+
 def _unstable_measure(scene, p, a):
     """How far the plank's centre dropped, m."""
     plank = index(scene, "plank")
@@ -297,6 +320,20 @@ def slow_sliding(speed=0.04, friction=0.001):
     return scene
 
 
+def slow_glide(speed=0.05, friction=0.002, radius=0.4):
+    """``slow_sliding`` with other geometry: a hexagon (circumradius ``radius``, resting on a
+    flat edge) glides on the floor at ``speed`` m/s with Coulomb friction ``friction`` (floor and
+    body alike): v^2 / (2 mu g) = 6.4 cm at the defaults, stopping after v / (mu g) = 2.5 s; it
+    is under extended's rest speed for its last 1.0 s.
+
+    Danger: as slow_sliding's, for a body with more than one contact point and rotational
+    inertia of its own."""
+    body = sim.Body.regular(6, radius, velocity=(speed, 0.0), friction=friction, name="box")
+    body.position = (0.0, radius * math.cos(math.pi / 6))
+    return sim.Scene(bodies=[body], floor_friction=friction, name="slow_glide",
+                     params={"speed": speed, "friction": friction, "radius": radius})
+
+
 def _slide_expected(scene):
     v, mu = scene.params["speed"], scene.params["friction"]
     return v * v / (2.0 * mu * G)
@@ -324,24 +361,44 @@ def slope_creep(acceleration=0.05, friction=0.3, size=0.5, seconds=6.0):
 
     Danger: it accelerates slower than extended's rest_acceleration (0.1 m/s^2) and stays under
     every sleep speed for seconds (engines' known limit: sleeping on a slope)."""
+    return _on_ramp("slope_creep", acceleration, friction, size, size,
+                    {"acceleration": acceleration, "friction": friction, "size": size,
+                     "seconds": seconds})
+
+
+def _on_ramp(name, acceleration, friction, width, height, params):
+    """A ``width`` x ``height`` box at rest on a static ramp steep enough that it slides down at
+    ``acceleration`` m/s^2 with Coulomb friction ``friction``; ``params`` plus the slope
+    (theta_rad) are the scene's parameters."""
     # solve sin(t) - mu cos(t) = a / g for t by Newton's method (a few steps from atan(mu))
     theta = math.atan(friction)
     for _ in range(20):
         theta -= ((math.sin(theta) - friction * math.cos(theta) - acceleration / G)
                   / (math.cos(theta) + friction * math.sin(theta)))
     length = 10.0
-    height = length * math.tan(theta)
-    ramp = sim.Body(vertices=[(0.0, 0.0), (length, 0.0), (0.0, height)], friction=friction,
+    top = length * math.tan(theta)
+    ramp = sim.Body(vertices=[(0.0, 0.0), (length, 0.0), (0.0, top)], friction=friction,
                     name="ramp")
     along = 2.0                                       # m from the ramp's top corner, down the slope
-    surface = np.array([along * math.cos(theta), height - along * math.sin(theta)])
+    surface = np.array([along * math.cos(theta), top - along * math.sin(theta)])
     normal = np.array([math.sin(theta), math.cos(theta)])
-    centre = surface + 0.5 * size * normal
-    box = sim.Body.box(size, size, position=tuple(centre), angle=-theta, friction=friction,
+    centre = surface + 0.5 * height * normal
+    box = sim.Body.box(width, height, position=tuple(centre), angle=-theta, friction=friction,
                        name="box")
-    return sim.Scene(bodies=[box], static_bodies=[ramp], name="slope_creep",
-                     params={"acceleration": acceleration, "friction": friction, "size": size,
-                             "seconds": seconds, "theta_rad": theta})
+    return sim.Scene(bodies=[box], static_bodies=[ramp], name=name,
+                     params={**params, "theta_rad": theta})
+
+
+def slope_creep_plank(acceleration=0.03, friction=0.5, width=1.2, height=0.25, seconds=6.0):
+    """``slope_creep`` with other geometry: a long low plank (``width`` x ``height``) on a ramp
+    whose slope is just steeper than a higher friction's angle (atan(0.5) = 26.57 degrees), so it
+    slides from rest at a = ``acceleration`` m/s^2: 0.54 m in 6 s, under 0.02 m/s for 0.7 s.
+
+    Danger: as slope_creep's, for a body whose supports are far apart (a wide contact holds no
+    better against sliding)."""
+    return _on_ramp("slope_creep_plank", acceleration, friction, width, height,
+                    {"acceleration": acceleration, "friction": friction, "width": width,
+                     "height": height, "seconds": seconds})
 
 
 def _slope_measure(scene, p, a):
@@ -533,6 +590,19 @@ def _catalogue():
                  "slide_fraction"),
         Scenario("slope_creep", "a body creeping down a slope just past its friction angle "
                  "(engines' sleep)", slope_creep, 6.0, "slid",
+                 ("stuck", "stopped short", "slid", "slid too far"),
+                 lambda sc, p, a: _fraction_outcome(_slope_measure(sc, p, a)), _slope_measure,
+                 "slide_fraction"),
+        Scenario("unstable_ledge", "unstable_equilibrium on an immovable ledge: a block 1 mm "
+                 "past its edge", unstable_ledge, 6.0, "tipped off",
+                 ("tipped off", "balanced", "stuck tilted"), _unstable_outcome,
+                 _unstable_measure, "plank_drop_m"),
+        Scenario("slow_glide", "slow_sliding with a hexagon on near-frictionless ice",
+                 slow_glide, 4.0, "slid", ("stuck", "stopped short", "slid", "slid too far"),
+                 lambda sc, p, a: _fraction_outcome(_slide_measure(sc, p, a)), _slide_measure,
+                 "slide_fraction"),
+        Scenario("slope_creep_plank", "slope_creep with a wide plank and a higher friction",
+                 slope_creep_plank, 6.0, "slid",
                  ("stuck", "stopped short", "slid", "slid too far"),
                  lambda sc, p, a: _fraction_outcome(_slope_measure(sc, p, a)), _slope_measure,
                  "slide_fraction"),

@@ -50,6 +50,9 @@ class Settings(NamedTuple):
     rest_speed: float           # m/s   (extended)
     rest_acceleration: float    # m/s^2 (extended)
     rest_steps: int             # steps (extended)
+    slip_speed: float           # m/s   (extended)
+    friction_margin: float      # fraction of mu (extended)
+    tip_margin: float           # fraction of a body's size (extended)
     mixed_masses: bool          # two dynamic bodies' masses differ by > soft_step.HARD_RATIO
     profile: bool               # time each stage (cycle counter) into solver.profile
 
@@ -58,8 +61,8 @@ class Settings(NamedTuple):
 (STEP_COUNT, N_ACTIVE, BAD_BODY, PRESOLVE_SWEEPS, N_AWAKE, N_EVENTS, RESTING_DIRTY, N_LINKS,
  N_SLOTS, FREE_HEAD, N_LIVE, N_AWAKE_CONTACTS, N_MOVED, MAX_DEGREE, N_BATCHES, N_COLOURS,
  N_SWEPT, N_IMPACTS, GROW_NEEDED, N_REBUILDS, AWAKE_UNSORTED, N_REFRESHED, N_HARD,
- N_SKIPPED) = range(24)
-N_COUNTERS = 24
+ N_SKIPPED, N_CERTIFICATES) = range(25)
+N_COUNTERS = 25
 # GROW_NEEDED bits: which buffer the kernel found too small (the World grows it and retries)
 GROW_CONTACTS, GROW_AWAKE_GRID, GROW_RESTING_GRID, GROW_SOLVER = 1, 2, 4, 8
 

@@ -312,6 +312,9 @@ class World:
             rest_speed=float(params.get("rest_speed", 0.0)),
             rest_acceleration=float(params.get("rest_acceleration", 0.0)),
             rest_steps=int(params.get("rest_steps", 1)),
+            slip_speed=float(params.get("slip_speed", 0.0)),
+            friction_margin=float(params.get("friction_margin", 0.0)),
+            tip_margin=float(params.get("tip_margin", 0.0)),
             mixed_masses=_mixed_masses(p.inv_mass[:n]), profile=False)
         self._counters = np.zeros(D.N_COUNTERS, np.int64)
         self._counters[D.N_AWAKE] = n                        # every body starts awake
@@ -628,6 +631,8 @@ class Inspection:
       sweeps, impacts      fast bodies swept (stage ``continuous``), and cut back to an impact
       n_hard_batches       batches that got soft_step.HARD_SWEEPS extra relax sweeps (they hold a
                            contact touching a body in a contact of mass ratio > HARD_RATIO)
+      certificates         rest certificates tried since the start (extended:
+                           ``sim.freeze.certificate``; one per candidate body per step)
     """
 
     def __init__(self, world):
@@ -653,6 +658,7 @@ class Inspection:
         self.sweeps = int(c[D.N_SWEPT])
         self.impacts = int(c[D.N_IMPACTS])
         self.n_hard_batches = int(c[D.N_HARD])
+        self.certificates = int(c[D.N_CERTIFICATES])
 
     def __repr__(self):
         return (f"Inspection(contacts={self.n_contacts}, awake_contacts={self.n_awake_contacts}, "

@@ -284,3 +284,34 @@ def floor_contacts(vertices, floor_y, margin):
 def rotation(angle):
     c, s = math.cos(angle), math.sin(angle)
     return np.array([[c, -s], [s, c]])
+
+
+# ------------------------------------------------------------------------------------------------
+# Cone membership (``sim.freeze.certificate``): the Lawson-Hanson active-set non-negative least
+# squares, min |G^T w - t| over w >= 0. The wrench t is in the cone of the rows of G exactly when
+# that residual is zero. Shares nothing with the certificate's enumeration of triples.
+
+def nnls(G, t, iterations=500):
+    """(weights >= 0, residual norm) minimising |G^T w - t| (G: (K, n) generators as rows)."""
+    A = np.asarray(G, dtype=np.float64).T          # (n, K): generators as columns
+    b = np.asarray(t, dtype=np.float64)
+    k = A.shape[1]
+    w = np.zeros(k)
+    passive = np.zeros(k, bool)
+    for _ in range(iterations):
+        gradient = A.T @ (b - A @ w)
+        candidates = ~passive & (gradient > 1e-12)
+        if not candidates.any():
+            break
+        passive[np.argmax(np.where(candidates, gradient, -np.inf))] = True
+        while True:
+            z = np.zeros(k)
+            z[passive] = np.linalg.lstsq(A[:, passive], b, rcond=None)[0]
+            if (z[passive] > 0).all():
+                w = z
+                break
+            blocked = passive & (z <= 0)
+            step = np.min(w[blocked] / (w[blocked] - z[blocked]))
+            w = w + step * (z - w)
+            passive &= w > 1e-15
+    return w, float(np.linalg.norm(A @ w - b))

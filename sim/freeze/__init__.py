@@ -38,5 +38,8 @@ def resolve(name, params):
                 or (integral and (x != int(x) or x < 1 or x >= 2 ** 62))):
             kind = "an integer >= 1 (and < 2**62)" if integral else "finite and >= 0"
             raise ValueError(f"{key} must be {kind}, got {value!r}")
+        below = getattr(policy, "BELOW", {}).get(key)
+        if below is not None and x >= below:
+            raise ValueError(f"{key} must be below {below}, got {value!r}")
         values[key] = int(x) if integral else x
     return policy, values

@@ -1,23 +1,31 @@
 """``extended``: ours. The seed's idea — stop computing forces for bodies at rest — without its
 three admitted limits (no general rest test, no way back to motion, two bodies only).
 
-Freezing (the general rest test), checked every step for awake bodies:
+Freezing (the general rest test), checked every step for awake bodies. A body freezes in the
+step it passes, with no timer (``rest_steps`` = 1):
   1. slow: |v| + |w| * extent < ``rest_speed`` (m/s) for ``rest_steps`` consecutive steps;
-  2. steady: over each of those steps the velocity changed by less than ``rest_acceleration``
-     (m/s^2) times dt (again |dv| + |dw| * extent; the previous velocity is the one at the last
-     slow step, so a body just slowed down from fast motion waits one more step), so a body that has just started to slide down
-     a ramp, or to tip, is not frozen at the instant it is slow. (Friction at its Coulomb limit is
-     not a usable sign: a resting body's contact forces are statically indeterminate, and the
-     solver leaves some at the limit in a pyramid that holds.) A body accelerating more slowly
-     than ``rest_acceleration`` is indistinguishable from one at rest over the test and can be
-     frozen: that is the accuracy the study trades for speed;
+  2. steady: over this step its velocity changed by less than ``rest_acceleration`` (m/s^2) times
+     dt (|dv| + |dw| * extent), so the solver's impulses on it balance its weight: they are a
+     witness of equilibrium (below);
   3. settled: none of its contacts is deeper than twice its pair's slop (``sim.tolerances``; the
      soft contact is still pushing it out otherwise);
-  4. whole groups only: every body it touches is the floor, static, frozen, or itself passes 1-3
-     and is freezing in this step (iterated to a fixed point). An awake body that is still moving
-     keeps its neighbours awake, so nothing freezes against something that pushes it.
+  4. not sliding: none of its contacts has friction at its Coulomb limit (98%) while the surfaces
+     slip faster than ``slip_speed`` (m/s). Motion the forces explain is not rest: a box gliding
+     on ice is slow long before its friction stops it;
+  5. certified (``sim/freeze/certificate.py``): contact forces exist that hold it in static
+     equilibrium with margin: its supports' forces inside their friction cones shrunk by
+     ``friction_margin``, and still holding with an extra moment of ``tip_margin`` times its size
+     times its load either way (the centre of pressure inside the support by that margin). A
+     body on a single point (a corner, an apex) is never certified; a box on a ramp its friction
+     cannot hold is not, however slowly it creeps; a plank whose centre of mass overhangs its
+     support is not;
+  6. whole groups only: no body it touches is awake and failing 1-4 (iterated to a fixed point).
+     An awake body that is still moving keeps its neighbours awake, so nothing freezes against
+     something that pushes it. A body that is still but not certified (on a point, at its
+     friction limit) stays awake without keeping its neighbours awake: it pushes nothing, and if
+     it starts to, the wake rules see it as they see any awake body touching frozen ones.
   Nothing in the test is about horizontal faces: a plank across two boxes, a box leaning on a wall
-  or a block of an arch passes it if it is slow and its friction holds.
+  or a block of an arch passes it if its contacts can hold it.
 
 What freezing records (the support graph): for each contact whose impulse on the body points
 against gravity, the partner is a *support*; a link (support, body) is stored when the support is
@@ -44,26 +52,34 @@ import numpy as np
 
 from ..activity import CAUSE, freeze, record, wake
 from ..data import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, N_ACTIVE, N_AWAKE, N_LINKS,
-                    NORMAL_IMPULSE, NORMAL_X, NORMAL_Y, POINT_COUNT, END_SEPARATION, SLOP,
-                    TANGENT_IMPULSE)
+                    N_CERTIFICATES, NORMAL_IMPULSE, NORMAL_X, NORMAL_Y, POINT_COUNT, END_SEPARATION, SEPARATION,
+                    SLOP, TANGENT_IMPULSE)
 from ..jit import inline_kernel, kernel
 from ..state import State
+from . import certificate
 from .contact_math import arrives, stopping_impulse, touching
 
 NAME = "extended"
 PARAMETERS = {"impulse_threshold": 0.5, "rest_speed": 0.02, "rest_acceleration": 0.1,
-              "rest_steps": 2}
+              "rest_steps": 1, "slip_speed": 1e-3, "friction_margin": 0.05,
+              "tip_margin": 0.02}
 INT_PARAMETERS = ("rest_steps",)
+#: parameters that must stay below a bound (exclusive): a friction cone shrunk by 100% is a line
+BELOW = {"friction_margin": 1.0}
 # body_real columns: support summary and equilibrium load (see module docstring), and this step's
 # impulses from awake bodies (scratch)
 (SUPPORT_NX, SUPPORT_NY, SUPPORT_LO, SUPPORT_HI, SUPPORT_H, SUPPORT_MU, LOAD_X, LOAD_Y, LOAD_M,
  PUSH_X, PUSH_Y, PUSH_M, PUSH_NORMAL, PREVIOUS_VX, PREVIOUS_VY, PREVIOUS_W) = range(16)
 REAL_COLUMNS = 16
+#: a contact whose friction is at this share of its Coulomb limit, or more, is sliding
+SLIDING_SHARE = 0.98
 #: the centre of pressure may sit this far (m) outside the support extent before a frozen body
 #: counts as tipping: round-off in a body balanced on one point must not wake it
 TIP_TOLERANCE = 1e-4
 # body_int columns
 REST_COUNT, MARK, TOUCHED = range(3)
+# what _unsettled finds in a contact
+_SLIDING, _DEEP = 1, 2
 INT_COLUMNS = 3
 
 
@@ -261,55 +277,72 @@ def after_solve(settings, counters, bodies, contacts, activity):
         vy = velocity[i, 1]
         w = angular_velocity[i]
         body_int[i, MARK] = 0
+        # the change over this one step: the previous velocity is stored every step
+        dvx = vx - body_real[i, PREVIOUS_VX]
+        dvy = vy - body_real[i, PREVIOUS_VY]
+        dw = w - body_real[i, PREVIOUS_W]
+        body_real[i, PREVIOUS_VX] = vx
+        body_real[i, PREVIOUS_VY] = vy
+        body_real[i, PREVIOUS_W] = w
         # cheap exit for bodies clearly in motion (most of them when nothing can rest): any one
         # component at or above the limit means |v| + |w| extent is too
         if abs(vx) >= limit or abs(vy) >= limit or abs(w) * extent[i] >= limit:
             body_int[i, REST_COUNT] = 0
             continue
         speed = np.sqrt(vx * vx + vy * vy) + abs(w) * extent[i]
-        dvx = vx - body_real[i, PREVIOUS_VX]
-        dvy = vy - body_real[i, PREVIOUS_VY]
-        change = np.sqrt(dvx * dvx + dvy * dvy) + abs(w - body_real[i, PREVIOUS_W]) * extent[i]
-        body_real[i, PREVIOUS_VX] = vx
-        body_real[i, PREVIOUS_VY] = vy
-        body_real[i, PREVIOUS_W] = w
+        change = np.sqrt(dvx * dvx + dvy * dvy) + abs(dw) * extent[i]
         if speed < limit and change <= change_limit:
             body_int[i, REST_COUNT] += 1
         else:
             body_int[i, REST_COUNT] = 0
-        # MARK = 1: candidate (slow and steady long enough); cleared below when a neighbour
-        # cannot rest
+        # MARK = 1: candidate (slow and steady long enough); cleared below when a contact moves,
+        # a neighbour cannot rest or the certificate fails
         if body_int[i, REST_COUNT] >= settings.rest_steps:
             body_int[i, MARK] = 1
             any_candidate = True
     if not any_candidate:
         return
-    # settled: a candidate with a contact deeper than twice its pair's slop is still being pushed
-    # out by its contact (the soft contact works over several steps, the body looks at rest);
-    # frozen now, it would keep that overlap for good
+    # Not sliding: a candidate with a contact whose friction is at its Coulomb limit while its
+    # surfaces slip faster than slip_speed is in motion the forces explain, however slow its
+    # centre is (a box gliding to a stop on ice slides until its friction stops it): MARK 0,
+    # in motion. Settled: a candidate with a contact deeper than twice its pair's slop may still
+    # be pushed out by it (the soft contact works over many steps); frozen now, it would keep
+    # that overlap for good. It is not frozen (MARK 2), but it is still: the soft contact under a
+    # load small bodies press on it sits this deep for good, and must not keep a pile awake.
     for kk in range(count):
         c = contacts.active[kk]
-        too_deep = -2.0 * cf[c, SLOP]
-        for j in range(ci[c, POINT_COUNT]):
-            if pf[c, j, END_SEPARATION] < too_deep:
-                for body in (ci[c, BODY_A], ci[c, BODY_B]):
-                    if 0 <= body < n_dyn:
-                        body_int[body, MARK] = 0
-    changed = True
-    while changed:                       # a candidate touching an awake non-candidate is out
-        changed = False
-        for kk in range(count):
-            c = contacts.active[kk]
-            a = ci[c, BODY_A]
-            b = ci[c, BODY_B]
-            if not (_is_movable(a, n_dyn, awake_slot) and _is_movable(b, n_dyn, awake_slot)):
-                continue
-            if not touching(c, contacts):
-                continue                # made ahead for a fast body that did not arrive
-            if body_int[a, MARK] != body_int[b, MARK]:
-                body_int[a, MARK] = 0
-                body_int[b, MARK] = 0
-                changed = True
+        a = ci[c, BODY_A]
+        b = ci[c, BODY_B]
+        if not ((0 <= a < n_dyn and body_int[a, MARK] == 1)
+                or (0 <= b < n_dyn and body_int[b, MARK] == 1)):
+            continue
+        state = _unsettled(c, settings.slip_speed, dt, bodies, contacts)
+        if state == _SLIDING:
+            for body in (a, b):
+                if 0 <= body < n_dyn:
+                    body_int[body, MARK] = 0
+        elif state == _DEEP:
+            for body in (a, b):
+                if 0 <= body < n_dyn and body_int[body, MARK] == 1:
+                    body_int[body, MARK] = 2
+    if not _whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
+        return
+    # the certificate (sim/freeze/certificate.py): static equilibrium with margin. A body that
+    # is still but not certified (MARK 2: on a point, at its friction limit) stays awake, but
+    # does not keep its neighbours awake: it pushes nothing, and if it starts to, the wake rules
+    # see it as they see any awake body touching frozen ones
+    candidates = np.empty(n_awake, np.int64)
+    n_candidates = 0
+    for k in range(n_awake):
+        if body_int[awake[k], MARK] == 1:
+            candidates[n_candidates] = awake[k]
+            n_candidates += 1
+    held = certificate.holds(candidates, n_candidates, awake_slot, settings, bodies, contacts,
+                             count)
+    counters[N_CERTIFICATES] += n_candidates
+    for k in range(n_candidates):
+        if not held[k]:
+            body_int[candidates[k], MARK] = 2
     # freeze the survivors: summarise supports and loads, link dynamic supports
     for k in range(n_awake):
         i = awake[k]
@@ -415,6 +448,74 @@ def after_solve(settings, counters, bodies, contacts, activity):
             record(events, counters, i, _FREE, _FROZEN, _RESTED)
             continue                 # freeze() moved the last awake body into slot k
         k += 1
+
+
+@kernel
+def _whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
+    """Clear the mark of every candidate (MARK 1) that touches an awake body in motion (MARK 0),
+    to a fixed point: an awake body that is still moving keeps its neighbours awake, so nothing
+    freezes against something that pushes it. Returns whether any candidate is left."""
+    ci = contacts.contact_int
+    changed = True
+    while changed:
+        changed = False
+        for kk in range(count):
+            c = contacts.active[kk]
+            a = ci[c, BODY_A]
+            b = ci[c, BODY_B]
+            if not (_is_movable(a, n_dyn, awake_slot) and _is_movable(b, n_dyn, awake_slot)):
+                continue
+            if not touching(c, contacts):
+                continue                # made ahead for a fast body that did not arrive
+            if body_int[a, MARK] + body_int[b, MARK] == 1:      # a candidate and a mover
+                body_int[a, MARK] = 0
+                body_int[b, MARK] = 0
+                changed = True
+    for k in range(n_awake):
+        if body_int[awake[k], MARK] == 1:
+            return True
+    return False
+
+
+@inline_kernel
+def _unsettled(c, slip_speed, dt, bodies, contacts):
+    """Is contact c still working? ``_SLIDING``: its friction at the Coulomb limit while the
+    surfaces slip faster than ``slip_speed`` (m/s); else ``_DEEP``: a touching point deeper than
+    twice the pair's slop that opened faster than ``slip_speed`` over the step (dt, s); else 0."""
+    position, velocity, angular_velocity = bodies.position, bodies.velocity, bodies.angular_velocity
+    ci = contacts.contact_int
+    cf = contacts.contact_float
+    pf = contacts.point_float
+    a = ci[c, BODY_A]
+    b = ci[c, BODY_B]
+    sum_pn = 0.0
+    sum_pt = 0.0
+    slip = 0.0
+    deep = False
+    for j in range(ci[c, POINT_COUNT]):
+        # deep and still opening: the soft contact is pushing the bodies apart (a contact that
+        # carries a load sits at a steady depth, which freezing keeps as it is)
+        deep = deep or (pf[c, j, END_SEPARATION] < -2.0 * cf[c, SLOP]
+                        and pf[c, j, END_SEPARATION] - pf[c, j, SEPARATION] > slip_speed * dt)
+        if pf[c, j, END_SEPARATION] > cf[c, SLOP]:
+            continue                    # not touching
+        sum_pn += pf[c, j, NORMAL_IMPULSE]
+        sum_pt += pf[c, j, TANGENT_IMPULSE]
+        # B's surface against A's along the tangent (ny, -nx)
+        wx = pf[c, j, ANCHOR_BX] + position[b, 0]
+        wy = pf[c, j, ANCHOR_BY] + position[b, 1]
+        vx = velocity[b, 0] - angular_velocity[b] * (wy - position[b, 1])
+        vy = velocity[b, 1] + angular_velocity[b] * (wx - position[b, 0])
+        if a >= 0:
+            vx -= velocity[a, 0] - angular_velocity[a] * (wy - position[a, 1])
+            vy -= velocity[a, 1] + angular_velocity[a] * (wx - position[a, 0])
+        slip = max(slip, abs(vx * cf[c, NORMAL_Y] - vy * cf[c, NORMAL_X]))
+    # at the limit: the solver clamps |pt| <= mu pn point by point, so a manifold at 98% of it
+    # is sliding (a sticking contact sits well inside)
+    if (slip > slip_speed and sum_pn > 0.0
+            and abs(sum_pt) >= SLIDING_SHARE * cf[c, FRICTION] * sum_pn):
+        return _SLIDING
+    return _DEEP if deep else 0
 
 
 @inline_kernel

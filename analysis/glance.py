@@ -82,8 +82,8 @@ def lines():
                "by freezing): " + ", ".join(f"{s} {n}" for s, n in
                                             tf["failures_by_freezing"].items())
                + f". Every system gets {' and '.join(tf['scenarios_all_right'])} right; the "
-               "velocity-based rules (every one but `paper`) miss slow tipping, slow sliding and "
-               "creep.")
+               "engines' velocity-based sleeping misses slow tipping, slow sliding and creep, "
+               "which `extended`'s certificate of equilibrium does not freeze.")
     firsts = [f"{axis.replace('_', ' ')}: {', '.join(a['breaks_first'])} (at {a['breaks_first_at']})"
               for axis, a in ex["per_axis"].items() if 0 < len(a["breaks_first"]) < 8]
     failed = ", ".join(f"{s} {c['failed']}" for s, c in ex["counts"].items())

@@ -24,21 +24,25 @@ The test, for one body i (``holds``):
     the moment can only be taken up if the centre of pressure can move that far (size: the
     body's thinnest width) either way without leaving the support extent. A single support point
     never passes it: one point holds no moment, so a body balanced on a corner or an apex is
-    never certified, however slow it is or however well the solver balanced it.
+    never certified, however slow it is or however well the solver balanced it. (Bracing loads,
+    below, count for the extra moment.)
 
-Whose forces, top down. A resting pile's contact forces are statically indeterminate, and the
-solver's impulses (its *witness*) are one distribution among many: in a pyramid that holds, it
-leaves friction at its limit between boxes, pushing the bottom row outwards, and a bottom box
-judged under that witness fails its margin. So the supports' forces are not taken from the solver
-but solved for. Bodies are judged top down (a body after every candidate resting on it): each
-chooses its supports' forces, without friction if they can hold it so (a pyramid, a stack) and
-inside the shrunk cones otherwise, and the force it chose at a contact with a body below is a
-load that body must hold. Every contact force between candidates is decided once, by the body
-above, so the forces of a frozen group are one consistent set and each body is in equilibrium
-under them: the group is held, not just each body alone. (Were a load an unknown too, a box under
-a sliding box could "choose" to be pushed uphill, and a pair sliding together down a ramp would be
-certified body by body.) Side contacts between moving bodies (neither rests on the other) and the
-rare cycle of bodies resting on each other keep the solver's witness.
+Whose forces. A resting pile's contact forces are statically indeterminate, and the solver's
+impulses (its *witness*) are one distribution among many: in a pyramid that holds, it leaves
+friction at its limit between boxes, pushing the bottom row outwards. So a body's support forces
+are not read from the solver but solved for: any distribution inside the shrunk cones will do.
+Its loads stay at the witness, because the body pressing on it really pushes with what the solver
+gave it; were loads unknowns too, a box under a sliding box could "choose" to be pushed uphill,
+and a pair sliding together down a ramp would be certified body by body. (Judging bodies top down,
+each passing the forces it chose to the bodies below, makes a group's forces one consistent set,
+but a vertex solution can put a thrust on the bottom of an arch, or all of a load on one corner,
+that the solver does not have: piles that rest were refused. It was tried and not kept.)
+
+Bracing. A load can also steady the body it presses on: a triangle standing on its apex with a box
+resting across it and on a neighbour cannot tip, since the box would have to move. For the margin
+(not for holding the nominal load), the cone edges of a load's contact count as supports when the
+load's body touches something else too. A box balanced on one corner with another box resting on
+it alone is still balanced on one point.
 
 Membership in a cone of K generators in three dimensions is decided exactly, without an LP
 solver: by Caratheodory's theorem, a wrench in the cone of generators that span all three

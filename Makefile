@@ -6,7 +6,9 @@
 #                             with the full results)
 #   make <name>               rerun one experiment and redraw its figure (names: $(ALL))
 #   make figures              redraw every figure/table from existing data (never simulates)
-#   make trace SCENE=pyramid FREEZE=extended     one rerun recording; open with `rerun <file>`
+#   make trace SCENE=slope_creep SYSTEMS=sim-off,sim-extended,pymunk-sleep
+#   make trace CELL=table_extremes/dt/0.03333   one rerun recording of systems side by side;
+#                                               open with `rerun <file>` (`make trace-list`)
 
 PYTHON_SYS ?= python3
 VENV       := .venv
@@ -36,18 +38,25 @@ TABLES  := bench_step bench_freeze peer_agreement bench_fast_paths bench_kernels
 STUDY   := fig_states fig_edge_as_floor fig_overhang fig_speedup fig_scaling fig_time_to_rest \
            fig_tradeoff table_failures table_extremes
 ALL     := $(TABLES) $(STUDY)
-# One recording per figure scene: <builder>__<policy>
+# One recording per figure scene, <builder>__<policy> (that policy alone), and one per row of the
+# failure catalogue with every system of the table (table_failures/<scenario>.rrd; its index.txt
+# lists them and their sizes)
 RECORDINGS := seed_fig1__paper seed_fig2__paper seed_fig3__paper seed_fig3__extended \
               pyramid__extended drop__sleep drop__extended
 RECORD_STEPS := $(if $(QUICK),60,300)
+# quick: the failure rows' first second only (the full rows run their own 3-7 s)
+ROW_STEPS := $(if $(QUICK),--steps 60,)
 
+# make trace: a scene (builder, scenario or .toml file) under SYSTEMS, or a table cell (CELL)
 SCENE ?= seed_fig3
-FREEZE ?= paper
+SYSTEMS ?=
+CELL ?=
 
 # Results are never intermediate files: make must not delete results/data/*.csv after drawing.
 .SECONDARY:
 
-.PHONY: all venv test test-fast reproduce figures paper glance recordings trace lock clean distclean $(ALL)
+.PHONY: all venv test test-fast reproduce figures paper glance recordings trace trace-list lock \
+        clean distclean $(ALL)
 
 all: test
 
@@ -101,19 +110,28 @@ glance: $(GEN)/glance.md
 $(GEN)/glance.md: $(GLANCE_DEPS) $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
 	$(PY) -m analysis.glance $(if $(QUICK),,--readme README.md)
 
-recordings: $(foreach r,$(RECORDINGS),$(RECS)/$(r).rrd)
+recordings: $(foreach r,$(RECORDINGS),$(RECS)/$(r).rrd) $(RECS)/table_failures/index.txt
 $(RECS)/%.rrd: $(TRACE_DEPS) | $(STAMP)
-	$(PY) -m analysis.trace $(word 1,$(subst __, ,$*)) $(word 2,$(subst __, ,$*)) \
+	$(PY) -m analysis.trace $(word 1,$(subst __, ,$*)) --systems sim-$(word 2,$(subst __, ,$*)) \
 	    --steps $(RECORD_STEPS) --out $@
+$(RECS)/table_failures/index.txt: $(TRACE_DEPS) | $(STAMP)
+	$(PY) -m analysis.trace --table table_failures $(ROW_STEPS) --out-dir $(dir $@)
 
 # `make <name>`: rerun one experiment unconditionally, then redraw what it feeds.
 $(ALL): $(STAMP)
 	$(PY) -m experiments.$@ $(QUICKFLAG)
 	$(PY) -m analysis.$@
 
-# A rerun recording of one run: make trace SCENE=pyramid FREEZE=extended; open with `rerun <file>`
+# A rerun recording of systems side by side on one scene or table cell, into results/recordings/:
+#   make trace SCENE=slope_creep SYSTEMS=sim-off,sim-extended,pymunk-sleep
+#   make trace CELL=table_failures/slope_creep      (every system of the row, as the table ran it)
+# SCENE: a builder, a failure-catalogue scenario or a scene file (.toml); `make trace-list` names
+# them all. Open the file it writes with `.venv/bin/rerun <file>`.
 trace: $(STAMP)
-	$(PY) -m analysis.trace $(SCENE) $(FREEZE)
+	$(PY) -m analysis.trace $(if $(CELL),$(CELL),$(SCENE)) $(if $(SYSTEMS),--systems $(SYSTEMS),)
+
+trace-list: $(STAMP)
+	$(PY) -m analysis.trace --list
 
 # Print the currently installed versions, to refresh the `pinned` extra by hand.
 lock: $(STAMP)

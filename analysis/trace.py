@@ -1,96 +1,386 @@
-"""A rerun recording (``.rrd``) of one run, to inspect it frame by frame.
+"""A rerun recording (``.rrd``) of any run, every named system side by side, to inspect frame by
+frame where their outcomes part.
 
-    python -m analysis.trace SCENE FREEZE [--size N] [--steps N] [--out PATH]
-    make trace SCENE=... FREEZE=...
-    rerun results/recordings/<scene>__<policy>.rrd                      (opens it)
+    python -m analysis.trace NAME [--systems A,B,...] [--steps N] [--every K] [--out PATH]
+    python -m analysis.trace --table table_failures [--out-dir DIR]     (one file per row)
+    python -m analysis.trace --list                                     (what NAME can be)
+    make trace SCENE=slope_creep SYSTEMS=sim-off,sim-extended,pymunk-sleep
+    make trace CELL=table_extremes/dt/0.03333
+    rerun results/recordings/<name>.rrd                                (opens it)
 
-Per step, on the timeline ``step``:
-  world/bodies         every body as a closed line strip, coloured by its state (frozen bodies darker)
-  world/floor          the floor line (once, static)
-  world/contacts       contact points of the step
-  world/impulses       normal impulses as arrows (N s, scaled by ``--arrow-scale`` m per N s)
-  events               freeze/wake events as text log entries
-  timeline/awake       bodies in the awake list
-  timeline/kinetic_energy   J
-  timeline/step_ms     wall time of the step itself, ms (logging excluded)
+NAME is a scene builder (pyramid), a failure-catalogue scenario (slope_creep), a scene file
+(path/to/scene.toml) or a table cell (table_failures/<scenario>, table_extremes/<axis>/<value>):
+experiments.targets resolves it, running a cell exactly as its table does. Every system starts
+from the same scene and is stepped in lockstep; the first one named is the *reference*.
+
+What the recording holds, on the timelines ``step`` (the run's step count) and ``time``
+(simulated seconds), one entity path per system (<s>: the system's name, e.g. ``sim-extended``,
+``sim-off_no-presolve``):
+
+  systems/<s>/bodies        every body as a closed outline, coloured by its state (sim: FREE,
+                            VERTICAL_STABLE, ROTATION_STABLE, SLEEPING; a peer's bodies are FREE
+                            awake and SLEEPING asleep), frozen or asleep bodies at half brightness
+  systems/<s>/static        the floor and static bodies (static: logged once)
+  systems/<s>/contacts      the contact points of the step (each engine's own, runner.contacts)
+  systems/<s>/impulses      normal impulses as arrows, ``--arrow-scale`` m per N s
+  events/<s>                freeze/wake events (sim: World.events with their cause; a peer: a
+                            body falling asleep or waking), a system not run and why, a system
+                            that stopped (an error, a non-finite state)
+  timeline/awake/<s>        bodies the system still solves
+  timeline/kinetic_energy/<s>    J (the same formula for every system: translational + rotational)
+  timeline/step_ms/<s>      wall time of the system's step, ms (stepped one system after the
+                            other in this process: for looking, not a benchmark; see
+                            experiments/bench_* for timings)
+  timeline/divergence_m/<s>      largest centre distance to the reference's same body, m
+  timeline/divergence_rad/<s>    largest angle difference to it (modulo 2 pi), rad
+  about                     what ran: the target, every system's settings, the commit
+
+A blueprint is written with the recording, so the viewer opens on the scene views side by side
+with the timelines and the event log below. A long run is recorded every K steps (``--every``;
+default: at most MAX_FRAMES frames), the step timeline keeping the true step numbers.
 """
 import argparse
+import json
+import math
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import rerun as rr
+import rerun.blueprint as rrb
 
 import sim
-from analysis.style import STATE_RGB
+from analysis.style import STATE_RGB, system_style
+from experiments import scenarios, targets
+from experiments.extremes.geometry import Shapes
+from experiments.metadata import git_state, jsonable
 from experiments.paths import RECORDINGS, ensure
+from sim.files import write_text_atomically
 
 #: state -> RGB (FREE, VERTICAL_STABLE, ROTATION_STABLE, SLEEPING): the figures' colours
 STATE_COLORS = np.array(STATE_RGB, np.uint8)
+#: a frozen (sim) or asleep (peer) body is drawn at this fraction of its state's colour
+FROZEN_SHADE = 0.5
+MAX_FRAMES = 2000          # default: record every ceil(steps / MAX_FRAMES) steps
+TABLES = ("table_failures",)      # --table: every row recorded (the extremes cells: by name)
 
 
-def record(scene, freeze, steps, path, dt=1 / 60, arrow_scale=0.5, **world_settings):
-    """Run ``scene`` under ``freeze`` for ``steps`` steps and write the recording to ``path``.
-    Returns the World at the end."""
-    world = sim.World(scene, dt=dt, freeze=freeze, **world_settings)
-    rec = rr.RecordingStream(f"freeze2d-{scene.name}-{freeze}")
-    rec.save(str(path))
-    if scene.floor_y is not None:
-        xs = np.concatenate([world.positions[:, 0], [0.0]])
-        span = float(np.ptp(xs)) + 20.0
-        mid = float(xs.mean())
-        rec.log("world/floor", rr.LineStrips2D([[(mid - span / 2, scene.floor_y),
-                                                  (mid + span / 2, scene.floor_y)]],
-                                                colors=[(0, 0, 0)]), static=True)
-    n_events = 0
-    for step in range(steps + 1):
-        rec.set_time("step", sequence=world.step_count)
-        if step > 0:
-            t0 = time.perf_counter()
-            world.step()
-            rec.set_time("step", sequence=world.step_count)
-            rec.log("timeline/step_ms", rr.Scalars(1e3 * (time.perf_counter() - t0)))
-        strips = [np.vstack([v, v[:1]]) for v in (world.vertices(i) for i in range(world.n_bodies))]
-        colors = STATE_COLORS[world.states.astype(int)].copy()
-        colors[world.frozen] = colors[world.frozen] // 2          # frozen: darker
-        rec.log("world/bodies", rr.LineStrips2D(strips, colors=colors))
-        contacts = world.contacts()
-        rec.log("world/contacts", rr.Points2D(contacts["point"], radii=0.02))
-        rec.log("world/impulses", rr.Arrows2D(
-            origins=contacts["point"],
-            vectors=contacts["normal"] * contacts["normal_impulse"][:, None] * arrow_scale))
-        for event in world.events[n_events:]:
-            at, body, before, after, cause = event
-            rec.log("events", rr.TextLog(f"step {at}: {scene.body_name(body)} "
-                                         f"{before.name} -> {after.name} ({cause})"))
-        n_events = len(world.events)
-        rec.log("timeline/awake", rr.Scalars(float(world.n_awake)))
-        rec.log("timeline/kinetic_energy", rr.Scalars(world.kinetic_energy()))
-    rec.flush()
-    return world
+def body_colors(states, frozen):
+    """(N,3) uint8 RGB of bodies in ``states`` (sim.State values), ``frozen`` (N,) bool darker."""
+    colors = STATE_COLORS[np.asarray(states, dtype=int)].astype(float)
+    colors[np.asarray(frozen, dtype=bool)] *= FROZEN_SHADE
+    return colors.astype(np.uint8)
+
+
+def slug(system):
+    """An entity-path name for a system: "sim-off (no presolve)" -> "sim-off_no-presolve"."""
+    return system.replace(" (", "_").replace(")", "").replace(" ", "-")
+
+
+def _rgb(system):
+    hex_color = system_style(system.split(" (")[0])["color"].lstrip("#")
+    return [int(hex_color[k:k + 2], 16) for k in (0, 2, 4)]
+
+
+class Track:
+    """One system of a recording: its runner (None when not run), its geometry, what was logged
+    of it so far, and why it stopped (empty while it runs)."""
+
+    def __init__(self, system, target):
+        self.system = system
+        self.path = slug(system.name)
+        self.scene = system.scene or target.scene
+        self.shapes = Shapes(self.scene)
+        self.runner = None
+        self.stopped = system.not_run and f"not run: {system.not_run}"
+        self.n_events = 0
+        self.asleep = np.zeros(len(self.scene.bodies), dtype=bool)
+        self.pose = None
+        if not self.stopped:
+            try:
+                self.runner = system.build(target.scene, target.dt)
+            except ValueError as exc:          # the system refuses the scene: a result, logged
+                self.stopped = f"not run: refused ({exc})"
+
+    @property
+    def world(self):
+        return getattr(self.runner, "world", None)
+
+    def close(self):
+        if self.runner is not None:
+            self.runner.close()
+
+
+class Recorder:
+    """Writes the frames of a target's tracks to one rerun recording."""
+
+    def __init__(self, target, path, every, arrow_scale):
+        self.target, self.every, self.arrow_scale = target, every, arrow_scale
+        self.tracks = [Track(s, target) for s in target.systems]
+        seen = {}
+        for t in self.tracks:                     # a system named twice: "sim-off", "sim-off_2"
+            seen[t.path] = seen.get(t.path, 0) + 1
+            if seen[t.path] > 1:
+                t.path = f"{t.path}_{seen[t.path]}"
+        self.rec = rr.RecordingStream(f"freeze2d-{target.stem}")
+        self.rec.save(str(path), default_blueprint=self.blueprint())
+        self._static()
+
+    # ---- layout and what does not change ---------------------------------------------------
+    def blueprint(self):
+        """The scene views side by side (a grid beyond four), the timelines and events below."""
+        views = [rrb.Spatial2DView(origin=f"systems/{t.path}",
+                                   name=t.system.name if t.path == slug(t.system.name) else t.path)
+                 for t in self.tracks]
+        scenes = rrb.Horizontal(*views) if len(views) <= 4 else rrb.Grid(*views, grid_columns=4)
+        reference = self.tracks[0].system.name
+        series = rrb.Horizontal(
+            rrb.TimeSeriesView(origin="timeline/divergence_m",
+                               name=f"largest position error vs {reference}, m"),
+            rrb.TimeSeriesView(origin="timeline/awake", name="awake bodies"),
+            rrb.TimeSeriesView(origin="timeline/kinetic_energy", name="kinetic energy, J"),
+            rrb.TimeSeriesView(origin="timeline/step_ms", name="step wall time, ms"))
+        below = rrb.Horizontal(rrb.TextLogView(origin="events", name="events"),
+                               rrb.TextDocumentView(origin="about", name="about"),
+                               column_shares=[2, 1])
+        return rrb.Blueprint(rrb.Vertical(scenes, series, below, row_shares=[3, 2, 1]),
+                             rrb.TimePanel(timeline="step"), collapse_panels=True)
+
+    def _static(self):
+        rec, scene = self.rec, self.target.scene
+        for t in self.tracks:
+            rgb = _rgb(t.system.name)
+            for quantity in ("awake", "kinetic_energy", "step_ms", "divergence_m",
+                             "divergence_rad"):
+                rec.log(f"timeline/{quantity}/{t.path}",
+                        rr.SeriesLines(colors=[rgb], names=[t.system.name]), static=True)
+            strips = [np.vstack([v, v[:1]]) for v in t.shapes.statics]
+            if scene.floor_y is not None:          # wider than the scene by 10 m each side
+                x = np.array([b.position[0] for b in t.scene.bodies] + [0.0])
+                strips.append(np.array([(x.min() - 10.0, scene.floor_y),
+                                        (x.max() + 10.0, scene.floor_y)]))
+            if strips:
+                rec.log(f"systems/{t.path}/static",
+                        rr.LineStrips2D(strips, colors=[(0, 0, 0)] * len(strips)), static=True)
+        rec.log("about", rr.TextDocument(self.about(), media_type=rr.MediaType.MARKDOWN),
+                static=True)
+
+    def about(self):
+        """What ran, as markdown: the target, each system's settings or why it did not run."""
+        t = self.target
+        lines = [f"# {t.label}", "",
+                 f"{t.kind}; scene `{t.scene.name}` {json.dumps(jsonable(t.scene.params))}; "
+                 f"{len(t.scene.bodies)} bodies; dt {t.dt:g} s; {t.steps} steps "
+                 f"(recorded every {self.every}); reference {self.tracks[0].system.name}; "
+                 f"commit {git_state()['commit']}", ""]
+        for track in self.tracks:
+            settings = track.runner.settings if track.runner is not None else {}
+            lines += [f"## {track.system.name}", "",
+                      track.stopped or f"```\n{json.dumps(jsonable(settings), indent=1)}\n```",
+                      ""]
+        return "\n".join(lines)
+
+    # ---- frames ------------------------------------------------------------------------------
+    def frame(self, step):
+        """Log every running track at ``step`` (0: the start state)."""
+        rec = self.rec
+        rec.set_time("step", sequence=step)
+        rec.set_time("time", duration=step * self.target.dt)
+        reference = None
+        for k, t in enumerate(self.tracks):
+            if t.stopped:
+                continue
+            if step > 0:
+                t0 = time.perf_counter()
+                try:
+                    t.runner.step(self.every)
+                except Exception as exc:                 # the system's failure is a result
+                    self._stop(t, step, f"{type(exc).__name__}: {exc}")
+                    continue
+                rec.log(f"timeline/step_ms/{t.path}",
+                        rr.Scalars(1e3 * (time.perf_counter() - t0) / self.every))
+            positions, angles = t.runner.positions, t.runner.angles
+            if not (np.isfinite(positions).all() and np.isfinite(angles).all()):
+                self._stop(t, step, "non-finite state")
+                continue
+            t.pose = positions, angles
+            self._bodies(t, positions, angles)
+            self._events(t, step)
+            if k == 0:
+                reference = t.pose
+            self._scalars(t, reference)
+
+    def _bodies(self, t, positions, angles):
+        rec = self.rec
+        w = t.shapes.world(positions, angles)                            # (N,K,2) m
+        strips = np.concatenate([w, w[:, :1]], axis=1)                  # closed outlines
+        if t.world is not None:
+            colors = body_colors(t.world.states, t.world.frozen)
+        else:
+            asleep = np.asarray(t.runner.asleep, dtype=bool)
+            colors = body_colors(np.where(asleep, sim.State.SLEEPING, sim.State.FREE), asleep)
+        rec.log(f"systems/{t.path}/bodies", rr.LineStrips2D(strips, colors=colors))
+        contacts = getattr(t.runner, "contacts", None)
+        if contacts is not None:
+            c = contacts()
+            rec.log(f"systems/{t.path}/contacts", rr.Points2D(c["point"], radii=0.02))
+            rec.log(f"systems/{t.path}/impulses", rr.Arrows2D(
+                origins=c["point"],
+                vectors=c["normal"] * c["normal_impulse"][:, None] * self.arrow_scale))
+
+    def _events(self, t, step):
+        rec = self.rec
+        world = t.world
+        if world is not None:
+            for at, body, before, after, cause in world.events[t.n_events:]:
+                rec.log(f"events/{t.path}", rr.TextLog(
+                    f"{t.system.name} step {at}: {t.scene.body_name(body)} {before.name} -> "
+                    f"{after.name} ({cause})"))
+            t.n_events = len(world.events)
+            return
+        asleep = np.asarray(t.runner.asleep, dtype=bool)
+        for body in np.flatnonzero(asleep != t.asleep):
+            what = "fell asleep" if asleep[body] else "woke"
+            rec.log(f"events/{t.path}", rr.TextLog(
+                f"{t.system.name} step {step}: {t.scene.body_name(int(body))} {what}"))
+        t.asleep = asleep
+
+    def _scalars(self, t, reference):
+        rec = self.rec
+        awake = int((~np.asarray(t.runner.asleep, dtype=bool)).sum())
+        positions, angles = t.pose
+        kinetic, _ = t.shapes.energy(positions, t.runner.velocities, t.runner.angular_velocities)
+        rec.log(f"timeline/awake/{t.path}", rr.Scalars(float(awake)))
+        rec.log(f"timeline/kinetic_energy/{t.path}", rr.Scalars(kinetic))
+        if reference is not None:
+            d = np.hypot(*(positions - reference[0]).T)
+            a = np.abs(scenarios.wrap(angles - reference[1]))
+            rec.log(f"timeline/divergence_m/{t.path}", rr.Scalars(float(d.max())))
+            rec.log(f"timeline/divergence_rad/{t.path}", rr.Scalars(float(a.max())))
+
+    def _stop(self, t, step, why):
+        t.stopped = f"stopped at step {step}: {why}"
+        self.rec.log(f"events/{t.path}", rr.TextLog(f"{t.system.name} {t.stopped}",
+                                                    level=rr.TextLogLevel.ERROR))
+        print(f"{t.system.name}: {t.stopped}", file=sys.stderr)
+
+    def run(self, steps, progress=None):
+        self.rec.set_time("step", sequence=0)
+        self.rec.set_time("time", duration=0.0)
+        for t in self.tracks:
+            if t.stopped:
+                self.rec.log(f"events/{t.path}", rr.TextLog(f"{t.system.name} {t.stopped}",
+                                                            level=rr.TextLogLevel.WARN))
+                print(f"{t.system.name}: {t.stopped}", file=sys.stderr)
+        frames = steps // self.every
+        for k in range(frames + 1):
+            self.frame(k * self.every)
+            if progress is not None:
+                progress(k, frames)
+        self.rec.flush()
+        for t in self.tracks:
+            t.close()
+        return self.tracks
+
+
+def record(target, path, steps=None, every=None, arrow_scale=0.5, progress=None):
+    """Record ``target`` (experiments.targets.Target) for ``steps`` steps (default its own) to
+    ``path``, one frame every ``every`` steps (default: at most MAX_FRAMES frames). Returns the
+    tracks (``.runner`` closed; ``.stopped``: why a system did not run to the end, or "")."""
+    steps = target.steps if steps is None else steps
+    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
+        raise ValueError(f"steps must be an integer >= 1, got {steps!r}")
+    if every is None:
+        every = max(1, math.ceil(steps / MAX_FRAMES))
+    if isinstance(every, bool) or not isinstance(every, int) or not 1 <= every <= steps:
+        raise ValueError(f"every must be an integer in [1, steps={steps}], got {every!r}")
+    ensure(Path(path).parent)
+    return Recorder(target, path, every, arrow_scale).run(steps, progress)
+
+
+def _progress(label):
+    start = time.perf_counter()
+
+    live = sys.stderr.isatty()                 # a terminal: one line, rewritten; a log: lines
+    start_of_line = "\r" if live else ""
+
+    def show(k, frames):
+        if k == frames or (k and k % (100 if live else 1000) == 0):
+            print(f"{start_of_line}{label}: frame {k}/{frames}, "
+                  f"{time.perf_counter() - start:.1f} s",
+                  end="\n" if k == frames or not live else "", file=sys.stderr, flush=True)
+    return show
+
+
+def _record_one(name, args):
+    target = targets.resolve(name, systems=args.systems, size=args.size, dt=args.dt)
+    path = Path(args.out) if args.out else RECORDINGS / f"{target.stem}.rrd"
+    record(target, path, steps=args.steps, every=args.every, arrow_scale=args.arrow_scale,
+           progress=_progress(target.label))
+    size = path.stat().st_size
+    print(f"wrote {path} ({size / 1e6:.1f} MB; open it with: rerun {path})")
+    return path
+
+
+def _record_table(args):
+    """Every row of ``args.table`` into ``--out-dir``, then its index.txt (the Make target:
+    written last, so an interrupted run is redone): one line per file with its size."""
+    folder = ensure(args.out_dir or RECORDINGS / args.table)
+    written = []
+    for scenario in scenarios.SCENARIOS:
+        args.out = str(folder / f"{scenario}.rrd")
+        written.append(_record_one(f"{args.table}/{scenario}", args))
+    total = sum(p.stat().st_size for p in written)
+    lines = [f"# {args.table}: one recording per row, every system of the table "
+             f"(python -m analysis.trace {args.table}/<row>); {total / 1e6:.1f} MB in all"]
+    lines += [f"{p.name}\t{p.stat().st_size / 1e6:.2f} MB" for p in written]
+    write_text_atomically(folder / "index.txt", "\n".join(lines) + "\n")
+    print(f"{args.table}: {len(written)} recordings, {total / 1e6:.1f} MB in {folder}")
+    return written
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python -m analysis.trace",
-                                     description=__doc__.splitlines()[0])
-    parser.add_argument("scene", choices=sorted(sim.scenes.BUILDERS), help="a sim.scenes builder")
-    parser.add_argument("freeze", choices=sim.POLICY_NAMES, help="freeze policy")
+    parser = argparse.ArgumentParser(
+        prog="python -m analysis.trace", description=__doc__.splitlines()[0],
+        epilog=targets.available(), formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("name", nargs="?", help="a scene builder, scenario, scene file (.toml) "
+                        "or table cell (see below)")
+    parser.add_argument("--systems", default=None,
+                        help="comma-separated systems, the first the reference (default: a "
+                             "cell's table's systems, else " + ",".join(targets.DEFAULT_SYSTEMS)
+                             + ")")
     parser.add_argument("--size", type=int, default=None,
-                        help="the builder's size argument (rest_row n, stack height, pyramid "
-                             "base, drop n); default the builder's own")
-    parser.add_argument("--steps", type=int, default=300, help="steps to record (default 300)")
+                        help="a builder's size argument (rest_row n, stack height, pyramid base, "
+                             "drop n)")
+    parser.add_argument("--dt", type=float, default=None, help="s per step of a scene "
+                        "(default 1/60; a cell runs at its table's)")
+    parser.add_argument("--steps", type=int, default=None,
+                        help=f"steps to record (default: a scenario's or cell's duration, else "
+                             f"{targets.DEFAULT_STEPS})")
+    parser.add_argument("--every", type=int, default=None,
+                        help=f"record every K steps (default: at most {MAX_FRAMES} frames)")
     parser.add_argument("--out", default=None, help="output .rrd (default results/recordings/)")
+    parser.add_argument("--table", choices=TABLES, default=None,
+                        help="record every row of a table, one file each, into --out-dir")
+    parser.add_argument("--out-dir", default=None,
+                        help="folder for --table (default results/recordings/<table>)")
     parser.add_argument("--arrow-scale", type=float, default=0.5, help="m per N s of impulse")
+    parser.add_argument("--list", action="store_true", help="print what NAME can be and exit")
     args = parser.parse_args(argv)
-    if args.steps < 1:
-        parser.error("--steps must be >= 1")
-    path = Path(args.out) if args.out else RECORDINGS / f"{args.scene}__{args.freeze}.rrd"
-    ensure(path.parent)
-    build = sim.scenes.BUILDERS[args.scene]
-    scene = build() if args.size is None else build(args.size)
-    record(scene, args.freeze, args.steps, path, arrow_scale=args.arrow_scale)
-    print(f"wrote {path}   (open it with: rerun {path})")
-    return path
+    if args.list:
+        print(targets.available())
+        return None
+    if args.systems is not None:
+        args.systems = [s.strip() for s in args.systems.split(",") if s.strip()]
+    if (args.name is None) == (args.table is None):
+        parser.error("give a NAME or --table (not both); --list shows the names")
+    try:
+        if args.table is None:
+            return _record_one(args.name, args)
+        return _record_table(args)
+    except ValueError as exc:
+        parser.exit(2, f"python -m analysis.trace: error: {exc}\n")
 
 
 if __name__ == "__main__":

@@ -12,6 +12,8 @@ from pathlib import Path
 
 import pytest
 
+from experiments import scenarios
+
 ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -59,6 +61,10 @@ def test_every_output_exists_and_is_nontrivial(quick_tree):
     for recording in _list("RECORDINGS"):
         rrd = results / "recordings" / f"{recording}.rrd"
         assert rrd.stat().st_size > 10_000, rrd
+    rows = results / "recordings" / "table_failures"          # one per row, every system
+    for scenario in scenarios.SCENARIOS:
+        assert (rows / f"{scenario}.rrd").stat().st_size > 10_000, scenario
+        assert f"{scenario}.rrd" in (rows / "index.txt").read_text()
     pdf = paper / "paper.pdf"
     assert pdf.read_bytes()[:5] == b"%PDF-" and pdf.stat().st_size > 50_000
     glance = (paper / "generated" / "glance.md").read_text()

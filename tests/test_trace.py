@@ -1,49 +1,274 @@
-"""A rerun recording of a run opens with rerun's own tools and holds what it should."""
+"""Recordings of any run, read back with rerun's own API (rerun.chunk.RrdReader): every system's
+entities on one step timeline, the divergence against the reference, the colours of frozen
+bodies, the blueprint; and the names a run can be traced by (experiments.targets)."""
+import math
 import os
-import re
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
+import pandas as pd
+import pytest
+from rerun.chunk import RrdReader
+
 import sim
 from analysis import trace
+from experiments import common, scenarios, targets
+from experiments.extremes.axes import AXES
 
 RERUN = Path(sys.executable).with_name("rerun")
 ENV = {**os.environ, "RERUN_ANALYTICS": "0"}
 
 
-def rows_per_entity(path):
-    out = subprocess.run([str(RERUN), "rrd", "print", "-v", str(path)], capture_output=True,
-                         text=True, check=True, env=ENV).stdout
-    rows = {}
-    for n, entity in re.findall(r"with (\d+) rows .*? - (/\S+) - data columns", out):
-        rows[entity] = rows.get(entity, 0) + int(n)
-    return rows
+def read(path):
+    """entity path -> DataFrame of its rows on the step timeline, sorted by step (static rows,
+    which have no step, under the key "<entity>#static")."""
+    parts = {}
+    for chunk in RrdReader(path).stream().to_chunks():
+        df = chunk.to_record_batch().to_pandas()
+        key = str(chunk.entity_path) + ("" if "step" in df.columns else "#static")
+        parts.setdefault(key, []).append(df)
+    out = {}
+    for key, dfs in parts.items():
+        df = pd.concat(dfs, ignore_index=True)
+        if "step" in df.columns:
+            df = df.dropna(subset=["step"]).sort_values("step", kind="stable")
+        out[key] = df.reset_index(drop=True)
+    return out
 
 
-def test_recording_verifies_and_has_every_entity_and_frame(tmp_path):
-    path = tmp_path / "seed_fig3__paper.rrd"
-    steps = 40
-    world = trace.record(sim.scenes.seed_fig3(), "paper", steps, path)
+def scalars(entities, path):
+    """(steps, values) of a Scalars entity."""
+    df = entities[path]
+    return df["step"].to_numpy(int), np.array([v[0] for v in df["Scalars:scalars"]])
+
+
+def rgba(packed):
+    """rerun's packed 0xRRGGBBAA colour -> (r, g, b)."""
+    packed = int(packed)
+    return (packed >> 24) & 255, (packed >> 16) & 255, (packed >> 8) & 255
+
+
+@pytest.fixture(scope="module")
+def box_recording(tmp_path_factory):
+    """single_box (placed at rest) under sim-off twice, sim-extended and pymunk-sleep, 60 steps."""
+    path = tmp_path_factory.mktemp("trace") / "box.rrd"
+    target = targets.resolve("single_box",
+                             systems=["sim-off", "sim-off", "sim-extended", "pymunk-sleep"])
+    tracks = trace.record(target, path, steps=60)
+    return path, read(path), tracks
+
+
+def test_every_system_is_recorded_on_one_step_timeline(box_recording):
+    path, entities, tracks = box_recording
     check = subprocess.run([str(RERUN), "rrd", "verify", str(path)], capture_output=True,
                            text=True, env=ENV)
     assert check.returncode == 0, check.stderr
-    rows = rows_per_entity(path)
-    for entity in ("/world/bodies", "/world/contacts", "/world/impulses", "/timeline/awake",
-                   "/timeline/kinetic_energy"):
-        assert rows.get(entity) == steps + 1, (entity, rows)       # step 0 and every step
-    assert rows["/timeline/step_ms"] == steps
-    assert rows["/world/floor"] == 1                                # static
-    assert rows["/events"] == len(world.events) > 0                 # one log entry per event
+    assert [t.path for t in tracks] == ["sim-off", "sim-off_2", "sim-extended", "pymunk-sleep"]
+    assert not any(t.stopped for t in tracks)
+    for s in ("sim-off", "sim-off_2", "sim-extended", "pymunk-sleep"):
+        for entity in (f"/systems/{s}/bodies", f"/systems/{s}/contacts",
+                       f"/systems/{s}/impulses", f"/timeline/awake/{s}",
+                       f"/timeline/kinetic_energy/{s}", f"/timeline/divergence_m/{s}",
+                       f"/timeline/divergence_rad/{s}"):
+            steps = entities[entity]["step"].to_numpy(int)
+            assert steps.tolist() == list(range(61)), entity          # step 0 and every step
+        assert entities[f"/timeline/step_ms/{s}"]["step"].tolist() == list(range(1, 61))
+        assert f"/systems/{s}/static#static" in entities               # the floor, once
+        time_s = entities[f"/systems/{s}/bodies"]["time"]
+        assert time_s.iloc[-1] == pd.Timedelta(seconds=1.0)            # 60 steps of 1/60 s
+    assert "/about#static" in entities
 
 
-def test_trace_command_writes_the_named_file(tmp_path):
-    out = trace.main(["single_box", "extended", "--steps", "5", "--out", str(tmp_path / "x.rrd")])
-    assert Path(out).stat().st_size > 1000
+def test_divergence_is_zero_against_itself_and_not_against_a_peer(box_recording):
+    _, entities, _ = box_recording
+    for s in ("sim-off", "sim-off_2"):             # the reference, and sim-off run again
+        _, d = scalars(entities, f"/timeline/divergence_m/{s}")
+        _, a = scalars(entities, f"/timeline/divergence_rad/{s}")
+        assert np.all(d == 0.0) and np.all(a == 0.0), s
+    _, d = scalars(entities, "/timeline/divergence_m/pymunk-sleep")
+    assert d[0] == 0.0 and d.max() > 0.0           # same start; Chipmunk settles its own way
 
 
-def test_every_scene_builder_can_be_traced_by_name(tmp_path):
-    for name in sim.scenes.BUILDERS:                  # `make trace SCENE=<name>` needs defaults
-        trace.main([name, "off", "--steps", "1", "--out", str(tmp_path / f"{name}.rrd")])
-    trace.main(["pyramid", "sleep", "--size", "4", "--steps", "2",
-                "--out", str(tmp_path / "p4.rrd")])
+def test_frozen_and_asleep_bodies_take_the_frozen_colour(box_recording):
+    _, entities, _ = box_recording
+    frozen = tuple(trace.body_colors([sim.State.ROTATION_STABLE], [True])[0])
+    asleep = tuple(trace.body_colors([sim.State.SLEEPING], [True])[0])
+    free = tuple(trace.body_colors([sim.State.FREE], [False])[0])
+    assert frozen == tuple(int(c * trace.FROZEN_SHADE) for c in trace.STATE_COLORS[2])
+    ext = entities["/systems/sim-extended/bodies"]["LineStrips2D:colors"]
+    assert rgba(ext.iloc[0][0]) == free                 # the start state: FREE
+    assert rgba(ext.iloc[-1][0]) == frozen              # certified at rest: frozen
+    pm = entities["/systems/pymunk-sleep/bodies"]["LineStrips2D:colors"]
+    assert rgba(pm.iloc[0][0]) == free
+    assert rgba(pm.iloc[-1][0]) == asleep               # Chipmunk's 0.5 s of idling passed
+    off = entities["/systems/sim-off/bodies"]["LineStrips2D:colors"]
+    assert {rgba(c[0]) for c in off} == {free}          # never frozen
+    _, awake = scalars(entities, "/timeline/awake/sim-extended")
+    assert awake[0] == 1 and awake[-1] == 0
+
+
+def test_events_and_outlines_follow_the_runs(box_recording):
+    _, entities, _ = box_recording
+    texts = [t[0] for t in entities["/events/sim-extended"]["TextLog:text"]]
+    assert any("FREE -> ROTATION_STABLE" in t for t in texts), texts
+    texts = [t[0] for t in entities["/events/pymunk-sleep"]["TextLog:text"]]
+    assert texts == ["pymunk-sleep step 31: body 0 fell asleep"]
+    strips = entities["/systems/sim-off/bodies"]["LineStrips2D:strips"].iloc[-1]
+    outline = np.array([tuple(p) for p in strips[0]])
+    assert np.allclose(outline[0], outline[-1])                      # closed
+    assert outline[:, 1].min() == pytest.approx(0.0, abs=0.01)       # on the floor
+    impulses = entities["/systems/sim-off/impulses"]["Arrows2D:vectors"].iloc[-1]
+    total = sum(tuple(v)[1] for v in impulses) / 0.5                 # arrow-scale 0.5 m per N s
+    assert total == pytest.approx(1.0 * 9.81 / 60, rel=1e-3)         # m g dt
+
+
+def blueprint_views(path):
+    """The views of the recording's blueprint: [(kind, display name, origin)]."""
+    reader = RrdReader(path)
+    (blueprint,) = reader.blueprints()
+    views = []
+    for chunk in reader.stream(store=blueprint).to_chunks():
+        df = chunk.to_record_batch().to_pandas()
+        if "ViewBlueprint:space_origin" in df.columns:
+            row = df.iloc[-1]
+            views.append((row["ViewBlueprint:class_identifier"][0],
+                          row["ViewBlueprint:display_name"][0],
+                          row["ViewBlueprint:space_origin"][0]))
+    return views
+
+
+def test_the_blueprint_lays_out_every_system(box_recording):
+    path, _, _ = box_recording
+    views = blueprint_views(path)
+    scenes = {(name, origin) for kind, name, origin in views if kind == "2D"}
+    assert scenes == {("sim-off", "systems/sim-off"), ("sim-off_2", "systems/sim-off_2"),
+                      ("sim-extended", "systems/sim-extended"),
+                      ("pymunk-sleep", "systems/pymunk-sleep")}
+    series = {origin for kind, _, origin in views if kind == "TimeSeries"}
+    assert series == {"timeline/divergence_m", "timeline/awake", "timeline/kinetic_energy",
+                      "timeline/step_ms"}
+    assert ("TextLog", "events", "events") in views
+
+
+def test_every_engine_reports_its_contact_impulses():
+    """runner.contacts(): on a resting 2-box stack the floor carries m g dt per step in every
+    engine (pymunk gives a pair's total, split evenly; pybullet a force, times dt)."""
+    scene = sim.scenes.stack(2)
+    weight_impulse = 2 * 1.0 * 9.81 / 60                 # 2 unit boxes of density 1, N s
+    for system in ("sim-off", "pymunk", "pybullet"):
+        with common.build(system, scene) as runner:
+            runner.step(60)
+            c = runner.contacts()
+            on_floor = np.abs(c["point"][:, 1]) < 0.05
+            assert c["point"].shape == c["normal"].shape == (len(c["normal_impulse"]), 2)
+            assert c["normal_impulse"][on_floor].sum() == pytest.approx(weight_impulse,
+                                                                         rel=1e-3), system
+
+
+# ---- names -------------------------------------------------------------------------------------
+def test_a_scene_file_traces_by_its_path(tmp_path):
+    scene = sim.scenes.stack(3)
+    scene.to_file(tmp_path / "three.toml")
+    target = targets.resolve(str(tmp_path / "three.toml"), systems=["sim-sleep"])
+    assert target.kind == "file" and len(target.scene.bodies) == 3
+    out = trace.main([str(tmp_path / "three.toml"), "--systems", "sim-sleep", "--steps", "5",
+                      "--out", str(tmp_path / "three.rrd")])
+    entities = read(out)
+    assert len(entities["/systems/sim-sleep/bodies"]) == 6
+
+
+def test_an_unknown_name_lists_what_is_available(capsys):
+    with pytest.raises(SystemExit) as exc:
+        trace.main(["no_such_scene"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    for word in ("scene builders:", "pyramid", "scenarios:", "slope_creep", ".toml",
+                 "table_failures/<scenario>", "table_extremes/<axis>/<value>", "knife_edge"):
+        assert word in err, word
+    for bad, words in (("table_extremes/dt/0.5", "the rows are"),
+                       ("table_extremes/no_axis/1", "axes:"),
+                       ("table_failures/nothing", "scenarios:"),
+                       ("table_failures/slope_creep/3", "scenarios:")):
+        with pytest.raises(ValueError, match=words):
+            targets.resolve(bad)
+    with pytest.raises(ValueError, match="no system 'box9'"):
+        targets.resolve("table_failures/slope_creep", systems=["box9"])
+    with pytest.raises(ValueError, match="unknown system"):
+        targets.resolve("pyramid", systems=["sim-warp"])
+
+
+def test_a_failure_row_runs_as_its_table_does():
+    target = targets.resolve("table_failures/slope_creep")
+    scenario = scenarios.get("slope_creep")
+    assert [s.name for s in target.systems] == list(common.SYSTEMS)
+    assert target.dt == common.DT
+    assert target.steps == round(scenario.duration(scenario.build()) / common.DT)
+    assert target.scene.to_dict() == scenario.build().to_dict()
+
+
+def test_every_extremes_cell_runs_as_its_table_does():
+    """The cell's systems, scene, dt, steps and settings are the table's own sweep tasks."""
+    from experiments import table_extremes as table        # the script: tests may import it
+    from experiments.extremes.scenes import scene_of
+    config = table.FULL
+    assert targets.THRESHOLD_BISECTIONS == config["bisection_steps"]
+    assert targets.PYBULLET_MAX_BODIES == config["pybullet_max_bodies"]
+    thresholds = {p: {"v_star": targets.threshold(p), "note": ""} for p in ("paper", "extended")}
+    tasks, not_run = table.sweep_tasks(config, thresholds)
+    cells = {}
+    for task in tasks:
+        cells.setdefault((task["axis"], task["value"]), []).append(task)
+    skipped = {(a, v, s): why for a, v, s, why in not_run}
+    for (axis, value), runs in cells.items():
+        target = targets.resolve(f"table_extremes/{axis}/{value}")
+        by_name = {s.name: s for s in target.systems}
+        assert target.dt == runs[0]["dt"] and target.steps == runs[0]["steps"]
+        for task in runs:
+            system = by_name[task["system"]]
+            assert system.runner == task["runner"] and not system.not_run
+            expected = dict(task["settings"])
+            if task["iterations"] is not None:
+                expected["iterations"] = task["iterations"]
+            assert system.settings == expected, (axis, value, task["system"])
+            scene = system.scene or target.scene
+            assert scene.to_dict() == scene_of(task["scene"]).to_dict()
+        for name, system in by_name.items():
+            if (axis, value, name) in skipped:
+                assert system.not_run, (axis, value, name)
+        assert len(by_name) == len(runs) + sum(1 for a, v, _ in skipped if (a, v) == (axis,
+                                                                                    value))
+
+
+def test_a_rounded_value_names_its_row():
+    assert targets.match_value("dt", "0.03333") == 1 / 30
+    assert targets.match_value("knife_edge", "0") == 0.0
+    assert targets.match_value("impact_threshold", "-1e-6") == -1e-6
+    assert targets.resolve("table_extremes/dt/0.0333").label == "table_extremes/dt/0.03333"
+    for axis, record in AXES.items():                  # every label names its own row again
+        for value in record.values:
+            label = targets.cell_label(axis, value)
+            assert targets.match_value(axis, label.rsplit("/", 1)[1]) == value
+
+
+def test_a_system_that_cannot_run_is_logged_not_dropped(tmp_path):
+    target = targets.resolve("single_box", systems=["sim-off", "pymunk"])
+    target.systems[1].not_run = "a reason"
+    tracks = trace.record(target, tmp_path / "x.rrd", steps=3)
+    assert tracks[1].stopped == "not run: a reason"
+    entities = read(tmp_path / "x.rrd")
+    assert "/systems/pymunk/bodies" not in entities
+    assert [t[0] for t in entities["/events/pymunk"]["TextLog:text"]] == \
+        ["pymunk not run: a reason"]
+    assert len(entities["/systems/sim-off/bodies"]) == 4
+
+
+def test_a_long_run_is_recorded_every_k_steps(tmp_path):
+    target = targets.resolve("single_box", systems=["sim-off"])
+    trace.record(target, tmp_path / "x.rrd", steps=10, every=4)
+    entities = read(tmp_path / "x.rrd")
+    assert entities["/systems/sim-off/bodies"]["step"].tolist() == [0, 4, 8]
+    with pytest.raises(ValueError, match="every"):
+        trace.record(target, tmp_path / "y.rrd", steps=10, every=0)
+    assert math.ceil(100000 / trace.MAX_FRAMES) == 50     # long_run's default: every 50 steps

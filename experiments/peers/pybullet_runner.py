@@ -530,6 +530,19 @@ class PybulletRunner:
         pts = np.stack([local[:, 0], np.zeros(len(local)), local[:, 1]], axis=1) @ m.T + raw_pos[i]
         return pts[:, [0, 2]]
 
+    def contacts(self):
+        """The contact points of the last step, as SimRunner.contacts gives them: {"point": (K,2)
+        m (on B), "normal": (K,2) unit (Bullet's contactNormalOnB, B to A), "normal_impulse": (K,)
+        N s}. Bullet reports a force, its impulse over the step divided by dt: times dt again."""
+        found = pb.getContactPoints(physicsClientId=self._client)
+        k = len(found)
+        point, normal, impulse = np.empty((k, 2)), np.empty((k, 2)), np.empty(k)
+        for j, c in enumerate(found):
+            point[j] = c[6][0], c[6][2]            # positionOnB, x-z plane -> 2D
+            normal[j] = c[7][0], c[7][2]
+            impulse[j] = c[9] * self.dt            # normalForce
+        return {"point": point, "normal": normal, "normal_impulse": impulse}
+
     # ---- lifetime ---------------------------------------------------------------------------
     def close(self):
         """Disconnect the pybullet client (idempotent)."""

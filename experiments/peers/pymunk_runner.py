@@ -220,6 +220,36 @@ class PymunkRunner:
         """(N,) bool, Chipmunk's is_sleeping per body."""
         return np.array([b.is_sleeping for b in self._bodies], dtype=bool)
 
+    def contacts(self):
+        """The contact points of the last step, as SimRunner.contacts gives them: {"point": (K,2)
+        m (midway between the two shapes' points), "normal": (K,2) unit, "normal_impulse": (K,)
+        N s}. Chipmunk reports only a pair's total impulse (``Arbiter.total_impulse``, the
+        impulse on its first shape), so each of the pair's points gets an even share of it:
+        the sum over a pair is exact, the split between its points is not."""
+        seen, point, normal, impulse = set(), [], [], []
+
+        def add(arbiter):
+            key = frozenset(id(s) for s in arbiter.shapes)
+            if key in seen:                       # an arbiter between two bodies is seen twice
+                return
+            seen.add(key)
+            cps = arbiter.contact_point_set
+            if not cps.points:
+                return
+            n = np.array(cps.normal, dtype=np.float64)
+            share = -float(np.dot(np.array(arbiter.total_impulse), n)) / len(cps.points)
+            for p in cps.points:
+                point.append(0.5 * (np.array(p.point_a) + np.array(p.point_b)))
+                normal.append(n)
+                impulse.append(share)
+
+        for body in self._bodies:
+            body.each_arbiter(add)
+        k = len(point)
+        return {"point": np.array(point, dtype=np.float64).reshape(k, 2),
+                "normal": np.array(normal, dtype=np.float64).reshape(k, 2),
+                "normal_impulse": np.array(impulse, dtype=np.float64)}
+
     def close(self):
         """Nothing to release (the space is freed with the runner); here so every runner can be
         closed alike."""

@@ -104,6 +104,13 @@ class SimRunner:
         """(N,) bool: the body is frozen (out of sim's awake list: no work is done for it)."""
         return self.world.frozen
 
+    def contacts(self):
+        """The contact points of the last step: {"point": (K,2) m, "normal": (K,2) unit, A to B,
+        "normal_impulse": (K,) N s along the normal over the whole step} (World.contacts)."""
+        c = self.world.contacts()
+        return {"point": c["point"], "normal": c["normal"],
+                "normal_impulse": c["normal_impulse"]}
+
     def close(self):
         """Nothing to release; here so every runner can be closed alike."""
 

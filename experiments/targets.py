@@ -1,0 +1,247 @@
+"""What a recording replays: a scene, the systems run on it and how, resolved from a name.
+
+A *target* is everything needed to rerun the same start state under several systems in lockstep:
+the scene, the step dt (s), the steps, and per system its runner's name and settings. It is
+resolved from one of
+
+    a scene builder          sim.scenes.BUILDERS: single_box, pyramid, drop, seed_fig3, ...
+    a scenario               the failure catalogue (experiments.scenarios): slope_creep, ...
+    a scene file             any path ending in .toml (written by sim.Scene.to_file)
+    a table cell             table_failures/<scenario>          (a row of the failure catalogue)
+                             table_extremes/<axis>/<value>     (a row of the extremes table)
+
+A table cell is run exactly as its table runs it (the same scene, dt, steps, each system's
+settings: built by the table's own library functions, so the two cannot drift apart; a test checks
+it against the scripts). A name that is none of these is an error listing what is available.
+
+Scenes and scene files run ``DEFAULT_SYSTEMS`` at DT unless told otherwise, each system with the
+study's comparable settings (experiments.common.build).
+"""
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import sim
+from sim.arguments import positive
+from experiments import common, scenarios
+from experiments.common import DT
+from experiments.extremes.axes import (AXES, ALL_SYSTEMS, NO_PRESOLVE_SYSTEMS, applies,
+                                       runner_system, system_settings)
+from experiments.extremes.runs import run_task
+from experiments.extremes.scenes import scene_of
+from experiments.extremes.threshold import find_threshold
+from experiments.peers import SYSTEMS, engine_of
+
+#: the systems a scene is recorded under when none are named: no freezing, the study's method, and
+#: the engines' sleeping (what "where does freezing change the outcome" compares)
+DEFAULT_SYSTEMS = ("sim-off", "sim-extended", "pymunk-sleep")
+DEFAULT_STEPS = 300            # steps of a builder's scene or a scene file when none are given
+TABLES = ("table_failures", "table_extremes")
+#: a cell's value matches a row's when within this relative distance (the paper prints 3-4 digits)
+VALUE_TOLERANCE = 0.01
+#: table_extremes' bisection of the impact threshold: its own settings (experiments.table_extremes)
+THRESHOLD_BISECTIONS = 45
+PYBULLET_MAX_BODIES = 250      # table_extremes does not run pybullet above this (its cost)
+
+
+@dataclass
+class System:
+    """One system of a target: ``name`` as the tables print it (``"sim-off (no presolve)"``),
+    ``runner`` the runner's system (``"sim-off"``), ``settings`` passed to it, or ``not_run``:
+    the reason the table does not run it (then nothing is built). ``scene``: this system's own
+    scene where the table gives it one (the impact threshold axis throws the hammer at each
+    policy's own threshold), else None: the target's."""
+    name: str
+    runner: str
+    settings: dict = field(default_factory=dict)
+    not_run: str = ""
+    scene: object = None
+
+    def build(self, scene, dt):
+        """The system's runner on its scene (``scene`` unless it has its own); a ValueError when
+        the system refuses it."""
+        return common.build(self.runner, self.scene or scene, dt=dt, **self.settings)
+
+
+@dataclass
+class Target:
+    """A scene and the systems replayed on it, in lockstep from the same start state."""
+    label: str                 # what was asked for, e.g. "table_extremes/dt/0.0333"
+    kind: str                  # "builder", "scenario", "file", "table_failures", "table_extremes"
+    scene: object              # sim.Scene
+    dt: float                  # s per step
+    steps: int                 # steps the table (or the default) runs
+    systems: list              # [System], the first is the reference of the divergence
+
+    @property
+    def stem(self):
+        """A file name for the target's recording (no path separators)."""
+        return self.label.replace("/", "__").replace(".toml", "")
+
+    def select(self, names):
+        """The target with only ``names`` (in that order; a name given twice runs twice, e.g. to
+        see that a system repeats itself); unknown names are an error listing the target's
+        systems."""
+        have = {s.name: s for s in self.systems}
+        unknown = [n for n in names if n not in have]
+        if unknown:
+            raise ValueError(f"{self.label}: no system {', '.join(map(repr, unknown))} here; it "
+                             f"has {', '.join(have)}")
+        self.systems = [have[n] for n in names]
+        return self
+
+
+def available():
+    """What can be named, as text for error messages and --help."""
+    axes = ", ".join(AXES)
+    return (f"scene builders: {', '.join(sim.scenes.BUILDERS)}\n"
+            f"scenarios: {', '.join(scenarios.SCENARIOS)}\n"
+            f"scene files: a path ending in .toml\n"
+            f"table cells: table_failures/<scenario>, table_extremes/<axis>/<value> "
+            f"(axes: {axes})")
+
+
+def resolve(name, systems=None, size=None, dt=None):
+    """The Target called ``name`` (see the module docstring).
+
+    systems  names to record (default: the table's systems for a cell, else DEFAULT_SYSTEMS)
+    size     a builder's size argument (rest_row n, stack height, pyramid base, drop n)
+    dt       s per step for a scene (a cell runs at its table's dt; giving another is an error)
+    """
+    if not isinstance(name, str) or not name:
+        raise ValueError(f"name a scene or a table cell; available:\n{available()}")
+    head = name.split("/", 1)[0]
+    if head in TABLES:
+        if size is not None or dt is not None:
+            raise ValueError(f"{name}: a table cell runs as its table does; --size and --dt are "
+                             f"for scenes")
+        target = _failure_cell(name) if head == "table_failures" else _extremes_cell(name)
+        if systems:
+            target.select(list(systems))
+        return target
+    return _scene_target(name, size, dt, list(systems or DEFAULT_SYSTEMS))
+
+
+def scene_system(name):
+    """A System for a scene: any runner system (experiments.peers.SYSTEMS) or a sim system
+    without its presolve ("sim-off (no presolve)"), with the study's comparable settings."""
+    known = tuple(SYSTEMS) + NO_PRESOLVE_SYSTEMS
+    if name not in known:
+        raise ValueError(f"unknown system {name!r}; choose from {', '.join(known)}")
+    return System(name, runner_system(name), system_settings(name))
+
+
+# ---- scenes ------------------------------------------------------------------------------------
+def _scene_target(name, size, dt, systems):
+    dt = DT if dt is None else positive(dt, "dt")
+    steps = DEFAULT_STEPS
+    if name.endswith(".toml"):
+        if size is not None:
+            raise ValueError(f"{name}: --size is a builder's argument, not a scene file's")
+        if not Path(name).is_file():
+            raise ValueError(f"scene file {name} not found")
+        scene, kind = sim.Scene.from_file(name), "file"
+    elif name in sim.scenes.BUILDERS:
+        build = sim.scenes.BUILDERS[name]
+        scene, kind = (build() if size is None else build(size)), "builder"
+    elif name in scenarios.SCENARIOS:
+        if size is not None:
+            raise ValueError(f"{name}: a scenario has no size argument")
+        scenario = scenarios.get(name)
+        scene, kind = scenario.build(), "scenario"
+        steps = int(round(scenario.duration(scene) / dt))
+    else:
+        raise ValueError(f"unknown scene or cell {name!r}; available:\n{available()}")
+    label = Path(name).name if kind == "file" else name
+    return Target(label, kind, scene, dt, steps, [scene_system(s) for s in systems])
+
+
+# ---- table cells -------------------------------------------------------------------------------
+def _failure_cell(name):
+    """table_failures/<scenario>: every system of the table at its dt, for the scenario's time."""
+    parts = name.split("/")
+    if len(parts) != 2 or parts[1] not in scenarios.SCENARIOS:
+        raise ValueError(f"{name}: name a row of table_failures as table_failures/<scenario>; "
+                         f"scenarios: {', '.join(scenarios.SCENARIOS)}")
+    scenario = scenarios.get(parts[1])
+    scene = scenario.build()
+    steps = int(round(scenario.duration(scene) / DT))
+    return Target(name, "table_failures", scene, DT, steps,
+                  [System(s, s) for s in common.SYSTEMS])
+
+
+def match_value(axis, text):
+    """The value of ``axis``'s rows (full table or quick) that ``text`` names: the nearest within
+    VALUE_TOLERANCE (relative), so the paper's rounded 0.0333 names 1/30."""
+    record = AXES[axis]
+    values = list(dict.fromkeys(list(record.values) + list(record.quick)))
+    try:
+        x = float(text)
+    except ValueError:
+        raise ValueError(f"table_extremes/{axis}/{text}: the value must be a number; the rows "
+                         f"are {', '.join(f'{v:g}' for v in values)}") from None
+    best = min(values, key=lambda v: abs(v - x))
+    if abs(best - x) > VALUE_TOLERANCE * max(abs(best), abs(x)) and best != x:
+        raise ValueError(f"table_extremes/{axis}/{text}: no row at {x:g} {record.unit}; the rows "
+                         f"are {', '.join(f'{v:g}' for v in values)}")
+    return best
+
+
+def _extremes_cell(name):
+    """table_extremes/<axis>/<value>: every system with a cell on that row, each as the table
+    runs it (experiments.extremes.runs.run_task, the full table's duration)."""
+    parts = name.split("/")
+    if len(parts) != 3 or parts[1] not in AXES:
+        raise ValueError(f"{name}: name a cell of table_extremes as table_extremes/<axis>/<value>;"
+                         f" axes: {', '.join(AXES)}")
+    axis, value = parts[1], match_value(parts[1], parts[2])
+    record = AXES[axis]
+    config = {"duration_s": {axis: record.duration_s}, "samples": 1, "sample_budget": 1,
+              "budget_s": math.inf}
+    v_star = {}
+    if record.knob == "threshold":            # the threshold search the table itself runs
+        v_star = {policy: threshold(policy) for policy in ("paper", "extended")}
+    systems, task = [], None
+    for system in ALL_SYSTEMS:
+        if not applies(axis, system):
+            continue
+        star = v_star.get("extended" if system == "sim-extended" else "paper")
+        if record.knob == "threshold" and not math.isfinite(star):
+            systems.append(System(system, runner_system(system), not_run="no threshold found"))
+            continue
+        one = run_task(axis, value, system, config, star)
+        task = task or one
+        reason = ""
+        if engine_of(one["runner"]) == "pybullet" and one["bodies"] > PYBULLET_MAX_BODIES:
+            reason = f"the table does not run pybullet above {PYBULLET_MAX_BODIES} bodies"
+        settings = dict(system_settings(system), **one["settings"])
+        if one["iterations"] is not None:
+            settings["iterations"] = one["iterations"]
+        own = None if one["scene"] == task["scene"] else _scene_of(name, one["scene"])
+        systems.append(System(system, one["runner"], settings, reason, own))
+    scene = _scene_of(name, task["scene"])
+    return Target(cell_label(axis, value), "table_extremes", scene, task["dt"],
+                  task["steps"], systems)
+
+
+def cell_label(axis, value):
+    """The name of an extremes cell, as the paper prints it: table_extremes/dt/0.03333."""
+    return f"table_extremes/{axis}/{value:.4g}"
+
+
+def threshold(policy):
+    """v*, m/s: the hammer's speed at which sim-``policy``'s impulse test flips in the impact
+    scene, found as table_extremes finds it (the same bisection, the full table's duration)."""
+    axis = next(a for a in AXES.values() if a.knob == "threshold")
+    return find_threshold({"policy": policy, "steps": int(round(axis.duration_s / DT)),
+                           "bisection_steps": THRESHOLD_BISECTIONS})["v_star"]
+
+
+def _scene_of(name, spec):
+    """The scene of an extremes spec; a scene the table itself cannot build (it records the cell
+    as rejected) cannot be traced either: say so."""
+    try:
+        return scene_of(spec)
+    except ValueError as exc:
+        raise ValueError(f"{name}: the table rejects this cell's scene ({exc}); there is no run "
+                         f"to record") from None

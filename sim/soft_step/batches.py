@@ -1,0 +1,383 @@
+"""The batch kernels: warm start, the biased solve, the relax sweeps, restitution, each over whole
+batches of LANES contacts: gather the batch's body rows, compute every lane at once (packed
+vector instructions), scatter the velocities back."""
+from ..data import DPX, DPY, DQC, DQS, VX, VY, W
+from ..jit import wide_inline, wide_kernel
+from .layout import (BASE1, BASE2, BIAS_RATE, DPAX, DPAY, DPBX, DPBY, E, IA, IB, IMPULSE_SCALE,
+                     LANES_U, LN1, LN2, MA, MASS_SCALE, MB, MU, NMASS1, NMASS2, NX, NY, ON1, PN1,
+                     PN2, POINT2, PT1, QCA, QCB, QSA, QSB, RAX1, RAY1, RBX1, RBY1, RELV1, STRIDE_U,
+                     TN1, TN2, TT1, U64, VAX, VAY, VBX, VBY, WA, WB)
+from .parameters import MAX_CONDITION, RESTITUTION_SWEEPS
+
+
+@wide_inline
+def _gather(wide, o, lane_row, ob, state):
+    """The batch's body rows (velocity, displacement, rotation so far) into its fields."""
+    for l in range(LANES_U):
+        ra = lane_row[ob + l]
+        rb = lane_row[ob + LANES_U + l]
+        wide[o + VAX + l] = state[ra, VX]
+        wide[o + VAY + l] = state[ra, VY]
+        wide[o + WA + l] = state[ra, W]
+        wide[o + DPAX + l] = state[ra, DPX]
+        wide[o + DPAY + l] = state[ra, DPY]
+        wide[o + QCA + l] = state[ra, DQC]
+        wide[o + QSA + l] = state[ra, DQS]
+        wide[o + VBX + l] = state[rb, VX]
+        wide[o + VBY + l] = state[rb, VY]
+        wide[o + WB + l] = state[rb, W]
+        wide[o + DPBX + l] = state[rb, DPX]
+        wide[o + DPBY + l] = state[rb, DPY]
+        wide[o + QCB + l] = state[rb, DQC]
+        wide[o + QSB + l] = state[rb, DQS]
+
+
+@wide_inline
+def _scatter(wide, o, lane_row, ob, state):
+    """The batch's new velocities back into the body rows. Lanes of one colour share no movable
+    body; the dummy row 0 is written by several lanes, all with its unchanged zeros (a zero mass
+    never changes a velocity)."""
+    for l in range(LANES_U):
+        ra = lane_row[ob + l]
+        rb = lane_row[ob + LANES_U + l]
+        state[ra, VX] = wide[o + VAX + l]
+        state[ra, VY] = wide[o + VAY + l]
+        state[ra, W] = wide[o + WA + l]
+        state[rb, VX] = wide[o + VBX + l]
+        state[rb, VY] = wide[o + VBY + l]
+        state[rb, W] = wide[o + WB + l]
+
+
+@wide_inline
+def _fmax(a, b):
+    """max, as the processor's maxpd computes it (b when a is NaN): compiles to one vector
+    instruction, where Python's max semantics need two. Callers put the value that must carry a
+    NaN through as ``b``."""
+    return a if a > b else b
+
+
+@wide_inline
+def _fmin(a, b):
+    return a if a < b else b
+
+
+@wide_inline
+def _apply(wide, o, l, px, py, rax, ray, rbx, rby):
+    """Impulse P on B at rB and -P on A at rA, into the batch's velocity fields."""
+    wide[o + VAX + l] -= wide[o + MA + l] * px
+    wide[o + VAY + l] -= wide[o + MA + l] * py
+    wide[o + WA + l] -= wide[o + IA + l] * (rax * py - ray * px)
+    wide[o + VBX + l] += wide[o + MB + l] * px
+    wide[o + VBY + l] += wide[o + MB + l] * py
+    wide[o + WB + l] += wide[o + IB + l] * (rbx * py - rby * px)
+
+
+@wide_inline
+def _normal_velocity(wide, o, l, nx, ny, rax, ray, rbx, rby):
+    dvx = ((wide[o + VBX + l] - wide[o + WB + l] * rby)
+           - (wide[o + VAX + l] - wide[o + WA + l] * ray))
+    dvy = ((wide[o + VBY + l] + wide[o + WB + l] * rbx)
+           - (wide[o + VAY + l] + wide[o + WA + l] * rax))
+    return dvx * nx + dvy * ny
+
+
+@wide_inline
+def _arms(wide, o, l, p, nx, ny, tx, ty):
+    """A point's lever arms now, for an impulse along (tx, ty), and how far B's anchor has moved
+    from A's since the start of the step.
+
+    Each anchor sits on its own body's surface (``contacts``) and has moved with its body this
+    step (displacement dp, rotation dq): the separation is measured between the moved anchors.
+    An impulse and its reaction change no angular momentum when they act along one line: the
+    arms are the moved anchors, each shifted towards the other by half their offset *across* the
+    impulse (the offset along it, a gap or a penetration, turns nothing). Box2D keeps the arms of
+    the start of the step, which does not conserve angular momentum (1.9% lost in a test
+    collision). The effective masses are computed from these arms where they are used
+    (``_normal_rows``, ``_friction_point``). Returns (rax, ray, rbx, rby, ox, oy): the arms, and
+    B's moved anchor minus A's, minus their offset at the start (its projection on the normal,
+    added to the start separation, is the separation now)."""
+    rax = wide[o + p + RAX1 + l]
+    ray = wide[o + p + RAY1 + l]
+    rbx = wide[o + p + RBX1 + l]
+    rby = wide[o + p + RBY1 + l]
+    qca = wide[o + QCA + l]
+    qsa = wide[o + QSA + l]
+    qcb = wide[o + QCB + l]
+    qsb = wide[o + QSB + l]
+    sax = qca * rax - qsa * ray                  # anchors turned with their bodies
+    say = qsa * rax + qca * ray
+    sbx = qcb * rbx - qsb * rby
+    sby = qsb * rbx + qcb * rby
+    ox = (wide[o + DPBX + l] - wide[o + DPAX + l]) + sbx - sax
+    oy = (wide[o + DPBY + l] - wide[o + DPAY + l]) + sby - say
+    # B's moved anchor minus A's: the start offset (the start separation along n) plus their
+    # relative motion since
+    s0 = wide[o + p + BASE1 + l] + (rbx - rax) * nx + (rby - ray) * ny
+    dx = ox - (rbx - rax) + s0 * nx
+    dy = oy - (rby - ray) + s0 * ny
+    across = 0.5 * (dx * ty - dy * tx)
+    hx = across * ty
+    hy = -across * tx
+    return sax + hx, say + hy, sbx - hx, sby - hy, ox, oy
+
+
+@wide_inline
+def _warm_point(wide, o, l, p, nx, ny):
+    pn = wide[o + p + PN1 + l]
+    pt = wide[o + p + PT1 + l]
+    wide[o + p + TN1 + l] += pn
+    wide[o + p + TT1 + l] += pt
+    # the normal and the friction impulse each on its own line (see _arms)
+    rax, ray, rbx, rby, _, _ = _arms(wide, o, l, p, nx, ny, nx, ny)
+    _apply(wide, o, l, pn * nx, pn * ny, rax, ray, rbx, rby)
+    rax, ray, rbx, rby, _, _ = _arms(wide, o, l, p, nx, ny, ny, -nx)
+    _apply(wide, o, l, pt * ny, -pt * nx, rax, ray, rbx, rby)
+
+
+@wide_kernel
+def warm_start(n_batches, wide, lane_row, state):
+    """Apply each point's accumulated impulses (normal and friction) from the last substep."""
+    for b in range(U64(n_batches)):
+        o = b * STRIDE_U
+        ob = b * U64(2) * LANES_U
+        _gather(wide, o, lane_row, ob, state)
+        for l in range(LANES_U):
+            nx = wide[o + NX + l]
+            ny = wide[o + NY + l]
+            _warm_point(wide, o, l, U64(0), nx, ny)
+            _warm_point(wide, o, l, POINT2, nx, ny)
+        _scatter(wide, o, lane_row, ob, state)
+
+
+@wide_inline
+def _bias(s, inv_h, push, use_bias, mass_scale, bias_rate, impulse_scale):
+    """(bias m/s, mass scale, impulse scale) of a point at separation s: speculative while apart
+    (the bodies may close the gap in this substep, not more), soft when touching and
+    ``use_bias``, rigid otherwise (relax)."""
+    if s > 0.0:
+        return s * inv_h, 1.0, 0.0
+    if use_bias:
+        return _fmax(-push, mass_scale * bias_rate * s), mass_scale, impulse_scale
+    return 0.0, 1.0, 0.0
+
+
+@wide_inline
+def _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias):
+    """Both points' non-penetration rows of a lane.
+
+    Solved point by point, the first point's impulse turns the body before the second is
+    solved: a box resting on a face rocks, and the rocking grows in tall stacks. So a two-point
+    lane is solved as a 2x2 block (Box2D v2's block solver, here with soft rows): both impulses at
+    once, Delta = -K^-1 (mass_scale vn + bias) - impulse_scale (impulse - carried), accepted when
+    both stay >= 0. Otherwise (one point lifts off, a one-point lane, a near-singular K) the points
+    are solved one after the other, the second seeing the first's effect through K12. Both answers
+    are computed and one is selected, so the lanes stay branch-free (vectorised)."""
+    ms = wide[o + MASS_SCALE + l]
+    br = wide[o + BIAS_RATE + l]
+    isc = wide[o + IMPULSE_SCALE + l]
+    ra1x, ra1y, rb1x, rb1y, o1x, o1y = _arms(wide, o, l, U64(0), nx, ny, nx, ny)
+    ra2x, ra2y, rb2x, rb2y, o2x, o2y = _arms(wide, o, l, POINT2, nx, ny, nx, ny)
+    # current separations: the start separation plus how the anchors moved apart along n
+    s1 = wide[o + BASE1 + l] + o1x * nx + o1y * ny
+    s2 = wide[o + BASE2 + l] + o2x * nx + o2y * ny
+    b1, m1, i1 = _bias(s1, inv_h, push, use_bias, ms, br, isc)
+    b2, m2, i2 = _bias(s2, inv_h, push, use_bias, ms, br, isc)
+    vn1 = _normal_velocity(wide, o, l, nx, ny, ra1x, ra1y, rb1x, rb1y)
+    vn2 = _normal_velocity(wide, o, l, nx, ny, ra2x, ra2y, rb2x, rb2y)
+    # the normal-mass matrix K of these arms (the arms move with the bodies: masses computed once
+    # at the start of the step would not match them, and a fast body's collision gained energy)
+    ma = wide[o + MA + l]
+    mb = wide[o + MB + l]
+    ia = wide[o + IA + l]
+    ib = wide[o + IB + l]
+    rn1a = ra1x * ny - ra1y * nx
+    rn1b = rb1x * ny - rb1y * nx
+    rn2a = ra2x * ny - ra2y * nx
+    rn2b = rb2x * ny - rb2y * nx
+    real2 = wide[o + NMASS2 + l] > 0.0         # a second point (else the lane has one)
+    k11 = ma + mb + ia * rn1a * rn1a + ib * rn1b * rn1b
+    k22 = ma + mb + ia * rn2a * rn2a + ib * rn2b * rn2b
+    k12 = ma + mb + ia * rn1a * rn2a + ib * rn1b * rn2b
+    nm1 = 1.0 / k11 if k11 > 0.0 else 0.0
+    nm2 = 1.0 / k22 if (k22 > 0.0 and real2) else 0.0
+    det = k11 * k22 - k12 * k12
+    inv_det = 1.0 / det if det > 0.0 else 0.0
+    old1 = wide[o + PN1 + l]
+    old2 = wide[o + PN2 + l]
+    leak1 = i1 * (old1 - wide[o + LN1 + l])
+    leak2 = i2 * (old2 - wide[o + LN2 + l])
+    r1 = m1 * vn1 + b1
+    r2 = m2 * vn2 + b2
+    # both points at once
+    x1 = old1 - (k22 * r1 - k12 * r2) * inv_det - leak1
+    x2 = old2 - (k11 * r2 - k12 * r1) * inv_det - leak2
+    # one after the other
+    y1 = _fmax(0.0, old1 - nm1 * r1 - leak1)
+    r2s = m2 * (vn2 + k12 * (y1 - old1)) + b2
+    y2 = _fmax(0.0, old2 - nm2 * r2s - leak2)
+    block = (real2 and k11 * k11 < MAX_CONDITION * det and x1 >= 0.0 and x2 >= 0.0)
+    new1 = x1 if block else y1
+    new2 = x2 if block else y2
+    wide[o + PN1 + l] = new1
+    wide[o + PN2 + l] = new2
+    d1 = new1 - old1
+    d2 = new2 - old2
+    wide[o + TN1 + l] += d1
+    wide[o + TN2 + l] += d2
+    _apply(wide, o, l, d1 * nx, d1 * ny, ra1x, ra1y, rb1x, rb1y)
+    _apply(wide, o, l, d2 * nx, d2 * ny, ra2x, ra2y, rb2x, rb2y)
+
+
+@wide_inline
+def _friction_point(wide, o, l, p, nx, ny):
+    """One point's Coulomb friction row, bounded by its current normal impulse."""
+    tx = ny
+    ty = -nx
+    rax, ray, rbx, rby, _, _ = _arms(wide, o, l, p, nx, ny, tx, ty)
+    vt = _normal_velocity(wide, o, l, tx, ty, rax, ray, rbx, rby)
+    rta = rax * ty - ray * tx
+    rtb = rbx * ty - rby * tx
+    k = (wide[o + MA + l] + wide[o + MB + l] + wide[o + IA + l] * rta * rta
+         + wide[o + IB + l] * rtb * rtb)
+    tm = 1.0 / k if (k > 0.0 and wide[o + p + ON1 + l] > 0.0) else 0.0
+    old = wide[o + p + PT1 + l]
+    limit = wide[o + MU + l] * wide[o + p + PN1 + l]
+    new = _fmin(limit, _fmax(-limit, old - tm * vt))
+    wide[o + p + PT1 + l] = new
+    d = new - old
+    wide[o + p + TT1 + l] += d
+    _apply(wide, o, l, d * tx, d * ty, rax, ray, rbx, rby)
+
+
+@wide_inline
+def _frictionless(wide, o):
+    """Is every lane of the batch frictionless? Then its friction rows would clamp every impulse
+    to zero: skipping them changes nothing (the "friction" fast path)."""
+    for l in range(LANES_U):
+        if wide[o + MU + l] != 0.0:
+            return False
+    return True
+
+
+@wide_inline
+def _solve_batches(first, last, wide, lane_row, state, inv_h, push, use_bias, friction,
+                   skip_frictionless, only_hard, batch_hard):
+    for b in range(U64(first), U64(last)):
+        if only_hard and not batch_hard[b]:
+            continue
+        o = b * STRIDE_U
+        ob = b * U64(2) * LANES_U
+        _gather(wide, o, lane_row, ob, state)
+        # friction first, bounded by the normal impulses so far; the normal rows last, so that
+        # the turn a friction impulse gives a body (it acts below the centre of mass) is taken out
+        # before the positions move: solved after the normal rows, the impulse that stops a
+        # sliding box tipped it onto its front edge, and it rocked back for a second
+        if friction and not (skip_frictionless and _frictionless(wide, o)):
+            for l in range(LANES_U):
+                nx = wide[o + NX + l]
+                ny = wide[o + NY + l]
+                _friction_point(wide, o, l, U64(0), nx, ny)
+                _friction_point(wide, o, l, POINT2, nx, ny)
+        for l in range(LANES_U):
+            nx = wide[o + NX + l]
+            ny = wide[o + NY + l]
+            _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias)
+        _scatter(wide, o, lane_row, ob, state)
+
+
+@wide_kernel
+def solve(n_colours, colour_batches, wide, lane_row, state, inv_h, push):
+    """One biased sweep over every batch, colour by colour: normal rows only (friction is solved
+    in the relax sweeps, as Box2D v3 does: with it here too a sweep cost ~40% more, and no
+    test of the physics got better)."""
+    for c in range(n_colours):
+        _solve_batches(colour_batches[c], colour_batches[c + 1], wide, lane_row, state, inv_h,
+                       push, True, False, False, False, lane_row)
+
+
+@wide_kernel
+def relax(n_colours, colour_batches, wide, lane_row, state, inv_h, skip_frictionless):
+    """One unbiased sweep (normal and friction rows): removes the bias velocity.
+    ``skip_frictionless``: the "friction" fast path (see ``_frictionless``)."""
+    for c in range(n_colours):
+        _solve_batches(colour_batches[c], colour_batches[c + 1], wide, lane_row, state, inv_h,
+                       0.0, False, True, skip_frictionless, False, lane_row)
+
+
+@wide_kernel
+def relax_hard(n_colours, colour_batches, wide, lane_row, state, inv_h, skip_frictionless,
+               batch_hard):
+    """One more unbiased sweep over the batches flagged hard only (see HARD_RATIO)."""
+    for c in range(n_colours):
+        _solve_batches(colour_batches[c], colour_batches[c + 1], wide, lane_row, state, inv_h,
+                       0.0, False, True, skip_frictionless, True, batch_hard)
+
+
+@wide_inline
+def _restitution_point(wide, o, l, p, nx, ny, threshold):
+    """Bounce: drive the normal velocity to -e times the approach speed at the start of the step,
+    for points that approached faster than ``threshold`` and carried an impulse."""
+    relv = wide[o + p + RELV1 + l]
+    e = wide[o + E + l]
+    mass = wide[o + p + NMASS1 + l]
+    if relv > -threshold or wide[o + p + TN1 + l] == 0.0 or e == 0.0:
+        mass = 0.0
+    rax, ray, rbx, rby, _, _ = _arms(wide, o, l, p, nx, ny, nx, ny)
+    vn = _normal_velocity(wide, o, l, nx, ny, rax, ray, rbx, rby)
+    old = wide[o + p + PN1 + l]
+    new = _fmax(0.0, old - mass * (vn + e * relv))
+    wide[o + p + PN1 + l] = new
+    d = new - old
+    wide[o + p + TN1 + l] += d
+    _apply(wide, o, l, d * nx, d * ny, rax, ray, rbx, rby)
+
+
+@wide_kernel
+def restitution(n_colours, colour_batches, wide, lane_row, state, threshold):
+    """Restitution after the substeps: RESTITUTION_SWEEPS sweeps (one sweep leaves a two-point
+    manifold's points unequal: the first point's bounce turns the body before the second is
+    solved, and a box dropped flat bounced to 3/4 of its height). Batches with no restitution
+    are skipped."""
+    for _ in range(RESTITUTION_SWEEPS):
+        _restitution_sweep(n_colours, colour_batches, wide, lane_row, state, threshold)
+
+
+@wide_inline
+def _restitution_sweep(n_colours, colour_batches, wide, lane_row, state, threshold):
+    for c in range(n_colours):
+        for b in range(U64(colour_batches[c]), U64(colour_batches[c + 1])):
+            o = b * STRIDE_U
+            bouncy = False
+            for l in range(LANES_U):
+                bouncy = bouncy or wide[o + E + l] > 0.0
+            if not bouncy:
+                continue
+            ob = b * U64(2) * LANES_U
+            _gather(wide, o, lane_row, ob, state)
+            for l in range(LANES_U):
+                nx = wide[o + NX + l]
+                ny = wide[o + NY + l]
+                _restitution_point(wide, o, l, U64(0), nx, ny, threshold)
+                _restitution_point(wide, o, l, POINT2, nx, ny, threshold)
+            _scatter(wide, o, lane_row, ob, state)
+
+
+@wide_kernel
+def deepest_separation(n_batches, wide, lane_row, state):
+    """m: the deepest separation of any contact point at the end of the step (0 if none
+    penetrates): the anchors turned and displaced by the step's motion."""
+    deepest = 0.0
+    for b in range(U64(n_batches)):
+        o = b * STRIDE_U
+        ob = b * U64(2) * LANES_U
+        _gather(wide, o, lane_row, ob, state)
+        for l in range(LANES_U):
+            nx = wide[o + NX + l]
+            ny = wide[o + NY + l]
+            for p in (U64(0), POINT2):
+                if wide[o + p + NMASS1 + l] == 0.0:
+                    continue                      # an empty lane or point
+                _, _, _, _, dx, dy = _arms(wide, o, l, p, nx, ny, nx, ny)
+                deepest = min(deepest, wide[o + p + BASE1 + l] + dx * nx + dy * ny)
+    return deepest
+

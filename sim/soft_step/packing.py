@@ -1,0 +1,223 @@
+"""Packing: every lane of every batch filled from its contact before the substeps (``prepare``),
+and the impulses stored back into the contacts after them (``store``)."""
+import numpy as np
+
+from ..data import (ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, CARRIED, DPX, DPY,
+                    DQC, DQS, END_SEPARATION, FRICTION, NORMAL_IMPULSE, NORMAL_VELOCITY, NORMAL_X,
+                    NORMAL_Y, N_BATCHES, N_HARD, POINT_COUNT, RESTITUTION, SEPARATION,
+                    TANGENT_IMPULSE, WARM_NORMAL, WARM_TANGENT)
+from ..jit import inline_kernel, lean_kernel
+from .bodies import row_of
+from .layout import (BASE1, BIAS_RATE, E, IA, IB, IMPULSE_SCALE, LANES, LANES_U, LN1, MA,
+                     MASS_SCALE, MB, MU, NMASS1, NX, NY, N_FIELDS, ON1, PN1, PN2, POINT2,
+                     POINT_FIELDS, PT1, RAX1, RAY1, RBX1, RBY1, RELV1, STRIDE_U, TN1, TT1, U64)
+from .parameters import HARD_RATIO, pair_hertz, softness
+
+
+@lean_kernel
+def prepare(settings, counters, bodies, contacts, activity, solver):
+    """Fill every lane of every batch from its contact: body rows, masses, anchors, softness,
+    effective masses, the separation at the start of the step, the relative normal velocity
+    (restitution) and the warm-start impulses. Empty lanes are all zero: no effect."""
+    n_dyn = settings.n_dynamic
+    h = settings.dt / settings.substeps
+    g = np.hypot(settings.gravity_x, settings.gravity_y)
+    ci = contacts.contact_int
+    cf = contacts.contact_float
+    pf = contacts.point_float
+    wide = solver.wide
+    inv_mass = activity.solver_inv_mass
+    inv_inertia = activity.solver_inv_inertia
+    awake_slot = activity.awake_slot
+    velocity = bodies.velocity
+    angular_velocity = bodies.angular_velocity
+    warm = 1.0 if settings.warm_starting else 0.0
+    for b in range(counters[N_BATCHES]):
+        o = U64(b) * STRIDE_U
+        for lane in range(LANES):
+            l = U64(lane)
+            e = b * LANES + lane
+            ob = U64(2 * b * LANES + lane)
+            s = solver.lane_slot[e]
+            if s < 0:                              # padding: every field zero, no effect
+                solver.lane_row[ob] = U64(0)
+                solver.lane_row[ob + LANES_U] = U64(0)
+                for f in range(N_FIELDS):
+                    wide[o + U64(f) * LANES_U + l] = 0.0
+                continue
+            a = ci[s, BODY_A]
+            bb = ci[s, BODY_B]
+            solver.lane_row[ob] = U64(row_of(a, n_dyn, awake_slot))
+            solver.lane_row[ob + LANES_U] = U64(row_of(bb, n_dyn, awake_slot))
+            ma = inv_mass[a] if a >= 0 else 0.0
+            ia = inv_inertia[a] if a >= 0 else 0.0
+            mb = inv_mass[bb]
+            ib = inv_inertia[bb]
+            nx = cf[s, NORMAL_X]
+            ny = cf[s, NORMAL_Y]
+            wide[o + NX + l] = nx
+            wide[o + NY + l] = ny
+            wide[o + MU + l] = cf[s, FRICTION]
+            wide[o + E + l] = cf[s, RESTITUTION]
+            wide[o + MA + l] = ma
+            wide[o + IA + l] = ia
+            wide[o + MB + l] = mb
+            wide[o + IB + l] = ib
+            if a >= 0:
+                vax = velocity[a, 0]
+                vay = velocity[a, 1]
+                wa = angular_velocity[a]
+            else:
+                vax = 0.0
+                vay = 0.0
+                wa = 0.0
+            vbx = velocity[bb, 0]
+            vby = velocity[bb, 1]
+            wb = angular_velocity[bb]
+            n_points = ci[s, POINT_COUNT]
+            for j in range(2):
+                p = POINT2 * U64(j)
+                if j >= n_points:                  # a one-point lane: its second point is void
+                    for f in range(POINT_FIELDS):
+                        wide[o + p + RAX1 + U64(f) * LANES_U + l] = 0.0
+                    continue
+                rax = pf[s, j, ANCHOR_AX]
+                ray = pf[s, j, ANCHOR_AY]
+                rbx = pf[s, j, ANCHOR_BX]
+                rby = pf[s, j, ANCHOR_BY]
+                wide[o + p + RAX1 + l] = rax
+                wide[o + p + RAY1 + l] = ray
+                wide[o + p + RBX1 + l] = rbx
+                wide[o + p + RBY1 + l] = rby
+                # separation = base + (dpB - dpA + rot(dqB) rB - rot(dqA) rA) . n
+                wide[o + p + BASE1 + l] = (pf[s, j, SEPARATION]
+                                           - ((rbx - rax) * nx + (rby - ray) * ny))
+                rna = rax * ny - ray * nx
+                rnb = rbx * ny - rby * nx
+                k_normal = ma + mb + ia * rna * rna + ib * rnb * rnb
+                # the point's mass at the start of the step (restitution's; the rows recompute
+                # theirs from their arms each sweep)
+                wide[o + p + NMASS1 + l] = 1.0 / k_normal if k_normal > 0.0 else 0.0
+                wide[o + p + ON1 + l] = 1.0 if k_normal > 0.0 else 0.0   # the point exists
+                wide[o + p + PN1 + l] = warm * pf[s, j, WARM_NORMAL]
+                wide[o + p + PT1 + l] = warm * pf[s, j, WARM_TANGENT]
+                wide[o + p + TN1 + l] = 0.0
+                wide[o + p + TT1 + l] = 0.0
+                wide[o + p + LN1 + l] = warm * pf[s, j, CARRIED]
+                dvx = vbx - wb * rby - vax + wa * ray
+                dvy = vby + wb * rbx - vay - wa * rax
+                wide[o + p + RELV1 + l] = dvx * nx + dvy * ny
+            immovable = (ma == 0.0 and ia == 0.0) or (mb == 0.0 and ib == 0.0)
+            size = bodies.size[bb] if a < 0 else min(bodies.size[a], bodies.size[bb])
+            hertz = pair_hertz(settings.contact_hertz, size, g, h, immovable)
+            bias_rate, mass_scale, impulse_scale = softness(hertz, settings.damping_ratio, h)
+            wide[o + BIAS_RATE + l] = bias_rate
+            wide[o + MASS_SCALE + l] = mass_scale
+            wide[o + IMPULSE_SCALE + l] = impulse_scale
+    if settings.mixed_masses:
+        counters[N_HARD] = _mark_hard(counters[N_BATCHES], wide, solver)
+    else:                                  # no contact can be hard (World._mixed_masses)
+        for b in range(counters[N_BATCHES]):
+            solver.batch_hard[b] = False
+        counters[N_HARD] = 0
+
+
+@inline_kernel
+def _mark_hard(n_batches, wide, solver):
+    """Flag the batches that touch a body in a contact of mass ratio > HARD_RATIO (both bodies
+    movable); returns how many."""
+    found = False
+    for b in range(n_batches):
+        o = U64(b) * STRIDE_U
+        for lane in range(LANES):
+            l = U64(lane)
+            ma = wide[o + MA + l]
+            mb = wide[o + MB + l]
+            if ma > 0.0 and mb > 0.0 and (ma > HARD_RATIO * mb or mb > HARD_RATIO * ma):
+                ob = U64(2 * b * LANES + lane)
+                solver.row_mark[solver.lane_row[ob]] = True
+                solver.row_mark[solver.lane_row[ob + LANES_U]] = True
+                found = True
+    n_hard = 0
+    for b in range(n_batches):
+        hard = False
+        if found:
+            for lane in range(LANES):
+                ob = U64(2 * b * LANES + lane)
+                ra = solver.lane_row[ob]
+                rb = solver.lane_row[ob + LANES_U]
+                hard = hard or (ra > 0 and solver.row_mark[ra]) or (rb > 0 and solver.row_mark[rb])
+        solver.batch_hard[b] = hard
+        n_hard += 1 if hard else 0
+    if found:
+        for b in range(n_batches):
+            for lane in range(LANES):
+                ob = U64(2 * b * LANES + lane)
+                solver.row_mark[solver.lane_row[ob]] = False
+                solver.row_mark[solver.lane_row[ob + LANES_U]] = False
+    return n_hard
+
+
+
+@inline_kernel
+def _end_separation(wide, o, l, p, nx, ny, state, ra, rb):
+    """m: point p's separation at the end of the step (the start separation, plus how the
+    anchors moved apart along n with their bodies)."""
+    rax = wide[o + p + RAX1 + l]
+    ray = wide[o + p + RAY1 + l]
+    rbx = wide[o + p + RBX1 + l]
+    rby = wide[o + p + RBY1 + l]
+    dx = ((state[rb, DPX] - state[ra, DPX]) + (state[rb, DQC] * rbx - state[rb, DQS] * rby)
+          - (state[ra, DQC] * rax - state[ra, DQS] * ray))
+    dy = ((state[rb, DPY] - state[ra, DPY]) + (state[rb, DQS] * rbx + state[rb, DQC] * rby)
+          - (state[ra, DQS] * rax + state[ra, DQC] * ray))
+    return wide[o + p + BASE1 + l] + dx * nx + dy * ny
+
+
+@lean_kernel
+def store(counters, contacts, solver, carry_rate, impact_speed):
+    """Each lane's impulses back into its contact: the last substep's accumulated impulses (warm
+    start), the step's totals (the freeze policies) and the approach velocity (reports); and the
+    carried load follows the impulse by ``carry_rate`` of the difference.
+
+    A point that approached faster than ``impact_speed`` m/s at the start of the step was an
+    impact: its impulse stopped a motion that is now gone, so it is not warm-started (the next
+    step starts the point cold, as a new contact) and is not a load to carry. Warm-started, a
+    200 m/s projectile stopped by a wall was kicked to 162 rad/s a step later."""
+    pf = contacts.point_float
+    wide = solver.wide
+    for b in range(counters[N_BATCHES]):
+        o = U64(b) * STRIDE_U
+        for lane in range(LANES):
+            s = solver.lane_slot[b * LANES + lane]
+            if s < 0:
+                continue
+            l = U64(lane)
+            ob = U64(2 * b * LANES + lane)
+            ra = solver.lane_row[ob]
+            rb = solver.lane_row[ob + LANES_U]
+            nx = wide[o + NX + l]
+            ny = wide[o + NY + l]
+            for j in range(contacts.contact_int[s, POINT_COUNT]):
+                p = POINT2 * U64(j)
+                pf[s, j, END_SEPARATION] = _end_separation(wide, o, l, p, nx, ny, solver.state,
+                                                           ra, rb)
+                if wide[o + p + RELV1 + l] < -impact_speed:
+                    pf[s, j, WARM_NORMAL] = 0.0
+                    pf[s, j, WARM_TANGENT] = 0.0
+                else:
+                    pf[s, j, WARM_NORMAL] = wide[o + p + PN1 + l]
+                    pf[s, j, WARM_TANGENT] = wide[o + p + PT1 + l]
+                    pf[s, j, CARRIED] += carry_rate * (wide[o + p + PN1 + l] - pf[s, j, CARRIED])
+                pf[s, j, NORMAL_IMPULSE] = wide[o + p + TN1 + l]
+                pf[s, j, TANGENT_IMPULSE] = wide[o + p + TT1 + l]
+                pf[s, j, NORMAL_VELOCITY] = wide[o + p + RELV1 + l]
+
+
+@inline_kernel
+def lane_normal_impulse(wide, e):
+    """N s: the accumulated normal impulse of lane e (both points), for convergence tests."""
+    b = U64(e // LANES)
+    l = U64(e % LANES)
+    o = b * STRIDE_U
+    return wide[o + PN1 + l] + wide[o + PN2 + l]

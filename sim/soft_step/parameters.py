@@ -1,0 +1,79 @@
+"""The soft contact's parameters: defaults (each with the measurement that chose it) and the
+stiffness of a contact pair (``pair_hertz``) turned into the soft constraint's coefficients
+(``softness``, Catto's soft step)."""
+import numpy as np
+
+from ..jit import inline_kernel
+
+#: Default soft-contact parameters. The damping ratio is three times Box2D's 10: with contacts that
+#: carry their load (see LOAD_TIME), a 50-box column started without any initial solve oscillated
+#: and buckled at 10 and settles at 30 (experiments/tune_soft_step.py). push_speed is Box2D's.
+DAMPING_RATIO = 30.0
+PUSH_SPEED = 3.0
+#: Stiffness caps as fractions of the substep rate: hertz * h. A contact stiffer than 1/8 of the
+#: substep rate (Box2D's cap) made a 20-high pyramid jitter and grow a rocking mode; against an
+#: immovable body twice that. The default stiffness is the cap itself ("as stiff as the substep
+#: allows": 30 Hz at 4 substeps of 1/60 s, Box2D's default), so more substeps give stiffer
+#: contacts.
+DYNAMIC_CAP = 0.125
+STATIC_CAP = 0.25
+#: A contact must be stiff relative to gravity at the size of its bodies, omega^2 >= STIFFNESS_RATIO
+#: g / size, or a small body rocks on it (a column of 1 mm boxes fell over at a ratio of 4, rocked
+#: slowly at 15 and stood at 36 and above). Small bodies get stiffer contacts up to the cap; a body
+#: too small even at the cap is refused (``tolerances.check_step``).
+STIFFNESS_RATIO = 25.0
+#: Time constant (s) with which a contact's carried load follows the impulse it applies. A soft
+#: contact is a spring: it carries a load L by sinking L / (m omega^2), and in a stack every
+#: contact sinks by what it carries (a 10-box column sank 3 cm, a 50-box one 0.7 m). Here the
+#: spring only acts on the *change* of load: the load the contact has carried for a while is held
+#: rigidly (``_normal_rows``: the leak is impulse_scale * (impulse - carried)), so a resting
+#: stack does not sink at all. Followed instantly the carried load becomes an integrator that
+#: makes tall columns oscillate; followed over a third of a second, the spring damps first.
+LOAD_TIME = 1.0 / 3.0
+#: A two-point manifold is solved as one 2x2 block unless K's condition number is worse than this
+#: (the points nearly coincide): then point by point.
+MAX_CONDITION = 1000.0
+#: A contact between movable bodies whose masses differ more than this is "hard": Gauss-Seidel
+#: converges on it at ~M/(M+m) per sweep (a heavy box on a light one sinks into it while the
+#: light one is pushed into the floor). HARD_SWEEPS more relax sweeps per substep go to the batches
+#: that touch a body in such a contact, and only to them: a 1000:1 stack dropped onto the floor
+#: toppled with one relax sweep and stands with three (final overlap 4 mm), at no cost to scenes
+#: without mass ratios.
+HARD_RATIO = 10.0
+HARD_SWEEPS = 2
+#: m/s: a contact point that approached faster than this at the start of a step was an impact,
+#: and its impulse is not warm-started into the next step (see ``store``). With the restitution
+#: threshold (1 m/s) instead, a settling pile of 30 polygons kept 1.7 cm of overlap (under 1 cm with
+#: every point warm-started): ordinary landings need their warm start.
+IMPACT_SPEED = 10.0
+#: Restitution sweeps after the substeps (see ``restitution``).
+RESTITUTION_SWEEPS = 4
+
+
+@inline_kernel
+def softness(hertz, zeta, h):
+    """(bias_rate 1/s, mass_scale, impulse_scale) of a soft constraint (Catto)."""
+    if hertz <= 0.0:
+        return 0.0, 1.0, 0.0
+    omega = 2.0 * np.pi * hertz
+    a1 = 2.0 * zeta + h * omega
+    a2 = h * omega * a1
+    a3 = 1.0 / (1.0 + a2)
+    return omega / a1, a2 * a3, a3
+
+
+@inline_kernel
+def pair_hertz(base_hertz, size, gravity, h, immovable):
+    """Hz: the stiffness of a contact whose bodies' smaller size is ``size`` m, at substep h s.
+
+    ``base_hertz`` (the World's contact_hertz; 0 = the cap), raised for small bodies so that
+    omega^2 >= STIFFNESS_RATIO g / size, doubled against an immovable body (so a pile does not sink
+    into its support), and capped at DYNAMIC_CAP (STATIC_CAP) of the substep rate."""
+    cap = (STATIC_CAP if immovable else DYNAMIC_CAP) / h
+    hertz = base_hertz if base_hertz > 0.0 else DYNAMIC_CAP / h
+    if gravity > 0.0 and size > 0.0:
+        hertz = max(hertz, np.sqrt(STIFFNESS_RATIO * gravity / size) / (2.0 * np.pi))
+    if immovable:
+        hertz *= 2.0
+    return min(hertz, cap)
+

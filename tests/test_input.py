@@ -331,7 +331,7 @@ def test_every_scene_file_error_is_a_value_error_naming_the_file_and_entry(tmp_p
         sim.Scene.from_file(path)
 
 
-@pytest.mark.parametrize("system", ["sim-off", "pymunk", "pybullet"])
+@pytest.mark.parametrize("system", ["sim-off", "pymunk", "pybullet", "box2d"])
 @pytest.mark.parametrize("setting, value", [("dt", "0.01"), ("iterations", 3.0),
                                             ("iterations", "3"), ("dt", True),
                                             ("iterations", 2 ** 31)])   # beyond a C int

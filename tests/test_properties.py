@@ -282,7 +282,7 @@ def test_array_scenes_build_and_run_finite_or_are_refused_by_argument(drawn):
 RUNNER = {"dt": st.floats(1e-3, 0.05), "iterations": st.integers(1, 20)}
 
 
-@pytest.mark.parametrize("system", ["sim-off", "pymunk", "pybullet"])
+@pytest.mark.parametrize("system", ["sim-off", "pymunk", "pybullet", "box2d"])
 @settings(max_examples=40, deadline=None)
 @given(drawn=fields(RUNNER))
 def test_any_runner_settings_run_finite_or_are_refused_by_name(system, drawn):

@@ -5,6 +5,8 @@ A system is named by a string (``SYSTEMS``); ``make_runner(system, scene, ...)``
     sim-off, sim-sleep, sim-paper, sim-extended   sim.World under that freeze policy (SimRunner)
     pymunk, pymunk-sleep                         Chipmunk2D, sleeping off / on (PymunkRunner)
     pybullet, pybullet-sleep                     Bullet, 2D by planar joints (PybulletRunner)
+    box2d, box2d-sleep                           Box2D 2.3 (float32), sleeping off / on
+                                                 (Box2dRunner; not yet in any experiment)
 
 Every runner has ``step(n=1)`` and the observables ``positions`` (N,2) m (centres of mass, row i =
 scene body i), ``angles`` (N,) rad CCW, ``velocities`` (N,2) m/s, ``angular_velocities`` (N,)
@@ -19,6 +21,8 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from .box2d_runner import DEFAULT_ITERATIONS as BOX2D_DEFAULT_ITERATIONS
+from .box2d_runner import Box2dRunner
 from .pybullet_runner import DEFAULT_ITERATIONS as PYBULLET_DEFAULT_ITERATIONS
 from .pybullet_runner import PybulletRunner
 from .pymunk_runner import PymunkRunner
@@ -28,7 +32,7 @@ from .sim_runner import SimRunner
 
 #: Every system name ``make_runner`` knows, sim's policies first.
 SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk", "pymunk-sleep",
-           "pybullet", "pybullet-sleep")
+           "pybullet", "pybullet-sleep", "box2d", "box2d-sleep")
 
 #: Solver iterations when ``make_runner`` is given none: each engine's own default, so that every
 #: system runs as its authors tuned it and a comparison is fair by construction (same scene, same
@@ -39,8 +43,10 @@ SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk", "pymun
 #:   pymunk    10 iterations per step (Chipmunk's default)
 #:   pybullet  50 iterations per step (Bullet's default is 10, with which a base-20 pyramid creeps
 #:             and a base-40 one collapses; see ``pybullet_runner``)
+#:   box2d     8 velocity iterations per step (Box2D's testbed default), plus 3 position
+#:             iterations (a runner setting, ``position_iterations``)
 DEFAULT_ITERATIONS = {"sim": SIM_DEFAULT_ITERATIONS, "pymunk": 10,
-                      "pybullet": PYBULLET_DEFAULT_ITERATIONS}
+                      "pybullet": PYBULLET_DEFAULT_ITERATIONS, "box2d": BOX2D_DEFAULT_ITERATIONS}
 
 
 @runtime_checkable
@@ -71,7 +77,8 @@ class Runner(Protocol):
 
 
 def engine_of(system):
-    """"sim", "pymunk" or "pybullet" for a system name; ValueError for an unknown one."""
+    """"sim", "pymunk", "pybullet" or "box2d" for a system name; ValueError for an unknown
+    one."""
     if system not in SYSTEMS:
         raise ValueError(f"unknown system {system!r}; choose one of {', '.join(SYSTEMS)}")
     return system.split("-", 1)[0]
@@ -79,17 +86,19 @@ def engine_of(system):
 
 def solver_summary(settings):
     """How much solving a runner's ``settings`` ask for per step, comparable across engines:
-    {"substeps": integration substeps per step (sim's setting; 1 for pymunk and pybullet, which
-    step once per step), "iterations": as the engine counts them (sim: biased sweeps per substep;
-    the peers: per step), "relax_iterations": sim's unbiased sweeps per substep (0 for the
-    peers), "contact_sweeps_per_step": passes over the contacts per step (sim: substeps x
-    (iterations + relax_iterations); the peers: iterations)}. Warm starting and restitution
-    passes are not counted in any engine."""
+    {"substeps": integration substeps per step (sim's setting; 1 for the peers, which step
+    once per step), "iterations": as the engine counts them (sim: biased sweeps per substep;
+    the peers: per step; Box2D: velocity iterations), "relax_iterations": sim's unbiased sweeps
+    per substep (0 for the peers), "contact_sweeps_per_step": passes over the contacts per step
+    (sim: substeps x (iterations + relax_iterations); Box2D: iterations + its
+    position_iterations; the other peers: iterations)}. Warm starting and restitution passes
+    are not counted in any engine."""
     substeps = settings.get("substeps", 1)
     relax = settings.get("relax_iterations", 0)
+    position = settings.get("position_iterations", 0)
     return {"substeps": substeps, "iterations": settings["iterations"],
             "relax_iterations": relax,
-            "contact_sweeps_per_step": substeps * (settings["iterations"] + relax)}
+            "contact_sweeps_per_step": substeps * (settings["iterations"] + relax) + position}
 
 
 def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
@@ -98,8 +107,10 @@ def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
     iterations  solver iterations; None = the engine's default (``DEFAULT_ITERATIONS``). For sim
                 these are biased sweeps per substep; its substeps (default 4) are a setting.
     settings    passed to the runner: sim.World's keywords (slop, the policy's parameters...),
-                PymunkRunner's (collision_slop, sleep_time, idle_speed) or PybulletRunner's
-                (sleep_threshold, restitution_threshold). Sleeping is chosen by the name.
+                PymunkRunner's (collision_slop, sleep_time, idle_speed), PybulletRunner's
+                (sleep_threshold, restitution_threshold) or Box2dRunner's
+                (position_iterations, warm_starting, continuous). Sleeping is chosen by the
+                name.
     """
     engine = engine_of(system)
     if "sleeping" in settings or "freeze" in settings:
@@ -112,8 +123,11 @@ def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
     sleeping = system.endswith("-sleep")
     if engine == "pymunk":
         return PymunkRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
+    if engine == "box2d":
+        return Box2dRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
     return PybulletRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
 
 
 __all__ = ["Runner", "SYSTEMS", "DEFAULT_ITERATIONS", "SIM_DEFAULT_SUBSTEPS", "make_runner",
-           "engine_of", "solver_summary", "SimRunner", "PymunkRunner", "PybulletRunner"]
+           "engine_of", "solver_summary", "SimRunner", "PymunkRunner", "PybulletRunner",
+           "Box2dRunner"]

@@ -56,6 +56,7 @@ from experiments import scenarios, targets
 from experiments.extremes.geometry import Shapes
 from experiments.metadata import git_state, jsonable
 from experiments.paths import RECORDINGS, ensure
+from experiments.peers import sim_world
 from sim.files import write_text_atomically
 
 #: state -> RGB (FREE, VERTICAL_STABLE, ROTATION_STABLE, SLEEPING): the figures' colours
@@ -105,7 +106,8 @@ class Track:
 
     @property
     def world(self):
-        return getattr(self.runner, "world", None)
+        """The sim.World of a sim system (its states, events), None for a peer."""
+        return sim_world(self.runner)
 
     def close(self):
         if self.runner is not None:

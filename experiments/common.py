@@ -24,7 +24,9 @@ from experiments.timing import timed
 DT = 1 / 60                 # s, every system's step unless an experiment sweeps it
 SLOP = 0.005                # m, sim's slop and pymunk's collision_slop
 #: settings that make the systems comparable (iterations: each engine's default, see peers)
-SYSTEM_SETTINGS = {"sim": {"slop": SLOP}, "pymunk": {"collision_slop": SLOP}, "pybullet": {}}
+#: (Box2D's slop, b2_linearSlop, is compiled in: 0.005 m, the same; its runner records it)
+SYSTEM_SETTINGS = {"sim": {"slop": SLOP}, "pymunk": {"collision_slop": SLOP}, "pybullet": {},
+                   "box2d": {}}
 #: every system of the study, and each one's sleeping-off reference
 SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk", "pymunk-sleep",
            "pybullet", "pybullet-sleep")

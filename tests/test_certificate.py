@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 
 import sim
-from sim import State
 from sim.freeze import certificate
 from conftest import G
 from naive import nnls

@@ -16,6 +16,7 @@ import sim
 from analysis import trace
 from experiments import common, scenarios, targets
 from experiments.extremes.axes import AXES
+from experiments.peers import make_runner
 
 RERUN = Path(sys.executable).with_name("rerun")
 ENV = {**os.environ, "RERUN_ANALYTICS": "0"}
@@ -154,11 +155,12 @@ def test_the_blueprint_lays_out_every_system(box_recording):
 
 def test_every_engine_reports_its_contact_impulses():
     """runner.contacts(): on a resting 2-box stack the floor carries m g dt per step in every
-    engine (pymunk gives a pair's total, split evenly; pybullet a force, times dt)."""
+    engine (pymunk gives a pair's total, split evenly; pybullet a force, times dt; Box2D its
+    manifold points' impulses)."""
     scene = sim.scenes.stack(2)
     weight_impulse = 2 * 1.0 * 9.81 / 60                 # 2 unit boxes of density 1, N s
-    for system in ("sim-off", "pymunk", "pybullet"):
-        with common.build(system, scene) as runner:
+    for system in ("sim-off", "pymunk", "pybullet", "box2d"):
+        with make_runner(system, scene) as runner:
             runner.step(60)
             c = runner.contacts()
             on_floor = np.abs(c["point"][:, 1]) < 0.05

@@ -19,6 +19,7 @@ from experiments.extremes.record import Measurement
 from experiments.extremes.rules import EXPLOSION_FACTOR
 from experiments.extremes.scenes import scene_of
 from experiments.extremes.threshold import Decision
+from experiments.peers import sim_world
 
 #: the reference's solver (table_extremes' docstring, "Reference"): sim.World's defaults, written
 #: out so that the reference is fixed here and never moves with a runner's or the World's defaults
@@ -33,7 +34,7 @@ EVERY_STEP_KINDS = ("projectile", "impact", "knife")
 
 def state_changes(runner, n):
     """Most state changes of one sim body (equal-state events excluded); nan for peers."""
-    world = getattr(runner, "world", None)
+    world = sim_world(runner)
     if world is None:
         return math.nan
     counts = np.zeros(n, dtype=int)
@@ -77,7 +78,7 @@ def simulate(task):
         return out
     # what ran, as the runner reports it (sim: iterations per substep, and its substeps)
     out.iterations = runner.settings.get("iterations", task["iterations"])
-    world = getattr(runner, "world", None)
+    world = sim_world(runner)
     out.substeps = int(world.substeps) if world is not None else None
     judge = Judge(scene, shapes)
     decision = Decision(task["system"][len("sim-"):]) if task.get("watch_decision") else None

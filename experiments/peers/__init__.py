@@ -84,6 +84,12 @@ def engine_of(system):
     return system.split("-", 1)[0]
 
 
+def sim_world(runner):
+    """The sim.World behind a SimRunner (its states, events, contacts), else None: a peer (Box2D's
+    runner has a ``world`` of its own, a b2World, so the attribute alone does not say)."""
+    return runner.world if isinstance(runner, SimRunner) else None
+
+
 def solver_summary(settings):
     """How much solving a runner's ``settings`` ask for per step, comparable across engines:
     {"substeps": integration substeps per step (sim's setting; 1 for the peers, which step
@@ -129,5 +135,5 @@ def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
 
 
 __all__ = ["Runner", "SYSTEMS", "DEFAULT_ITERATIONS", "SIM_DEFAULT_SUBSTEPS", "make_runner",
-           "engine_of", "solver_summary", "SimRunner", "PymunkRunner", "PybulletRunner",
-           "Box2dRunner"]
+           "engine_of", "sim_world", "solver_summary", "SimRunner", "PymunkRunner",
+           "PybulletRunner", "Box2dRunner"]

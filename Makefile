@@ -81,7 +81,7 @@ test-fast: $(STAMP)
 # The build graph: each output depends on every repository file its script runs, found from the
 # imports by tools/makedeps.py (a list kept by hand went stale: an edit to bench_freeze.py did not
 # rerun the figures that import it). The rules are remade whenever a source changes.
-SOURCES := $(shell find sim experiments analysis -name '*.py' -not -path '*/__pycache__/*')
+SOURCES := $(shell find sim study experiments analysis -name '*.py' -not -path '*/__pycache__/*')
 DEPS    := .make/deps.mk
 $(DEPS): tools/makedeps.py $(SOURCES) Makefile
 	@mkdir -p $(dir $@)

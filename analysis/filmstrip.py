@@ -1,5 +1,5 @@
 """Drawing the filmstrip figures (fig_states, fig_edge_as_floor, fig_overhang) from the
-``experiments.filmstrip`` tables: bodies as filled polygons coloured by state (frozen ones darker
+``study.filmstrip`` tables: bodies as filled polygons coloured by state (frozen ones darker
 and hatched), the floor, optional dashed "ghost" outlines of the reference (off) run, and the state
 legend."""
 import math
@@ -8,7 +8,7 @@ import numpy as np
 from matplotlib.patches import Patch, Polygon
 
 from analysis import style
-from experiments.filmstrip import outline_xy
+from study.filmstrip import outline_xy
 
 
 def bodies(table, policy, step=None):

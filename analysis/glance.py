@@ -9,7 +9,7 @@ import re
 from pathlib import Path
 
 from analysis.style import fmt
-from experiments import paths
+from study import paths
 
 START, END = "<!-- glance:start -->", "<!-- glance:end -->"
 FIGURES = (("fig_states", "seed figure 1 from a real run"),

@@ -18,10 +18,10 @@ import typst
 import sim
 from sim import freeze
 from sim.freeze import paper as freeze_paper
-from experiments.peers import DEFAULT_ITERATIONS
+from study.peers import DEFAULT_ITERATIONS
 
 from analysis.style import write_numbers
-from experiments import paths
+from study import paths
 
 SOURCES = ("paper.typ",)
 #: the experiments whose metadata describes the set-up (the first one present is used)

@@ -20,8 +20,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
 import pandas as pd  # noqa: E402
 
-from experiments import paths  # noqa: E402
-from experiments.metadata import jsonable  # noqa: E402
+from study import paths  # noqa: E402
+from study.metadata import jsonable  # noqa: E402
 from sim.files import write_text_atomically  # noqa: E402
 
 #: one colour, marker and line per system, everywhere (colour-blind-safe Okabe-Ito palette; sleeping

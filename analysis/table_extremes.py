@@ -1,6 +1,6 @@
 """Table "table_extremes" and figure "fig_extremes": every (axis, value) x system run of the
 extremes sweep marked stable / degraded / failed / rejected / not run by the experiment's stated
-rules (experiments/table_extremes.py, experiments/extremes/), drawn as a grid; the numbers say, per
+rules (experiments/table_extremes.py, study/extremes/), drawn as a grid; the numbers say, per
 axis, which system breaks first and how many cells each system has of each mark.
 
 Two things are kept apart, for fairness by construction:
@@ -26,8 +26,8 @@ import pandas as pd
 from matplotlib.patches import Patch
 
 from analysis import style
-from experiments.common import REFERENCE, SYSTEMS
-from experiments.extremes.axes import (AXES, NO_PRESOLVE, NO_PRESOLVE_SYSTEMS, SIM_ONLY_AXES,
+from study.common import REFERENCE, SYSTEMS
+from study.extremes.axes import (AXES, NO_PRESOLVE, NO_PRESOLVE_SYSTEMS, SIM_ONLY_AXES,
                                        applies, runner_system)
 
 NAME = "table_extremes"
@@ -240,7 +240,7 @@ def headline(table, systems, axes_values):
 def freezing_effect(table, systems=None):
     """Cells where a freezing system (sim-sleep/-paper/-extended, pymunk-sleep, pybullet-sleep,
     and the no-presolve sim policies) is marked worse, or better, than its engine with sleeping
-    off (experiments.common.REFERENCE; a no-presolve policy against sim-off without presolve too)
+    off (study.common.REFERENCE; a no-presolve policy against sim-off without presolve too)
     on the same (axis, value): what freezing itself costs or saves at the extremes. Only the
     cells of ``systems`` (default: all) are compared."""
     marks = {(r.axis, r.value, r.system): r.status for r in table.itertuples()

@@ -10,7 +10,7 @@ frame where their outcomes part.
 
 NAME is a scene builder (pyramid), a failure-catalogue scenario (slope_creep), a scene file
 (path/to/scene.toml) or a table cell (table_failures/<scenario>, table_extremes/<axis>/<value>):
-experiments.targets resolves it, running a cell exactly as its table does. Every system starts
+study.targets resolves it, running a cell exactly as its table does. Every system starts
 from the same scene and is stepped in lockstep; the first one named is the *reference*.
 
 What the recording holds, on the timelines ``step`` (the run's step count) and ``time``
@@ -52,11 +52,11 @@ import rerun.blueprint as rrb
 
 import sim
 from analysis.style import STATE_RGB, system_style
-from experiments import scenarios, targets
-from experiments.extremes.geometry import Shapes
-from experiments.metadata import git_state, jsonable
-from experiments.paths import RECORDINGS, ensure
-from experiments.peers import sim_world
+from study import scenarios, targets
+from study.extremes.geometry import Shapes
+from study.metadata import git_state, jsonable
+from study.paths import RECORDINGS, ensure
+from study.peers import sim_world
 from sim.files import write_text_atomically
 
 #: state -> RGB (FREE, VERTICAL_STABLE, ROTATION_STABLE, SLEEPING): the figures' colours
@@ -287,7 +287,7 @@ class Recorder:
 
 
 def record(target, path, steps=None, every=None, arrow_scale=0.5, progress=None):
-    """Record ``target`` (experiments.targets.Target) for ``steps`` steps (default its own) to
+    """Record ``target`` (study.targets.Target) for ``steps`` steps (default its own) to
     ``path``, one frame every ``every`` steps (default: at most MAX_FRAMES frames). Returns the
     tracks (``.runner`` closed; ``.stopped``: why a system did not run to the end, or "")."""
     steps = target.steps if steps is None else steps

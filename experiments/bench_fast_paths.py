@@ -47,9 +47,9 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from experiments.common import DT, SLOP, compile_kernels, entry, label
-from experiments.peers import make_runner
-from experiments.timing import interleaved
+from study.common import DT, SLOP, compile_kernels, entry, label
+from study.peers import make_runner
+from study.timing import interleaved
 
 NAME = "bench_fast_paths"
 PAYS = 0.05             # a fast path is kept when it saves at least this share of a step

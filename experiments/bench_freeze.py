@@ -45,13 +45,13 @@ Four parts, one long-form table (column ``part``), each answering one of the iss
 ROTATION_STABLE body that still slides, is awake; part 3 also reports, for sim, the step at which
 every body had left FREE (``steps_to_all_not_free``), beside the frozen one.
 
-Method (docs/ARCHITECTURE.md §5; the protocols are experiments/protocols.py's, shared with the
+Method (docs/ARCHITECTURE.md §5; the protocols are study/protocols.py's, shared with the
 figures): one throwaway tiny World per freeze policy compiles the Numba kernels first; every
 runner is built, then stepped (untimed) through warm-up; timed repeats call ``runner.step(K)``
 with the garbage collector paused, interleaved round-robin over all systems compared (order
 reversed on every other repeat); reported per step are the median and min over repeats (default
 7), in ms. All systems use dt 1/60 s and each engine's own default solver
-settings (experiments.peers.DEFAULT_ITERATIONS): sim its soft step with 4 substeps per step and
+settings (study.peers.DEFAULT_ITERATIONS): sim its soft step with 4 substeps per step and
 1 biased + 1 relax sweep per substep, pymunk 10 iterations per step, pybullet 50; slop (sim) and
 collision_slop (pymunk) 0.005 m. Every system's full settings (``runner.settings``) are in the
 metadata's ``system_settings``. In part 1, K is chosen per system so that a repeat
@@ -75,13 +75,13 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from experiments.common import DT, SLOP, build, compile_kernels, label, n_awake
-from experiments.metadata import collect, write_results
-from experiments.protocols import (FALL_HEIGHT, FLY_PITCH, FREEZE_HOLD_S, FREEZING, MIX_SYSTEMS,
+from study.common import DT, SLOP, build, compile_kernels, label, n_awake
+from study.metadata import collect, write_results
+from study.protocols import (FALL_HEIGHT, FLY_PITCH, FREEZE_HOLD_S, FREEZING, MIX_SYSTEMS,
                                    WARMUP_STEPS, block, fall_scene, flight_budget, freeze_run,
                                    freeze_tasks, long_row, mix_scene, per_body_cost,
                                    settle_and_time, timing_rows)
-from experiments.timing import interleaved
+from study.timing import interleaved
 
 NAME = "bench_freeze"
 DRIFT_SPEED = 3.0           # m/s, the drifting block's common velocity along x (part 4)
@@ -127,7 +127,7 @@ QUICK = {
 }
 
 
-# ---- scenes (the mixes and the fall scene are experiments.protocols') --------------------------
+# ---- scenes (the mixes and the fall scene are study.protocols') --------------------------
 def drift_scene(n, seed=SEED):
     """n boxes in zero gravity, no floor, moving at DRIFT_SPEED m/s along x with a random spread
     and spin: neighbours close in and collide, but no body is ever slow."""

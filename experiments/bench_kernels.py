@@ -46,7 +46,7 @@ import numpy as np
 import pandas as pd
 
 import sim
-from experiments.common import DT, entry
+from study.common import DT, entry
 from sim import kernel as step_loop
 from sim import soft_step
 from sim.data import Solver

@@ -10,7 +10,7 @@ times the two set-up paths up to the World's own arrays (``sim.packing.pack``), 
   10^5 boxes.
 
 Each time is the median of ``--repeats`` runs (default 3), garbage collector paused as in
-``experiments.timing``. Prints a table; writes no results file (not part of ``make``).
+``study.timing``. Prints a table; writes no results file (not part of ``make``).
 
     python -m experiments.bench_setup [--quick] [--repeats R]
 """

@@ -14,12 +14,12 @@ Scenes
   first WINDOW steps (240 = 4 s: they fall, collide and pile up), the part of a run where every
   body moves and contacts come and go.
 
-Systems: each at its own defaults (experiments.peers.DEFAULT_ITERATIONS), so the comparison is
+Systems: each at its own defaults (study.peers.DEFAULT_ITERATIONS), so the comparison is
 fair by construction: same scene, same start state, dt 1/60 s, slop 0.005 m, no sleeping, each
 system's settings recorded. sim: the soft step with 4 substeps per step, 1 biased solve sweep and
 1 relax sweep per substep (8 sweeps over the contacts per step); pymunk: 10 iterations per step.
 The columns ``substeps``, ``iterations`` and ``contact_sweeps_per_step``
-(``experiments.peers.solver_summary``) say so on every row; the metadata holds every setting of
+(``study.peers.solver_summary``) say so on every row; the metadata holds every setting of
 both (``system_settings``).
 
 Method (docs/ARCHITECTURE.md §5): one throwaway sim World compiles the Numba kernels first (and runs
@@ -56,10 +56,10 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from experiments.common import DT, SLOP, build, label
-from experiments.metadata import collect, write_results
-from experiments.peers import solver_summary
-from experiments.timing import timed
+from study.common import DT, SLOP, build, label
+from study.metadata import collect, write_results
+from study.peers import solver_summary
+from study.timing import timed
 from sim.data import STAGES
 
 NAME = "bench_step"
@@ -79,7 +79,7 @@ SETTLING = ("drop",)                                         # timed from the st
 #: the scenes of the issue's target (label: scene name, size)
 TARGETS = (("pyramid", 40), ("rest_row", 5000), ("drop", 200))
 
-#: Systems timed, by their experiments.peers name, each at its own default settings.
+#: Systems timed, by their study.peers name, each at its own default settings.
 SYSTEMS = ("sim-off", "pymunk")
 
 

@@ -7,7 +7,7 @@ Question: does a body landing on a frozen body's floor-parallel top edge treat t
 
     python -m experiments.fig_edge_as_floor [--quick]     (quick = the same run: it is tiny)
 """
-from experiments import filmstrip
+from study import filmstrip
 from sim import scenes
 
 NAME = "fig_edge_as_floor"

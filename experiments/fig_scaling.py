@@ -4,7 +4,7 @@ Question: what does one more awake body cost per step (a), and one more frozen b
 is ms/step = a * N_awake + b * N_frozen + c; freezing is ideal when b = 0 (a frozen body costs
 nothing), and the measured b/a says how far from that each system is.
 
-Scenes: the mixes of bench_freeze part 2 (``experiments.protocols.mix_scene``): rest_row(N_frozen)
+Scenes: the mixes of bench_freeze part 2 (``study.protocols.mix_scene``): rest_row(N_frozen)
 (unit boxes on the floor, frozen once the system freezes them) plus N_awake unit boxes in a block
 (pitch 2 m, never touching) that start at rest 3000 m up and fall through the whole timing, so they
 stay awake and never touch anything (checked: the awake count equals the design before and after
@@ -20,7 +20,7 @@ asleep bodies leave sim's awake list exactly as extended's frozen ones do, so it
 mechanism measured twice. pybullet is left out: its deactivation takes 2 s and it costs ~40 ms
 per step per 1000 awake boxes.
 
-Method (experiments.protocols.per_body_cost, bench_freeze's part 2): every world of the sweep is
+Method (study.protocols.per_body_cost, bench_freeze's part 2): every world of the sweep is
 built and settled first, then timed in 7 repeats of 50 steps, round-robin over all 48 worlds (order
 reversed on every other repeat), the garbage collector paused, Numba kernels compiled before;
 ms/step is the median over repeats. The fit is least squares over the 16 mixes of each system, with
@@ -30,7 +30,7 @@ fastest repeat (scene "fit_min"): on a machine shared with other work, load spik
 repeats of some mixes, and the minimum is the estimate least touched by them; the figure shows the
 median fit, the table both, so a disagreement between them is visible rather than hidden. The awake
 bodies are the cheapest kind (no contacts), so a is low and b/a is a conservative (high) ratio. dt
-1/60 s; each engine at its own default solver settings (experiments.peers.DEFAULT_ITERATIONS: sim
+1/60 s; each engine at its own default solver settings (study.peers.DEFAULT_ITERATIONS: sim
 its soft step with 4 substeps per step and 1 biased + 1 relax sweep per substep, pymunk 10
 iterations per step); slop (sim) and collision_slop (pymunk) 0.005 m; every system's full settings
 (``runner.settings``) are in the metadata's ``system_settings``.
@@ -48,9 +48,9 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from experiments.common import DT, SLOP, build, compile_kernels, entry
-from experiments.cost_fit import fit_cost, relative_to_off
-from experiments.protocols import (FALL_HEIGHT, FLY_PITCH, WARMUP_STEPS, flight_budget,
+from study.common import DT, SLOP, build, compile_kernels, entry
+from study.cost_fit import fit_cost, relative_to_off
+from study.protocols import (FALL_HEIGHT, FLY_PITCH, WARMUP_STEPS, flight_budget,
                                    per_body_cost)
 
 NAME = "fig_scaling"

@@ -7,8 +7,8 @@ does that grow with the number of bodies?
 Scenes (sim/scenes.py): ``rest_row(n)`` for n in {100, 300, 1000, 3000, 10000} (unit boxes on the
 floor, 0.5 m apart: nothing touches but the floor) and ``pyramid(base)`` for base in {5, 10, 20,
 40} (15 to 820 boxes, each carried by the two below). Systems: sim-off, sim-sleep, sim-paper,
-sim-extended, pymunk, pymunk-sleep, pybullet, pybullet-sleep (experiments/peers; dt 1/60 s; each
-engine at its own default solver settings, experiments.peers.DEFAULT_ITERATIONS: sim its soft step
+sim-extended, pymunk, pymunk-sleep, pybullet, pybullet-sleep (study/peers; dt 1/60 s; each
+engine at its own default solver settings, study.peers.DEFAULT_ITERATIONS: sim its soft step
 with 4 substeps per step and 1 biased + 1 relax sweep per substep, pymunk 10 iterations per step,
 pybullet 50; slop (sim) and collision_slop (pymunk) 0.005 m; every system's full settings,
 ``runner.settings``, are in the metadata's ``system_settings``).
@@ -29,7 +29,7 @@ Method, per scene: every system is built, then
   2. 10 untimed warm-up steps; a repeat length calibrated to last ~0.1 s (a frozen sim step costs
      microseconds: a short repeat would time the call);
   3. timed: 7 repeats, interleaved round-robin over all systems of the scene (order reversed on
-     every other repeat), the garbage collector paused (experiments/timing.py); the Numba kernels
+     every other repeat), the garbage collector paused (study/timing.py); the Numba kernels
      are compiled before anything is timed.
 Reported per (scene, system): median and min ms/step over repeats, the awake (solved) count
 before and after the timing (a freeze that does not hold during timing shows up here), the step at
@@ -55,10 +55,10 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from experiments.common import (DT, FROZEN_MEANS, REFERENCE, SLOP, SYSTEMS, build,
+from study.common import (DT, FROZEN_MEANS, REFERENCE, SLOP, SYSTEMS, build,
                                 compile_kernels, entry, label)
-from experiments.peers import engine_of
-from experiments.protocols import FREEZING, WARMUP_STEPS, settle_and_time
+from study.peers import engine_of
+from study.protocols import FREEZING, WARMUP_STEPS, settle_and_time
 
 NAME = "fig_speedup"
 PYBULLET_MAX_BODIES = 1000      # larger scenes are not run under pybullet (cost, see docstring)

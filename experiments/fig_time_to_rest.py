@@ -11,7 +11,7 @@ drop(30, seed 0..4) (30 random convex polygons dropped on the floor), seed_fig1 
 floor, one tilted on its corner, one in the air), seed_fig2 (a box falling on a box), seed_fig3
 (a box sliding off a box).
 
-Method (experiments.protocols.freeze_run, bench_freeze's part 3): each (scene, system) run is
+Method (study.protocols.freeze_run, bench_freeze's part 3): each (scene, system) run is
 stepped one step at a time, dt 1/60 s, until every body is frozen/asleep (no work is done for it:
 sim's ``World.frozen``, out of the awake list; the peers' ``asleep``) or the cap of 30 s (1800
 steps). A run that does not get there is kept, not dropped: NaN steps, flag "never", with the
@@ -19,8 +19,8 @@ number still awake at the cap (``n_awake_at_end``). A run that froze is stepped 
 awake count then is recorded (a freeze that does not hold). Also recorded: the largest distance a
 body moved (m), and for sim the step at which no body was FREE any more (``steps_to_all_not_free``:
 under paper a pivoting or sliding body leaves FREE but stays awake). The runs are independent and
-untimed, so they go to the local process pool (experiments/executor.py). Each engine at its own
-default solver settings (experiments.peers.DEFAULT_ITERATIONS): sim its soft step with 4 substeps
+untimed, so they go to the local process pool (study/executor.py). Each engine at its own
+default solver settings (study.peers.DEFAULT_ITERATIONS): sim its soft step with 4 substeps
 per step and 1 biased + 1 relax sweep per substep, pymunk 10 iterations per step, pybullet 50; slop
 (sim) and collision_slop (pymunk) 0.005 m; every system's full settings (``runner.settings``) are
 in the metadata's ``system_settings``.
@@ -42,9 +42,9 @@ stack(5), pyramid(5), drop(10, seed 0), seed_fig1..3, cap 5 s.
 import pandas as pd
 
 import sim
-from experiments.common import DT, FROZEN_MEANS, SLOP, build, compile_kernels, entry, label
-from experiments.executor import run_tasks
-from experiments.protocols import FREEZE_HOLD_S, FREEZING, freeze_run, freeze_tasks, long_row
+from study.common import DT, FROZEN_MEANS, SLOP, build, compile_kernels, entry, label
+from study.executor import run_tasks
+from study.protocols import FREEZE_HOLD_S, FREEZING, freeze_run, freeze_tasks, long_row
 
 NAME = "fig_time_to_rest"
 SYSTEMS = FREEZING

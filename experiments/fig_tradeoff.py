@@ -49,7 +49,7 @@ around the parameter's default (the default itself included), from "freezes almo
   and ``idle_speed`` (m/s; default |g| dt = 0.1635 m/s, Chipmunk's rule when left unset; the
   default row leaves it unset, the others set it). Same grids as sim-sleep.
 - pybullet-sleep ``sleep_threshold`` ((m/s)^2 + (rad/s)^2, a sum of squared joint velocities;
-  default 0.05; experiments/peers/pybullet_runner.py; the 2 s deactivation time is fixed in
+  default 0.05; study/peers/pybullet_runner.py; the 2 s deactivation time is fixed in
   Bullet). A squared speed, so the grid steps by whole decades: default x 10^k, k = -3..2
   (speeds 7 mm/s .. 2.2 m/s).
 - sim-off, pymunk, pybullet at dt 1/60 and their default settings: the baseline (speed-up 1 by
@@ -60,9 +60,9 @@ around the parameter's default (the default itself included), from "freezes almo
   k = 0..3 (1 .. 8); relax sweeps stay at 1 per substep. Cost grows about linearly with
   substeps x (iterations + 1). Timed and measured exactly as the freezing settings (speed-up over
   sim-off at its defaults, error against sim's reference), so both trades share the axes.
-Settings: each engine at its own defaults (experiments.peers.DEFAULT_ITERATIONS): sim's soft step
+Settings: each engine at its own defaults (study.peers.DEFAULT_ITERATIONS): sim's soft step
 with 4 substeps and 1 biased + 1 relax sweep per substep; pymunk 10 iterations per step; pybullet
-50 per step. Sim slop and pymunk collision_slop 0.005 m (experiments.common). Every run's full
+50 per step. Sim slop and pymunk collision_slop 0.005 m (study.common). Every run's full
 settings (``runner.settings``) are in the metadata's ``system_settings``.
 
 Reference per engine: the same engine with sleeping off at dt / ``fine`` (fine = 8: dt 1/480 s,
@@ -99,7 +99,7 @@ Errors (every system measured by the same code, never by an engine's own contact
   pair closes in one step (relative speed x dt) ahead, so it sees the contact before impact and
   sinks under a millimetre. What freezing changes is the overlap left at the end: a body frozen
   before the solver has pushed it back out keeps its overlap (the figure draws that one).
-These accuracy runs are untimed and independent: they go through experiments.executor.run_tasks
+These accuracy runs are untimed and independent: they go through study.executor.run_tasks
 (a process pool). Each also records the mean fraction of bodies awake over the run, the awake
 count at the end and the first time every body was asleep.
 
@@ -140,15 +140,15 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from experiments import common
-from experiments.common import (DT, SLOP, build, compile_kernels, n_awake, pose_error,
+from study import common
+from study.common import (DT, SLOP, build, compile_kernels, n_awake, pose_error,
                                 sweep_store)
-from experiments.executor import run_tasks
-from experiments.peers import DEFAULT_ITERATIONS, engine_of
-from experiments.peers.pybullet_runner import DEFAULT_SLEEP_THRESHOLD
-from experiments.peers.pymunk_runner import PymunkRunner
-from experiments.timing import timed
-from experiments.overlap import pad as _pad, separation as _separation, world_vertices as _world
+from study.executor import run_tasks
+from study.peers import DEFAULT_ITERATIONS, engine_of
+from study.peers.pybullet_runner import DEFAULT_SLEEP_THRESHOLD
+from study.peers.pymunk_runner import PymunkRunner
+from study.timing import timed
+from study.overlap import pad as _pad, separation as _separation, world_vertices as _world
 from sim.geometry import mass_properties
 
 NAME = "fig_tradeoff"

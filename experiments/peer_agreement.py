@@ -7,7 +7,7 @@ answers, and where a peer cannot (pybullet's restitution, Chipmunk's integration
 how much; and the per-step cost of each peer next to sim's.
 
 Settings: each system runs the same scene from the same start state at dt 1/60 s, no sleeping,
-at its own defaults (experiments.peers.DEFAULT_ITERATIONS), which are not the same thing in each:
+at its own defaults (study.peers.DEFAULT_ITERATIONS), which are not the same thing in each:
 sim the soft step with 4 substeps per step, 1 biased solve sweep and 1 relax sweep per substep;
 pymunk 10 iterations per step; pybullet 50 iterations per step (one Bullet step per step). Every
 setting of each system is in the metadata (``system_settings``, from the runners). Where the
@@ -43,9 +43,9 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from experiments.timing import timed
-from experiments.metadata import collect, write_results
-from experiments.peers import PybulletRunner, make_runner, solver_summary
+from study.timing import timed
+from study.metadata import collect, write_results
+from study.peers import PybulletRunner, make_runner, solver_summary
 
 NAME = "peer_agreement"
 DT = 1 / 60

@@ -51,7 +51,7 @@ its bodies exactly touching unless said otherwise; unit boxes, density 1 kg/m^2,
   that presolve, not the step). Judged against the stacked pose. dt = 1/480 .. 1/15 s (every other
   axis runs at 1/60 s). 5 s.
 - ``iterations``: the same dropped column with 50, 20, 10, 5, 2, 1 iterations of each engine's own
-  solver setting (elsewhere each engine's default, experiments.peers.DEFAULT_ITERATIONS). The
+  solver setting (elsewhere each engine's default, study.peers.DEFAULT_ITERATIONS). The
   numbers are not the same work: pymunk and pybullet do that many sweeps per step; sim does that
   many biased sweeps *per substep*, at its default 4 substeps (plus 1 relaxing sweep per substep),
   so its value 1, the axis's extreme, is sim's default and does 4 biased sweeps per step. The
@@ -79,7 +79,7 @@ its bodies exactly touching unless said otherwise; unit boxes, density 1 kg/m^2,
   grows as cosh(3.2 t) here, from 1e-9 rad it falls in ~7 s). 10 s.
 
 Systems: sim-off, sim-sleep, sim-paper, sim-extended (default policy parameters), pymunk,
-pymunk-sleep, pybullet, pybullet-sleep (experiments.common.SYSTEMS; sim slop and pymunk
+pymunk-sleep, pybullet, pybullet-sleep (study.common.SYSTEMS; sim slop and pymunk
 collision_slop 5 mm; each engine's default iterations, sim's default substeps), plus, on the
 placed axes only (PLACED_AXES: the scenes that start with bodies resting on one another, where
 sim's presolve puts them in equilibrium before step 1: mass_heavy_on_light, mass_light_on_heavy,
@@ -175,12 +175,12 @@ is the run's solver iterations as the runner reports them (sim: per substep); ``
 substeps per step (empty for the peers). ``<name>.json`` holds the thresholds v* and the
 reference runs.
 
-Code (experiments/extremes/): ``axes`` (one Axis record per axis: adding an axis is one entry
+Code (study/extremes/): ``axes`` (one Axis record per axis: adding an axis is one entry
 there), ``scenes`` (the builders), ``geometry`` and ``judge`` (the measuring), ``rules`` (the
 marks), ``threshold`` (the bisection of v*), ``runs`` (the tasks and one run), ``record`` (a
 run's Measurement and a table Row, whose fields are the columns). This script sweeps them.
 
-Every untimed run goes through experiments.executor.run_tasks with an incremental store
+Every untimed run goes through study.executor.run_tasks with an incremental store
 (results/partial/table_extremes[-quick].jsonl): an interrupted sweep resumes where it stopped; the
 store is removed once the CSV is written.
 
@@ -195,20 +195,20 @@ from dataclasses import asdict, replace
 
 import pandas as pd
 
-from experiments import common
-from experiments.common import DT, SYSTEMS
-from experiments.executor import run_tasks
-from experiments.extremes import rules
-from experiments.extremes.axes import (AXES, ALL_SYSTEMS, NO_PRESOLVE_SETTINGS,
+from study import common
+from study.common import DT, SYSTEMS
+from study.executor import run_tasks
+from study.extremes import rules
+from study.extremes.axes import (AXES, ALL_SYSTEMS, NO_PRESOLVE_SETTINGS,
                                        NO_PRESOLVE_SYSTEMS, PLACED_AXES, SIM_ONLY_AXES, applies)
-from experiments.extremes.judge import KNIFE_TURN, STAND_MOVE, STAND_TURN
-from experiments.extremes.record import Measurement, Row
-from experiments.extremes.runs import (REF_ITERATIONS, REF_MAX_SUBSTEPS, REF_SUBSTEPS,
+from study.extremes.judge import KNIFE_TURN, STAND_MOVE, STAND_TURN
+from study.extremes.record import Measurement, Row
+from study.extremes.runs import (REF_ITERATIONS, REF_MAX_SUBSTEPS, REF_SUBSTEPS,
                                        reference_task, run_task, simulate_stored, task_key)
-from experiments.extremes.scenes import (ARRIVAL_S, HAMMER, HAMMER_DENSITY, HAMMER_GAP,
+from study.extremes.scenes import (ARRIVAL_S, HAMMER, HAMMER_DENSITY, HAMMER_GAP,
                                          PROJECTILE_SIZE, WALL, scene_of)
-from experiments.extremes.threshold import find_threshold
-from experiments.peers import engine_of
+from study.extremes.threshold import find_threshold
+from study.peers import engine_of
 
 NAME = "table_extremes"
 

@@ -4,7 +4,7 @@ Question: in the scenarios where freezing can go wrong (the seed paper's admitte
 big engines' known ones), which systems get the outcome wrong, is it freezing that made it wrong
 (or the engine itself), how far off do the bodies end, and what did freezing buy in time?
 
-Scenarios (``experiments.scenarios``, whose docstrings give each scene's geometry and the physics
+Scenarios (``study.scenarios``, whose docstrings give each scene's geometry and the physics
 of its outcome): support_removed, overhang (seed figure 3), tipping, unstable_equilibrium,
 slow_sliding, slope_creep, impact_on_stack, load_on_overhang, wake_cascade, three_bodies. Each runs
 for its own duration (3-7 s); a projectile that must arrive after everything froze arrives at
@@ -12,10 +12,10 @@ for its own duration (3-7 s); a projectile that must arrive after everything fro
 
 Systems: all eight (sim-off, sim-sleep, sim-paper, sim-extended, pymunk, pymunk-sleep, pybullet,
 pybullet-sleep) at dt 1/60 s, each engine at its own default solver settings
-(experiments.peers.DEFAULT_ITERATIONS): sim's soft step with 4 substeps per step and 1 biased
+(study.peers.DEFAULT_ITERATIONS): sim's soft step with 4 substeps per step and 1 biased
 + 1 relax sweep per substep; pymunk 10 iterations per step; pybullet 50 per step. Sim slop and
 pymunk collision_slop 0.005 m, every freezing/sleeping parameter at its default
-(experiments.common.build). Each system's full settings (``runner.settings``) are in the
+(study.common.build). Each system's full settings (``runner.settings``) are in the
 metadata's ``system_settings``.
 
 Truth: sim-off at dt / ``truth_divisor`` (8: 1/480 s) at sim's default 4 substeps, with
@@ -58,12 +58,12 @@ Per scenario x system (one row each):
   ``step(n - 1)`` of the K runners back to back with the garbage collector paused, and divides by
   K; repeats round-robin over the eight systems, order reversed every other repeat, serially in
   this process. The untimed runs (truth, and each system stepped one step at a time to sample
-  ``asleep``) go through experiments.executor.run_tasks.
+  ``asleep``) go through study.executor.run_tasks.
 
 Choices: the whole scenario is the timed unit (its speed-up is what freezing buys on *that* run,
 danger included; these scenes have 1-10 bodies, so per-step overheads weigh heavily and speed-ups
 are small: the scaling study measures large scenes). ``right`` is judged on labels, whose
-thresholds are each classifier's (stated in experiments.scenarios); pose errors give the size.
+thresholds are each classifier's (stated in study.scenarios); pose errors give the size.
 
 Columns: scenario, system, reference, bodies, seconds, steps, event_s, expected, truth,
 truth_is_expected, outcome, right, changed, engine_right, measure_name, measure, truth_measure,
@@ -81,11 +81,11 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from experiments import common, scenarios
-from experiments.common import (DT, REFERENCE, SYSTEMS, build, compile_kernels, pose_error,
+from study import common, scenarios
+from study.common import (DT, REFERENCE, SYSTEMS, build, compile_kernels, pose_error,
                                 sweep_store)
-from experiments.executor import run_tasks
-from experiments.timing import timed
+from study.executor import run_tasks
+from study.timing import timed
 
 NAME = "table_failures"
 TRUTH_SYSTEM = "sim-off"

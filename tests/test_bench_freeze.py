@@ -10,7 +10,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from experiments import bench_freeze, cost_fit, protocols
+from study import cost_fit, protocols
+from experiments import bench_freeze
 
 PARTS = ("frozen_cost", "per_body_cost", "time_to_freeze", "in_flight_overhead")
 FIT_METRICS = ("fit_a", "fit_b", "fit_c", "fit_a_stderr", "fit_b_stderr", "fit_c_stderr",

@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 from experiments import bench_step
-from experiments.peers import DEFAULT_ITERATIONS, SIM_DEFAULT_SUBSTEPS, solver_summary
+from study.peers import DEFAULT_ITERATIONS, SIM_DEFAULT_SUBSTEPS, solver_summary
 from sim.data import STAGES
 
 
@@ -108,7 +108,7 @@ def test_targets_are_judged_against_three_times_pymunk():
 
 
 def test_metadata_survives_missing_git_and_packages(monkeypatch):
-    from experiments import metadata
+    from study import metadata
 
     def no_git(*args, **kwargs):
         raise FileNotFoundError("git")

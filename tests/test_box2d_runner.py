@@ -1,4 +1,4 @@
-"""experiments.peers.Box2dRunner against known answers and against sim's conventions.
+"""study.peers.Box2dRunner against known answers and against sim's conventions.
 
 Box2D 2.3 computes in float32, so where the pymunk and pybullet tests ask for agreement to 1e-12
 these ask for float32 round-off, with the measured figure. They pin down the construction
@@ -14,9 +14,9 @@ import pytest
 
 import sim
 from conftest import tilted_box
-from experiments.metadata import jsonable
-from experiments.peers import Box2dRunner
-from experiments.peers.box2d_runner import (MAX_POLYGON_VERTICES, POLYGON_RADIUS,
+from study.metadata import jsonable
+from study.peers import Box2dRunner
+from study.peers.box2d_runner import (MAX_POLYGON_VERTICES, POLYGON_RADIUS,
                                             box2d_polygon)
 
 DT = 1 / 60
@@ -380,7 +380,7 @@ def test_a_box2d_assertion_becomes_a_value_error(monkeypatch):
     """Box2D asserts on polygons it cannot use (pybox2d raises AssertionError: here "area >
     b2_epsilon" for a 0.1 mm triangle). The size check refuses them first; should one get past
     it, the runner still turns the assertion into a ValueError naming the body."""
-    import experiments.peers.box2d_runner as module
+    import study.peers.box2d_runner as module
     tiny = np.array([(0.0, 0.0), (1e-4, 0.0), (0.0, 1e-4)])
     monkeypatch.setattr(module, "box2d_polygon", lambda local, where: tiny)
     scene = sim.Scene([sim.Body.box(1.0, 1.0, position=(0.0, 0.5), name="crate")])

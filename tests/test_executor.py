@@ -1,9 +1,9 @@
-"""experiments.executor: the same results from every backend, and sweeps that resume."""
+"""study.executor: the same results from every backend, and sweeps that resume."""
 import json
 
 import pytest
 
-from experiments import executor
+from study import executor
 
 
 def square(task):
@@ -166,7 +166,7 @@ def test_a_run_stored_after_a_torn_line_survives_the_next_resume(tmp_path):
 SWEEP = """
 import os, sys, time
 sys.path.insert(0, {here!r})
-from experiments import executor
+from study import executor
 
 def slow(task):
     open(os.path.join({pids!r}, str(os.getpid())), "w").close()

@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 
 import sim
-from experiments.common import DT
-from experiments.extremes import geometry, rules, scenes, threshold
-from experiments.extremes.judge import KNIFE_TURN, STAND_MOVE, STAND_TURN
-from experiments.overlap import separation
+from study.common import DT
+from study.extremes import geometry, rules, scenes, threshold
+from study.extremes.judge import KNIFE_TURN, STAND_MOVE, STAND_TURN
+from study.overlap import separation
 
 POLICIES = sim.POLICY_NAMES
 G = 9.81

@@ -13,7 +13,8 @@ import pandas as pd
 import pytest
 
 from analysis import fig_scaling as analysis
-from experiments import cost_fit, fig_scaling, paths
+from study import cost_fit, paths
+from experiments import fig_scaling
 
 
 @pytest.fixture(scope="module")

@@ -14,8 +14,9 @@ import pytest
 
 import sim
 from analysis import fig_speedup as analysis
-from experiments import fig_speedup, paths
-from experiments.common import SYSTEMS
+from study import paths
+from experiments import fig_speedup
+from study.common import SYSTEMS
 
 COLUMNS = ["family", "size", "scene", "bodies", "system", "engine", "reference",
            "ms_per_step_median", "ms_per_step_min", "speedup", "speedup_paired",

@@ -12,7 +12,8 @@ import pandas as pd
 import pytest
 
 from analysis import fig_time_to_rest as analysis
-from experiments import fig_time_to_rest, paths
+from study import paths
+from experiments import fig_time_to_rest
 
 
 @pytest.fixture(scope="module")

@@ -15,8 +15,8 @@ import pytest
 import sim
 from analysis import fig_tradeoff as analysis
 from experiments import fig_tradeoff as exp
-from experiments import paths
-from experiments.common import SLOP, build
+from study import paths
+from study.common import SLOP, build
 from sim.geometry import edge_normals, mass_properties, max_separation
 
 

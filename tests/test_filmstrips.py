@@ -9,7 +9,8 @@ import pytest
 from analysis import fig_edge_as_floor as a_edge
 from analysis import fig_overhang as a_overhang
 from analysis import fig_states as a_states
-from experiments import fig_edge_as_floor, fig_overhang, fig_states, paths
+from study import paths
+from experiments import fig_edge_as_floor, fig_overhang, fig_states
 
 
 @pytest.fixture
@@ -75,7 +76,7 @@ def test_analysis_needs_the_data_first(out):
 
 
 def test_outline_round_trip():
-    from experiments.filmstrip import outline_xy, record
+    from study.filmstrip import outline_xy, record
     import sim
     t = record(sim.scenes.single_box(), ["off"], 1)
     xy = outline_xy(t.iloc[0]["outline"])

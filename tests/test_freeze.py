@@ -393,7 +393,7 @@ def test_extended_support_sees_a_woken_load_leave():
     that push must leave the support's load, or the support counts the weight twice (stored and
     live) and cannot see the column above it tip: in the failure catalogue's impact_on_stack a
     hit on a frozen 4-box column toppled boxes 1-3 but never woke the base."""
-    from experiments import scenarios
+    from study import scenarios
     case = scenarios.get("impact_on_stack")
     scene = case.build()
     w = sim.World(scene, freeze="extended")

@@ -336,7 +336,7 @@ def test_every_scene_file_error_is_a_value_error_naming_the_file_and_entry(tmp_p
                                             ("iterations", "3"), ("dt", True),
                                             ("iterations", 2 ** 31)])   # beyond a C int
 def test_runners_take_no_text_as_a_number_nor_counts_beyond_their_range(system, setting, value):
-    from experiments.peers import make_runner
+    from study.peers import make_runner
     with pytest.raises(ValueError, match=rf"{setting} must be"):
         make_runner(system, sim.scenes.single_box(), **{setting: value})
 

@@ -22,18 +22,18 @@ def _make_list(variable):
 
 def test_dependencies_follow_imports_through_other_modules():
     speedup = makedeps.dependencies("experiments.fig_speedup")
-    assert "experiments/protocols.py" in speedup               # a library module
-    assert "experiments/cost_fit.py" in speedup                # ... and what it imports
-    assert "experiments/common.py" in speedup and "sim/world.py" in speedup
+    assert "study/protocols.py" in speedup               # a library module
+    assert "study/cost_fit.py" in speedup                # ... and what it imports
+    assert "study/common.py" in speedup and "sim/world.py" in speedup
     assert "sim/freeze/extended.py" in speedup                 # through sim/freeze/__init__
     assert "experiments/fig_states.py" not in speedup
     assert "experiments/bench_freeze.py" not in speedup        # a script: never a library
     table = makedeps.dependencies("analysis.table_extremes")
-    assert "experiments/extremes/axes.py" in table             # analysis importing a library
-    assert "experiments/extremes/__init__.py" in table         # (a package's __init__ runs)
+    assert "study/extremes/axes.py" in table             # analysis importing a library
+    assert "study/extremes/__init__.py" in table         # (a package's __init__ runs)
     assert "experiments/table_extremes.py" not in table
-    # a relative import (experiments/metadata.py: from . import paths)
-    assert "experiments/paths.py" in makedeps.dependencies("experiments.metadata")
+    # a relative import (study/metadata.py: from . import paths)
+    assert "study/paths.py" in makedeps.dependencies("study.metadata")
 
 
 @pytest.fixture(scope="module")
@@ -69,8 +69,8 @@ def test_an_up_to_date_tree_rebuilds_nothing(built_tree):
 
 def test_an_edit_to_a_library_module_reruns_what_imports_it(built_tree):
     users = {"bench_freeze", "fig_speedup", "fig_scaling", "fig_time_to_rest"}
-    assert _rebuilt(built_tree, "experiments/protocols.py") == (users, users)
-    assert _rebuilt(built_tree, "experiments/cost_fit.py") == (users, users)   # via protocols
+    assert _rebuilt(built_tree, "study/protocols.py") == (users, users)
+    assert _rebuilt(built_tree, "study/cost_fit.py") == (users, users)   # via protocols
     # a script is imported by nothing: its edit reruns itself only
     assert _rebuilt(built_tree, "experiments/bench_freeze.py") == (
         {"bench_freeze"}, {"bench_freeze"})
@@ -88,7 +88,7 @@ def test_an_edit_to_an_analysis_module_redraws_only_what_imports_it(built_tree):
     experiments, analyses = _rebuilt(built_tree, "experiments/table_extremes.py")
     assert experiments == {"table_extremes"} and analyses == {"table_extremes"}
     # a library module that both the experiment and its analysis import
-    for edited in ("experiments/extremes/axes.py", "experiments/extremes/judge.py"):
+    for edited in ("study/extremes/axes.py", "study/extremes/judge.py"):
         assert _rebuilt(built_tree, edited) == ({"table_extremes"}, {"table_extremes"}), edited
 
 
@@ -106,15 +106,31 @@ def _module(path):
 
 
 def test_no_experiment_script_runs_another_nor_does_analysis():
-    """ARCHITECTURE §5: the experiment scripts (the Makefile's TABLES and STUDY) import library
-    modules only (experiments/common.py, protocols.py, extremes/, ...), never another script, so
-    that a script can change without changing another's results; the library modules and the
-    analysis import no script either. Read from the imports, transitively."""
+    """ARCHITECTURE §5: the layers import downwards only. An experiment script imports sim and the
+    study library, never another script (so a script can change without changing another's
+    results); analysis imports sim and study, never a script; study imports neither experiments
+    nor analysis; sim imports none of them (tests/test_peers.py). Read from the imports,
+    transitively (every module a module runs)."""
     scripts = {f"experiments/{name}.py" for name in _make_list("ALL")}
-    assert "experiments/bench_freeze.py" in scripts and "experiments/common.py" not in scripts
-    modules = sorted(ROOT.glob("experiments/**/*.py")) + sorted(ROOT.glob("analysis/**/*.py"))
-    for path in modules:
+    assert "experiments/bench_freeze.py" in scripts
+    packages = [d.name for d in ROOT.glob("experiments/*/") if d.name != "__pycache__"]
+    assert not packages, f"experiments/ holds scripts only: {packages} belong in study/"
+
+    def runs(path, layer):
         own = str(path.relative_to(ROOT))
-        runs = (set(makedeps.dependencies(_module(path))) & scripts) - {own}
-        assert not runs, (f"{own} imports the experiment script(s) {sorted(runs)}: move what it "
-                          f"uses into a library module")
+        return {f for f in makedeps.dependencies(_module(path))
+                if f.startswith(layer) and f != own and not f.endswith("__init__.py")}
+
+    for path in sorted(ROOT.glob("experiments/*.py")):
+        assert not runs(path, "experiments/"), (
+            f"{path.name} imports the experiment script(s) {sorted(runs(path, 'experiments/'))}:"
+            f" move what it uses into study/")
+    for path in sorted(ROOT.glob("analysis/**/*.py")):
+        assert not runs(path, "experiments/"), (
+            f"analysis/{path.name} imports {sorted(runs(path, 'experiments/'))}: analysis reads "
+            f"results and imports sim and study only")
+    for path in sorted(ROOT.glob("study/**/*.py")):
+        for layer in ("experiments/", "analysis/"):
+            assert not runs(path, layer), (
+                f"{path.relative_to(ROOT)} imports {sorted(runs(path, layer))}: the study "
+                f"library never imports the scripts above it")

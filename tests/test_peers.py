@@ -19,8 +19,8 @@ import pytest
 import sim
 from conftest import tilted_box
 from experiments import peer_agreement
-from experiments.metadata import jsonable
-from experiments.peers import (DEFAULT_ITERATIONS, SIM_DEFAULT_SUBSTEPS, SYSTEMS, Runner,
+from study.metadata import jsonable
+from study.peers import (DEFAULT_ITERATIONS, SIM_DEFAULT_SUBSTEPS, SYSTEMS, Runner,
                                SimRunner, engine_of, make_runner, solver_summary)
 
 DT = 1 / 60
@@ -137,15 +137,16 @@ def test_sleeping_peers_put_a_resting_row_to_sleep(system):
 
 
 def test_peers_never_leak_into_sim():
-    """ARCHITECTURE §1: sim imports nothing from experiments (or pymunk, pybullet, Box2D)."""
+    """ARCHITECTURE §1: sim imports nothing from study or experiments (or pymunk, pybullet,
+    Box2D)."""
     for path in (ROOT / "sim").rglob("*.py"):
         tree = ast.parse(path.read_text())
         for node in ast.walk(tree):
             names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
                      [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
             for name in names:
-                assert name.split(".")[0] not in ("experiments", "pymunk", "pybullet",
-                                                  "Box2D"), path
+                assert name.split(".")[0] not in ("study", "experiments", "pymunk",
+                                                  "pybullet", "Box2D"), path
 
 
 # ---- the same known answers in every engine -------------------------------------------------

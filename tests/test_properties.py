@@ -18,7 +18,7 @@ from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 
 import sim
-from experiments.peers import make_runner
+from study.peers import make_runner
 from sim.world import SimulationError
 
 SETTINGS = settings(max_examples=int(os.environ.get("PROPERTY_EXAMPLES", 500)), deadline=None,

@@ -1,4 +1,4 @@
-"""experiments.peers.PybulletRunner against known answers and against sim's conventions.
+"""study.peers.PybulletRunner against known answers and against sim's conventions.
 
 pybullet is 3D: these tests pin down that the 2D construction (planar joints, axes, the angle's
 sign, the floor, materials, initial velocities, sleep detection) reproduces sim's scene, and they
@@ -13,8 +13,8 @@ import pytest
 
 import sim
 from conftest import tilted_box
-from experiments.peers import PybulletRunner
-from experiments.peers.pybullet_runner import (COLLISION_MARGIN, box_size, inset,
+from study.peers import PybulletRunner
+from study.peers.pybullet_runner import (COLLISION_MARGIN, box_size, inset,
                                                restitution_values)
 
 DT = 1 / 60

@@ -1,4 +1,4 @@
-"""experiments.peers.PymunkRunner against known answers and against sim's conventions.
+"""study.peers.PymunkRunner against known answers and against sim's conventions.
 
 If the peer were built wrong (friction or restitution mixed differently, a box's centre of mass
 offset, a vertex order Chipmunk handles badly), every comparison with sim would measure the
@@ -11,8 +11,8 @@ import pymunk
 import pytest
 
 import sim
-from experiments.peers import PymunkRunner
-from experiments.peers.pymunk_runner import SHAPE_ID_START, canonical_vertices
+from study.peers import PymunkRunner
+from study.peers.pymunk_runner import SHAPE_ID_START, canonical_vertices
 
 DT = 1 / 60
 G = 9.81

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from experiments import scenarios
+from study import scenarios
 
 ROOT = Path(__file__).resolve().parent.parent
 

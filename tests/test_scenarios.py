@@ -1,4 +1,4 @@
-"""experiments.scenarios: every failure scenario's truth is what physics says, its classifier can
+"""study.scenarios: every failure scenario's truth is what physics says, its classifier can
 tell the outcomes apart, and its scheduled danger arrives only after the scene has been at rest.
 
 The truth is sim-off at a fine step, exactly as in the failure table (its FULL configuration:
@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import sim
-from experiments import scenarios as S
-from experiments.common import DT
+from study import scenarios as S
+from study.common import DT
 from experiments.table_failures import FULL as TRUTH
 
 FINE_DT = DT / TRUTH["truth_divisor"]

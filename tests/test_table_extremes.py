@@ -10,11 +10,12 @@ import pytest
 
 import sim
 from analysis import table_extremes as analysis
-from experiments import paths, table_extremes as T
-from experiments.common import DT, SYSTEMS
-from experiments.extremes import axes, geometry, rules, runs, scenes
-from experiments.extremes.judge import Judge
-from experiments.extremes.record import COLUMNS, Measurement
+from study import paths
+from experiments import table_extremes as T
+from study.common import DT, SYSTEMS
+from study.extremes import axes, geometry, rules, runs, scenes
+from study.extremes.judge import Judge
+from study.extremes.record import COLUMNS, Measurement
 
 
 @pytest.fixture(scope="module")

@@ -12,8 +12,9 @@ import pandas as pd
 import pytest
 
 from analysis import table_failures as analysis
-from experiments import paths, scenarios, table_failures
-from experiments.common import REFERENCE, SYSTEMS
+from study import paths, scenarios
+from experiments import table_failures
+from study.common import REFERENCE, SYSTEMS
 
 COLUMNS = ["scenario", "system", "reference", "bodies", "seconds", "steps", "event_s", "expected",
            "truth", "truth_is_expected", "outcome", "right", "changed", "engine_right",

@@ -1,6 +1,6 @@
 """Recordings of any run, read back with rerun's own API (rerun.chunk.RrdReader): every system's
 entities on one step timeline, the divergence against the reference, the colours of frozen
-bodies, the blueprint; and the names a run can be traced by (experiments.targets)."""
+bodies, the blueprint; and the names a run can be traced by (study.targets)."""
 import math
 import os
 import subprocess
@@ -14,9 +14,9 @@ from rerun.chunk import RrdReader
 
 import sim
 from analysis import trace
-from experiments import common, scenarios, targets
-from experiments.extremes.axes import AXES
-from experiments.peers import make_runner
+from study import common, scenarios, targets
+from study.extremes.axes import AXES
+from study.peers import make_runner
 
 RERUN = Path(sys.executable).with_name("rerun")
 ENV = {**os.environ, "RERUN_ANALYTICS": "0"}
@@ -213,7 +213,7 @@ def test_a_failure_row_runs_as_its_table_does():
 def test_every_extremes_cell_runs_as_its_table_does():
     """The cell's systems, scene, dt, steps and settings are the table's own sweep tasks."""
     from experiments import table_extremes as table        # the script: tests may import it
-    from experiments.extremes.scenes import scene_of
+    from study.extremes.scenes import scene_of
     config = table.FULL
     assert targets.THRESHOLD_BISECTIONS == config["bisection_steps"]
     assert targets.PYBULLET_MAX_BODIES == config["pybullet_max_bodies"]

@@ -21,7 +21,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 #: the repository's own top-level packages (imports of anything else are third-party)
-PACKAGES = ("sim", "experiments", "analysis")
+PACKAGES = ("sim", "study", "experiments", "analysis")
 
 
 def module_file(module):

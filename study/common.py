@@ -16,10 +16,10 @@ import numpy as np
 import pandas as pd
 
 import sim
-from experiments import executor, paths
-from experiments.metadata import git_state, jsonable, collect, write_results
-from experiments.peers import engine_of, make_runner
-from experiments.timing import timed
+from study import executor, paths
+from study.metadata import git_state, jsonable, collect, write_results
+from study.peers import engine_of, make_runner
+from study.timing import timed
 
 DT = 1 / 60                 # s, every system's step unless an experiment sweeps it
 SLOP = 0.005                # m, sim's slop and pymunk's collision_slop
@@ -112,6 +112,7 @@ def sweep_store(name, quick, config):
     left by other code (uncommitted edits included) is never resumed."""
     digest = hashlib.sha256()
     for f in sorted(list((paths.ROOT / "sim").rglob("*.py"))
+                    + list((paths.ROOT / "study").rglob("*.py"))
                     + list((paths.ROOT / "experiments").rglob("*.py"))):
         digest.update(f.read_bytes())
     header = {"commit": git_state()["commit"], "config": jsonable(config),

@@ -12,10 +12,10 @@ from typing import NamedTuple
 import numpy as np
 
 import sim
-from experiments.common import DT, awake_mask, build, calibrate, label, n_awake, step_until_frozen
-from experiments.cost_fit import FIT_UNITS, fit_cost, relative_to_off
-from experiments.peers import engine_of
-from experiments.timing import interleaved
+from study.common import DT, awake_mask, build, calibrate, label, n_awake, step_until_frozen
+from study.cost_fit import FIT_UNITS, fit_cost, relative_to_off
+from study.peers import engine_of
+from study.timing import interleaved
 
 WARMUP_STEPS = 10           # untimed steps after build (and after freezing) before any timing
 FALL_HEIGHT = 3000.0        # m, bottom of the falling block (mixes, fall scene)
@@ -223,7 +223,7 @@ def freeze_run(task):
     """One freeze run (bench_freeze part 3), a FreezeTask: steps the scene one step at a time until
     every body is frozen/asleep or the cap, then (if it froze) FREEZE_HOLD_S more to see whether
     the freeze holds; returns the run's rows. Module-level and self-contained, so sweeps can hand
-    it to ``experiments.executor.run_tasks``."""
+    it to ``study.executor.run_tasks``."""
     system = task.system
     scene = sim.scenes.BUILDERS[task.builder](**task.params)
     tag = label(scene)

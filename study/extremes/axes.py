@@ -2,13 +2,13 @@
 systems that have a cell on them.
 
 Adding an axis is one entry in AXES: its values, unit and label, the scene it runs (a builder of
-experiments.extremes.scenes), what its value varies (the scene's argument, or a ``knob`` of the
+study.extremes.scenes), what its value varies (the scene's argument, or a ``knob`` of the
 run), how long it runs, and the reference's settings; the sweep, the reference, the metadata and
 the figure read everything from the record."""
 from dataclasses import dataclass
 
-from experiments.common import SYSTEMS
-from experiments.peers import engine_of
+from study.common import SYSTEMS
+from study.peers import engine_of
 
 #: the sim systems again with the presolve off (table_extremes' docstring, "Systems")
 NO_PRESOLVE = " (no presolve)"
@@ -28,7 +28,7 @@ class Axis:
     label: str                  # the figure's words for the axis
     values: tuple               # the full table's values, benign to extreme
     quick: tuple                # --quick's values (the extreme ones)
-    builder: str                # the scene: a builder of experiments.extremes.scenes.BUILDERS
+    builder: str                # the scene: a builder of study.extremes.scenes.BUILDERS
     #: the builder's argument when the value varies the run rather than the scene (``knob``);
     #: None: the value itself is the argument
     scene_arg: float | None = None

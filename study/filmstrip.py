@@ -10,7 +10,7 @@ One long table, column ``kind``:
 Step 0 is the start pose. The runs are a few hundred steps of two or three bodies: cheap, so
 ``--quick`` runs them unchanged.
 
-Each policy runs as every experiment runs sim (experiments.common.build): dt 1/60 s, slop
+Each policy runs as every experiment runs sim (study.common.build): dt 1/60 s, slop
 0.005 m, sim's own default solver settings (its soft step: 4 substeps per step, 1 biased + 1
 relax sweep per substep). The metadata records each policy's full settings (``runner.settings``,
 ``system_settings``).
@@ -18,7 +18,7 @@ relax sweep per substep). The metadata records each policy's full settings (``ru
 import numpy as np
 import pandas as pd
 
-from experiments.common import DT, build
+from study.common import DT, build
 
 
 def _body_rows(world, policy):
@@ -60,7 +60,7 @@ def record(scene, policies, steps, dt=DT, settings_out=None):
 
 def experiment(name, doc, builder, policies, steps):
     """The ``main`` of a filmstrip experiment: ``builder()`` run ``steps`` steps under ``policies``."""
-    from experiments.common import entry
+    from study.common import entry
 
     def run(config, args):
         scene = builder()

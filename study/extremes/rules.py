@@ -1,6 +1,6 @@
 """The marks of the extremes table (experiments/table_extremes.py, "Rules"): a run is stable,
 degraded, failed, rejected or not run, by the thresholds here, given its measurement and its
-reference's (experiments.extremes.record.Measurement)."""
+reference's (study.extremes.record.Measurement)."""
 
 #: the rules (see table_extremes' docstring)
 EXPLOSION_FACTOR = 2.0         # KE > this x E_avail: failed

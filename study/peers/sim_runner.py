@@ -1,4 +1,4 @@
-"""``sim.World`` behind the peers' interface (``experiments.peers.Runner``), one freeze policy per
+"""``sim.World`` behind the peers' interface (``study.peers.Runner``), one freeze policy per
 runner, so that experiments loop over systems without special cases.
 
 The runner adds nothing to the physics: it passes dt, iterations, the freeze policy and every

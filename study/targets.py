@@ -5,7 +5,7 @@ the scene, the step dt (s), the steps, and per system its runner's name and sett
 resolved from one of
 
     a scene builder          sim.scenes.BUILDERS: single_box, pyramid, drop, seed_fig3, ...
-    a scenario               the failure catalogue (experiments.scenarios): slope_creep, ...
+    a scenario               the failure catalogue (study.scenarios): slope_creep, ...
     a scene file             any path ending in .toml (written by sim.Scene.to_file)
     a table cell             table_failures/<scenario>          (a row of the failure catalogue)
                              table_extremes/<axis>/<value>     (a row of the extremes table)
@@ -15,7 +15,7 @@ settings: built by the table's own library functions, so the two cannot drift ap
 it against the scripts). A name that is none of these is an error listing what is available.
 
 Scenes and scene files run ``DEFAULT_SYSTEMS`` at DT unless told otherwise, each system with the
-study's comparable settings (experiments.common.build).
+study's comparable settings (study.common.build).
 """
 import math
 from dataclasses import dataclass, field
@@ -23,14 +23,14 @@ from pathlib import Path
 
 import sim
 from sim.arguments import positive
-from experiments import common, scenarios
-from experiments.common import DT
-from experiments.extremes.axes import (AXES, ALL_SYSTEMS, NO_PRESOLVE_SYSTEMS, applies,
+from study import common, scenarios
+from study.common import DT
+from study.extremes.axes import (AXES, ALL_SYSTEMS, NO_PRESOLVE_SYSTEMS, applies,
                                        runner_system, system_settings)
-from experiments.extremes.runs import run_task
-from experiments.extremes.scenes import scene_of
-from experiments.extremes.threshold import find_threshold
-from experiments.peers import SYSTEMS, engine_of
+from study.extremes.runs import run_task
+from study.extremes.scenes import scene_of
+from study.extremes.threshold import find_threshold
+from study.peers import SYSTEMS, engine_of
 
 #: the systems a scene is recorded under when none are named: no freezing, the study's method, and
 #: the engines' sleeping (what "where does freezing change the outcome" compares)
@@ -123,7 +123,7 @@ def resolve(name, systems=None, size=None, dt=None):
 
 
 def scene_system(name):
-    """A System for a scene: any runner system (experiments.peers.SYSTEMS) or a sim system
+    """A System for a scene: any runner system (study.peers.SYSTEMS) or a sim system
     without its presolve ("sim-off (no presolve)"), with the study's comparable settings."""
     known = tuple(SYSTEMS) + NO_PRESOLVE_SYSTEMS
     if name not in known:
@@ -189,7 +189,7 @@ def match_value(axis, text):
 
 def _extremes_cell(name):
     """table_extremes/<axis>/<value>: every system with a cell on that row, each as the table
-    runs it (experiments.extremes.runs.run_task, the full table's duration)."""
+    runs it (study.extremes.runs.run_task, the full table's duration)."""
     parts = name.split("/")
     if len(parts) != 3 or parts[1] not in AXES:
         raise ValueError(f"{name}: name a cell of table_extremes as table_extremes/<axis>/<value>;"

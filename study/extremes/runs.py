@@ -4,22 +4,22 @@ dicts keyed in the incremental store by ``task_key``, and ``simulate``, which bu
 samples and judges one of them into a Measurement.
 
 Nothing here names an axis: what an axis varies is read from its Axis record
-(experiments.extremes.axes)."""
+(study.extremes.axes)."""
 import json
 import math
 import time
 
 import numpy as np
 
-from experiments.common import DT, build
-from experiments.extremes.axes import AXES, runner_system, system_settings
-from experiments.extremes.geometry import Shapes
-from experiments.extremes.judge import Judge
-from experiments.extremes.record import Measurement
-from experiments.extremes.rules import EXPLOSION_FACTOR
-from experiments.extremes.scenes import scene_of
-from experiments.extremes.threshold import Decision
-from experiments.peers import sim_world
+from study.common import DT, build
+from study.extremes.axes import AXES, runner_system, system_settings
+from study.extremes.geometry import Shapes
+from study.extremes.judge import Judge
+from study.extremes.record import Measurement
+from study.extremes.rules import EXPLOSION_FACTOR
+from study.extremes.scenes import scene_of
+from study.extremes.threshold import Decision
+from study.peers import sim_world
 
 #: the reference's solver (table_extremes' docstring, "Reference"): sim.World's defaults, written
 #: out so that the reference is fixed here and never moves with a runner's or the World's defaults

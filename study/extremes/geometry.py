@@ -2,11 +2,11 @@
 measured by the same code): a scene's polygons about their centres of mass (``Shapes``), the
 thinnest width of a convex polygon, the deepest overlap at a pose (separating axes over pairs from
 a sweep of bounding boxes), and a segment clipped to a box (the projectile's path, for
-tunnelling). Polygon padding and the pairwise separation are experiments.overlap's, shared with
+tunnelling). Polygon padding and the pairwise separation are study.overlap's, shared with
 fig_tradeoff."""
 import numpy as np
 
-from experiments.overlap import pad, separation, world_vertices
+from study.overlap import pad, separation, world_vertices
 from sim.geometry import mass_properties
 
 

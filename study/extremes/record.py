@@ -8,14 +8,14 @@ import dataclasses
 import math
 from dataclasses import dataclass, fields
 
-from experiments.extremes.axes import AXES
-from experiments.extremes.rules import ref_valid
-from experiments.peers import DEFAULT_ITERATIONS, engine_of
+from study.extremes.axes import AXES
+from study.extremes.rules import ref_valid
+from study.peers import DEFAULT_ITERATIONS, engine_of
 
 
 @dataclass
 class Measurement:
-    """One run (or reference run) as measured by experiments.extremes.runs.simulate; NaN where a
+    """One run (or reference run) as measured by study.extremes.runs.simulate; NaN where a
     quantity was not measured (the run was refused, or the scene has no body that should rest)."""
     role: str = "run"                 # "run" or "ref"
     status_hint: str = ""             # "", or "rejected" / "not run" decided while running
@@ -61,7 +61,7 @@ class Row:
     iterations: int | None = None     # the run's solver iterations (sim: per substep)
     substeps: int | None = None       # sim's substeps per step; None for the peers
     steps: int | None = None
-    status: str | None = None         # one of experiments.extremes.rules.STATUSES
+    status: str | None = None         # one of study.extremes.rules.STATUSES
     reason: str | None = None
     outcome: str | None = None
     ref_outcome: str | None = None
@@ -87,7 +87,7 @@ class Row:
 
     @classmethod
     def of_run(cls, task, res, status, reason, ref):
-        """The row of a run task (a dict of experiments.extremes.runs.run_task), its Measurement
+        """The row of a run task (a dict of study.extremes.runs.run_task), its Measurement
         ``res``, its mark and the reference's Measurement ``ref``."""
         spec = task["scene"]
         if res.iterations is not None:

@@ -7,8 +7,8 @@ import math
 
 import numpy as np
 
-from experiments.extremes.geometry import clip_to_box, deepest_overlap
-from experiments.extremes.scenes import ARRIVAL_S
+from study.extremes.geometry import clip_to_box, deepest_overlap
+from study.extremes.scenes import ARRIVAL_S
 
 #: the outcome rules (table_extremes' docstring, "outcome")
 STAND_MOVE = 0.5               # outcome "stands": no body moved more than this x its width ...

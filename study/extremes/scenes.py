@@ -1,6 +1,6 @@
 """The scenes of the extremes table (experiments/table_extremes.py): one builder per kind of
 scene, each refusing out-of-range parameters with a ValueError (a refused scene is a "rejected"
-cell, never garbage). A scene's params record how it is judged (experiments.extremes.judge): its
+cell, never garbage). A scene's params record how it is judged (study.extremes.judge): its
 kind (rest | impact | projectile | knife | pile), the bodies that should rest where they start,
 the projectile's index, and the pose the bodies should come to rest in.
 
@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 import sim
-from experiments.common import DT
+from study.common import DT
 
 G = 9.81                       # m/s^2, |gravity| of every scene
 FRICTION = 0.6

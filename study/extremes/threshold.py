@@ -5,8 +5,8 @@ run of that axis."""
 import math
 
 import sim
-from experiments.common import DT
-from experiments.extremes.scenes import impact
+from study.common import DT
+from study.extremes.scenes import impact
 
 
 class Decision:

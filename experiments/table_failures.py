@@ -28,7 +28,7 @@ scenario, sim-off at dt/4 and dt/8 with 1, 2 and 4 sweeps per substep and at dt/
 the same label each time (solver v2, quick and full truth alike); the measures of the
 non-chaotic scenarios agree to a few mm (what follows an impact is chaotic: poses, not labels,
 differ there). The truth's label is checked against what physics says (the scenario's
-``expected``; column ``truth_is_expected``, and tests/test_scenarios.py); a mismatch would be the
+``expected``; column ``truth_is_expected``, and tests/unit/test_scenarios.py); a mismatch would be the
 scenario's fault and is reported, not hidden.
 
 Per scenario x system (one row each):

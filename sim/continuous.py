@@ -51,7 +51,7 @@ evaluated, which is safe by the same argument.
 
 Cost: each iteration transforms both polygons and does O(K_A K_B) work (SAT and vertex/edge
 distances). Face-to-face translation converges in 2 iterations (the rate bound is exact). Measured
-on 1500 random sweeps of 3-10-gons (tests/test_continuous.py's generator, tolerance 1e-3 of the
+on 1500 random sweeps of 3-10-gons (tests/unit/test_continuous.py's generator, tolerance 1e-3 of the
 size): hits median 6 iterations, 90% <= 13, 99% <= 33, max 59; misses median 3; sweeps turning
 < 0.5 rad median 2, max 9; turning 5-20 rad median 10, max 100. The slow case is a fast-spinning
 body passing close by without touching: the rotation term |w| R dominates every rate bound (a 2 m

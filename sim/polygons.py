@@ -11,7 +11,7 @@ Packed layout (the World's): ``vertices`` (V,2) float64, m, every polygon's vert
 Agreement with ``sim.geometry``, which stays the reference:
 - ``mass_properties_many`` and ``edge_normals_many`` apply the same operations in the same order as
   ``geometry.mass_properties`` / ``geometry.edge_normals``, and their sums reduce in the order numpy
-  reduces one polygon, so the results are equal bit for bit (tests/test_packing.py checks this).
+  reduces one polygon, so the results are equal bit for bit (tests/unit/test_packing.py checks this).
 - ``validate_polygons`` does not re-implement the error messages: a vectorised screen marks every
   polygon that fails, or comes within a rounding margin of failing, one of ``validate_polygon``'s
   checks, and ``validate_polygon`` itself then judges the marked ones in index order. The verdicts

@@ -4,7 +4,7 @@ and of a frozen body-step from a grid of mixes (``per_body_cost``), and the step
 fully frozen (``freeze_run``). The method is described in experiments/bench_freeze.py's
 docstring; the scripts that use a protocol describe it again where they differ.
 
-A library module: it is imported by scripts and imports none (tests/test_makedeps.py)."""
+A library module: it is imported by scripts and imports none (tests/pipeline/test_makedeps.py)."""
 import math
 import statistics
 from typing import NamedTuple

@@ -34,17 +34,16 @@ def _compile_once():
     sim.World(sim.scenes.stack(2)).step(2)
 
 
-#: The slow tier, skipped by ``make test-fast`` (``pytest -m "not slow"``): modules whose tests run a
-#: pipeline rather than a unit of code -- ``make`` itself, an experiment or analysis script end to
-#: end at quick sizes, or the compiled kernels' machine code. About 4 of the suite's 6 minutes.
-SLOW_MODULES = frozenset({
-    "test_reproduce", "test_makedeps", "test_bench_kernels", "test_bench_freeze",
-    "test_bench_step", "test_bench_fast_paths", "test_fig_scaling", "test_fig_speedup",
-    "test_fig_time_to_rest", "test_fig_tradeoff", "test_filmstrips", "test_table_extremes",
-    "test_table_failures", "test_trace"})
+#: The slow tier, skipped by ``make test-fast`` (``pytest -m "not slow"``): every test under
+#: tests/pipeline/, which runs a pipeline rather than a unit of code -- ``make`` itself, an
+#: experiment, analysis or recording script end to end at quick sizes, or the compiled kernels'
+#: machine code. About two thirds of the suite's time. The other folders: tests/unit/ (the solver,
+#: the policies and the study library, against known answers and the slow references in
+#: tests/naive*.py) and tests/adapters/ (the peers behind the Runner interface).
+SLOW_FOLDER = "pipeline"
 
 
 def pytest_collection_modifyitems(config, items):
     for item in items:
-        if item.module.__name__.rpartition(".")[2] in SLOW_MODULES:
+        if SLOW_FOLDER in item.path.relative_to(config.rootpath).parts:
             item.add_marker(pytest.mark.slow)

@@ -40,7 +40,7 @@ Box2D's tolerances (slop, skin, sleep) are tuned for moving bodies of 0.1 to 10 
 larger ones are built, and ``settings["body_size_m"]`` records the scene's range against it.
 Box2D asserts (an AssertionError in pybox2d) on shapes it cannot use; those become ValueErrors.
 
-Measured deviations from sim (tests/test_box2d_runner.py pins them; dt 1/60)
+Measured deviations from sim (tests/adapters/test_box2d_runner.py pins them; dt 1/60)
 - Round-off: float32, e.g. 8e-7 m after a 1 s fall from 10 m, 1.7e-5 rad after 9 rad of spin.
 - Resting overlap: Box2D's position iterations leave up to b2_linearSlop (5 mm) of overlap, so a
   dropped box rests 5.0 mm into the floor (one placed touching stays put: 2e-10 m in 5 s), and

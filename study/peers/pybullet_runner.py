@@ -5,7 +5,7 @@ Axes and angles
 - sim's plane (x, y) is Bullet's x-z plane: sim x -> Bullet x, sim y -> Bullet z, gravity along -z.
   sim's angle is counter-clockwise about sim's +z (out of the screen), which is Bullet's -y
   (x cross z = -y), so a sim angle theta is a rotation by -theta about Bullet's +y, and a sim
-  angular velocity w is -w about +y. (tests/test_pybullet_runner.py checks the world vertices of a
+  angular velocity w is -w about +y. (tests/adapters/test_pybullet_runner.py checks the world vertices of a
   rotated box.)
 - Each dynamic body is its own URDF: a massless fixed base and one link joined to it by a `planar`
   joint (axis y). The link can only translate in x-z and rotate about y, so bodies stay exactly in
@@ -57,7 +57,7 @@ Settings that differ from pybullet's defaults, to match sim
   counts as asleep when its velocities are exactly 0.0 and its pose did not change over the last
   step.
 
-Measured deviations (tests/test_pybullet_runner.py pins them; dt 1/60)
+Measured deviations (tests/adapters/test_pybullet_runner.py pins them; dt 1/60)
 - A body that spins in free flight drifts: Bullet integrates the planar joint's translation
   velocity in the rotating body frame with explicit Euler, which scales the speed by
   sqrt(1 + (w dt)^2) per step. A box spinning at 2 rad/s gains 0.34 m/s sideways in a 1 s fall

@@ -196,7 +196,7 @@ def _start_sweep(tmp_path):
     pids.mkdir()
     store = tmp_path / "sweep.jsonl"
     script = tmp_path / "sweep.py"
-    here = str(pathlib.Path(__file__).resolve().parent.parent)
+    here = str(pathlib.Path(__file__).resolve().parents[2])
     script.write_text(SWEEP.format(here=here, pids=str(pids), store=str(store)))
     proc = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.DEVNULL,
                             stderr=subprocess.PIPE, text=True)

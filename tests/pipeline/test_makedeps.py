@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
 import makedeps  # noqa: E402
 
@@ -109,7 +109,7 @@ def test_no_experiment_script_runs_another_nor_does_analysis():
     """ARCHITECTURE §5: the layers import downwards only. An experiment script imports sim and the
     study library, never another script (so a script can change without changing another's
     results); analysis imports sim and study, never a script; study imports neither experiments
-    nor analysis; sim imports none of them (tests/test_peers.py). Read from the imports,
+    nor analysis; sim imports none of them (tests/adapters/test_peers.py). Read from the imports,
     transitively (every module a module runs)."""
     scripts = {f"experiments/{name}.py" for name in _make_list("ALL")}
     assert "experiments/bench_freeze.py" in scripts

@@ -14,7 +14,7 @@ import pytest
 
 from study import scenarios
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _make(*args, timeout=900):

@@ -275,7 +275,7 @@ def test_box_slides_into_a_static_wall_and_stops_at_its_face():
 def test_box_settles_on_a_tilted_static_plank_at_the_planks_angle():
     """Static polygons take sim's angle sign: a box dropped on a plank tilted +0.3 rad ends at
     +0.3 on the plank's top face (where along the slope depends on the engine's corner impact;
-    sim and the other peers are compared the same way in tests/test_pybullet_runner.py)."""
+    sim and the other peers are compared the same way in tests/adapters/test_pybullet_runner.py)."""
     plank = sim.Body.box(4.0, 0.2, position=(0.0, 1.0), angle=0.3, friction=0.8, name="plank")
     box = sim.Body.box(0.5, 0.5, position=(0.0, 1.8), friction=0.8)
     runner = Box2dRunner(sim.Scene([box], static_bodies=[plank]), dt=DT)

@@ -4,8 +4,8 @@ freeze off, pymunk, pybullet, box2d) against the same known answers and against 
 Where a peer cannot reach sim's answer the test says so with the measured figure or the exact
 discrete answer: sim integrates over 4 substeps per step (Bullet, Chipmunk and Box2D over one),
 pymunk moves positions before velocities (free fall trails by g dt t, a launched body runs v0 dt
-further), Bullet's bounce overshoots e^2 h by ~10 % (tests/test_pybullet_runner.py), and Box2D
-computes in float32 and its bounce falls ~6 % short (tests/test_box2d_runner.py).
+further), Bullet's bounce overshoots e^2 h by ~10 % (tests/adapters/test_pybullet_runner.py), and Box2D
+computes in float32 and its bounce falls ~6 % short (tests/adapters/test_box2d_runner.py).
 """
 import ast
 import json
@@ -30,7 +30,7 @@ SYSTEMS_OFF = ("sim-off", "pymunk", "pybullet", "box2d")
 #: Relative round-off of positions and velocities: Box2D computes in float32 (measured in 1 s of
 #: free fall from 10 m: position 1.7e-7, velocity 4.4e-7), the others in float64.
 ROUND_OFF = {"box2d": 2e-6}
-ROOT = pathlib.Path(__file__).resolve().parent.parent
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
 def _build(system, scene, **kwargs):

@@ -53,8 +53,8 @@ def test_buffer_growth_does_not_change_the_trajectory(monkeypatch):
 
 
 def test_identical_across_processes():
-    code = ("import sys; sys.path.insert(0, 'tests'); import test_determinism as t; "
+    code = ("import sys; sys.path[:0] = ['tests', 'tests/unit']; import test_determinism as t; "
             "print(t.fingerprint(t.run()))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
-                         cwd=str(__import__("pathlib").Path(__file__).parents[1]))
+                         cwd=str(__import__("pathlib").Path(__file__).parents[2]))
     assert out.stdout.strip() == fingerprint(run())

@@ -55,7 +55,7 @@ CELL ?=
 # Results are never intermediate files: make must not delete results/data/*.csv after drawing.
 .SECONDARY:
 
-.PHONY: all venv test test-fast reproduce figures paper glance recordings trace trace-list lock \
+.PHONY: all venv lint test test-fast reproduce figures paper glance recordings trace trace-list lock \
         clean distclean $(ALL)
 
 all: test
@@ -70,12 +70,18 @@ $(STAMP): pyproject.toml
 
 venv: $(STAMP)
 
-test: $(STAMP)
+# Lint and format are checked first (ruff, pinned; pyproject.toml [tool.ruff]): fix with
+# `.venv/bin/ruff check --fix . && .venv/bin/ruff format .`
+lint: $(STAMP)
+	$(PY) -m ruff check .
+	$(PY) -m ruff format --check .
+
+test: lint
 	$(PY) -m pytest -q
 
 # Every test but the slow tier (pipelines: make, scripts end to end; see tests/conftest.py), for
 # development; CI runs `make test`.
-test-fast: $(STAMP)
+test-fast: lint
 	$(PY) -m pytest -q -m "not slow"
 
 # The build graph: each output depends on every repository file its script runs, found from the

@@ -6,6 +6,7 @@ Writes paper/generated/bench_step.csv (ms per step per scene, pymunk/sim), bench
 issue's target (sim at least 3x pymunk's step rate on pyramid(40), rest_row(5000), drop(200)
 while it settles) met or not on each, the substeps and iterations each system used, and the
 profile of the target scenes."""
+
 from analysis import style
 
 NAME = "bench_step"
@@ -25,19 +26,26 @@ def _ratios(table):
 
 def _settings(table, system):
     row = table[table["system"] == system].iloc[0]
-    return {"substeps": int(row["substeps"]), "iterations": int(row["iterations"]),
-            "relax_iterations": int(row["relax_iterations"]),
-            "contact_sweeps_per_step": int(row["contact_sweeps_per_step"])}
+    return {
+        "substeps": int(row["substeps"]),
+        "iterations": int(row["iterations"]),
+        "relax_iterations": int(row["relax_iterations"]),
+        "contact_sweeps_per_step": int(row["contact_sweeps_per_step"]),
+    }
 
 
 def draw(table, meta):
     out = _ratios(table)
-    shown = out.assign(scene=out["label"],
-                       when=out["mode"].map(lambda m: "settling" if m.startswith("settling")
-                                            else "resting"))
-    style.write_table(shown[["scene", "bodies", "when", "sim_off_ms", "pymunk_ms",
-                             "pymunk_over_sim"]]
-                      .round({"sim_off_ms": 4, "pymunk_ms": 4, "pymunk_over_sim": 2}), NAME)
+    shown = out.assign(
+        scene=out["label"],
+        when=out["mode"].map(lambda m: "settling" if m.startswith("settling") else "resting"),
+    )
+    style.write_table(
+        shown[["scene", "bodies", "when", "sim_off_ms", "pymunk_ms", "pymunk_over_sim"]].round(
+            {"sim_off_ms": 4, "pymunk_ms": 4, "pymunk_over_sim": 2}
+        ),
+        NAME,
+    )
 
     profile, _ = style.load(PROFILE)
     wide = profile.pivot_table(index="stage", columns="label", values="ms_per_step", sort=False)
@@ -48,28 +56,42 @@ def draw(table, meta):
     targets = meta["parameters"].get("targets", {})
     largest = out.loc[out.groupby("scene")["bodies"].idxmax()]
     stages = profile[profile["stage"] != "total"]
-    return {"pymunk_over_sim": {r.label: r.pymunk_over_sim for r in out.itertuples()},
-            "ms_per_step": {r.label: {"sim-off": r.sim_off_ms, "pymunk": r.pymunk_ms}
-                            for r in out.itertuples()},
-            "largest": {r.scene: {"scene": r.label, "bodies": int(r.bodies),
-                                  "sim_off_ms": r.sim_off_ms, "pymunk_ms": r.pymunk_ms,
-                                  "pymunk_over_sim": r.pymunk_over_sim}
-                        for r in largest.itertuples()},
-            "target_ratio": target,
-            "targets": targets,
-            "targets_met": bool(targets) and all(t["met"] for t in targets.values()),
-            "sim": _settings(table, "sim-off"),
-            "pymunk": _settings(table, "pymunk"),
-            "profile_ms": {lbl: {r.stage: r.ms_per_step for r in g.itertuples()}
-                           for lbl, g in profile.groupby("label", sort=False)},
-            "profile_largest_stage": {lbl: g.loc[g["ms_per_step"].idxmax(), "stage"]
-                                      for lbl, g in stages.groupby("label", sort=False)},
-            "profiled_over_unprofiled": {lbl: float(g["profile_total_ms"].iloc[0]
-                                            / g["ms_per_step_unprofiled"].iloc[0])
-                                 for lbl, g in profile.groupby("label", sort=False)},
-            "repeats": int(table["repeats"].iloc[0]),
-            "steps_per_repeat": int(meta["parameters"]["steps_per_repeat"]),
-            "settle_window_steps": int(meta["parameters"]["settle_window_steps"])}
+    return {
+        "pymunk_over_sim": {r.label: r.pymunk_over_sim for r in out.itertuples()},
+        "ms_per_step": {
+            r.label: {"sim-off": r.sim_off_ms, "pymunk": r.pymunk_ms} for r in out.itertuples()
+        },
+        "largest": {
+            r.scene: {
+                "scene": r.label,
+                "bodies": int(r.bodies),
+                "sim_off_ms": r.sim_off_ms,
+                "pymunk_ms": r.pymunk_ms,
+                "pymunk_over_sim": r.pymunk_over_sim,
+            }
+            for r in largest.itertuples()
+        },
+        "target_ratio": target,
+        "targets": targets,
+        "targets_met": bool(targets) and all(t["met"] for t in targets.values()),
+        "sim": _settings(table, "sim-off"),
+        "pymunk": _settings(table, "pymunk"),
+        "profile_ms": {
+            lbl: {r.stage: r.ms_per_step for r in g.itertuples()}
+            for lbl, g in profile.groupby("label", sort=False)
+        },
+        "profile_largest_stage": {
+            lbl: g.loc[g["ms_per_step"].idxmax(), "stage"]
+            for lbl, g in stages.groupby("label", sort=False)
+        },
+        "profiled_over_unprofiled": {
+            lbl: float(g["profile_total_ms"].iloc[0] / g["ms_per_step_unprofiled"].iloc[0])
+            for lbl, g in profile.groupby("label", sort=False)
+        },
+        "repeats": int(table["repeats"].iloc[0]),
+        "steps_per_repeat": int(meta["parameters"]["steps_per_repeat"]),
+        "settle_window_steps": int(meta["parameters"]["settle_window_steps"]),
+    }
 
 
 main = style.entry(NAME, draw)

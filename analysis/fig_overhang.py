@@ -1,5 +1,6 @@
 """Figure "fig_overhang": seed figure 3 — filmstrip of A sliding off B under paper (dashed: off),
 and the state and position timelines of A under paper and extended against off."""
+
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -16,12 +17,14 @@ def draw(table, meta):
     last = int(table["step"].max())
     frozen_a = fs.frozen_step(table, "paper", "A")
     change_steps = sorted(set(int(s) for s in a_events["step"]))
-    steps = sorted(set([0] + change_steps + ([frozen_a] if frozen_a is not None else [])
-                       + [last]))
-    if len(steps) > 7:      # keep the filmstrip readable: first, last and evenly spaced changes
+    steps = sorted(set([0] + change_steps + ([frozen_a] if frozen_a is not None else []) + [last]))
+    if len(steps) > 7:  # keep the filmstrip readable: first, last and evenly spaced changes
         inner = steps[1:-1]
-        steps = [steps[0]] + [inner[i] for i in np.linspace(0, len(inner) - 1, 5).astype(int)] \
+        steps = (
+            [steps[0]]
+            + [inner[i] for i in np.linspace(0, len(inner) - 1, 5).astype(int)]
             + [steps[-1]]
+        )
         steps = sorted(set(steps))
     xlim, ylim = fs.extent(table)
     fig = plt.figure(figsize=(style.WIDTH, 4.2))
@@ -44,10 +47,20 @@ def draw(table, meta):
         ghost = fs.bodies(table, "off", step).query("name == 'A'")
         fs.draw_frame(ax, frame, ghost=ghost, xlim=xlim, ylim=ylim, names=False)
         a = frame.iloc[0]
-        ax.annotate(f"{step}", (a["x"], a["y"]), ha="center", va="center", fontsize=6,
-                    color="white" if a["frozen"] else "black")
-    ax.set_title("paper: A at steps " + ", ".join(str(s) for s in steps)
-                 + " (dashed: off at the same steps)", fontsize=8)
+        ax.annotate(
+            f"{step}",
+            (a["x"], a["y"]),
+            ha="center",
+            va="center",
+            fontsize=6,
+            color="white" if a["frozen"] else "black",
+        )
+    ax.set_title(
+        "paper: A at steps "
+        + ", ".join(str(s) for s in steps)
+        + " (dashed: off at the same steps)",
+        fontsize=8,
+    )
     ax.set_xlabel("x (m)")
     ax_state = fig.add_subplot(grid[1, 0])
     ax_x = fig.add_subplot(grid[1, 1])
@@ -57,11 +70,21 @@ def draw(table, meta):
         t = a["step"].to_numpy() * dt
         st = style.system_style(f"sim-{policy}")
         # offset the two policies slightly so both step lines stay visible
-        ax_state.step(t, a["state"].to_numpy() + 0.06 * (k - 0.5), where="post",
-                      color=st["color"], label=policy)
+        ax_state.step(
+            t,
+            a["state"].to_numpy() + 0.06 * (k - 0.5),
+            where="post",
+            color=st["color"],
+            label=policy,
+        )
         frozen = a["frozen"].to_numpy(bool)
-        ax_state.plot(t[frozen], a["state"].to_numpy()[frozen] + 0.06 * (k - 0.5), "|",
-                      color=st["color"], markersize=3)
+        ax_state.plot(
+            t[frozen],
+            a["state"].to_numpy()[frozen] + 0.06 * (k - 0.5),
+            "|",
+            color=st["color"],
+            markersize=3,
+        )
         ax_x.plot(t, a["x"], color=st["color"], label=policy)
     ref = fs.bodies(table, "off")
     ref = ref[ref["name"] == "A"].sort_values("step")
@@ -76,9 +99,11 @@ def draw(table, meta):
     fs.state_legend(fig, ghost=True, y=0.92)
     style.save_figure(fig, NAME)
     left = a_events[a_events["cause"] == "com_outside_support"]
-    return {"frames": steps,
-            "com_outside_support_step": int(left["step"].iloc[0]) if len(left) else float("nan"),
-            **fs.body_a_numbers(table, POLICIES)}
+    return {
+        "frames": steps,
+        "com_outside_support_step": int(left["step"].iloc[0]) if len(left) else float("nan"),
+        **fs.body_a_numbers(table, POLICIES),
+    }
 
 
 main = style.entry(NAME, draw)

@@ -10,6 +10,7 @@ each mix, a, b (ns per body-step, with standard errors), c (ms), b/a (with its s
 b/b_off (a frozen body against a solved resting one), R^2 and RMS residual. The numbers: the
 same, in ms and ns (the fastest-repeat fit under "fastest_repeat").
 """
+
 import math
 
 import matplotlib.pyplot as plt
@@ -21,8 +22,12 @@ from analysis import style
 
 NAME = "fig_scaling"
 NS_PER_MS = 1e6
-ROW_NOTE = {"sim-off": "nothing frozen: the row is solved",
-            "sim-extended": "row frozen", "sim-sleep": "row asleep", "pymunk-sleep": "row asleep"}
+ROW_NOTE = {
+    "sim-off": "nothing frozen: the row is solved",
+    "sim-extended": "row frozen",
+    "sim-sleep": "row asleep",
+    "pymunk-sleep": "row asleep",
+}
 
 
 def fits_of(table, scene="fit"):
@@ -33,7 +38,7 @@ def fits_of(table, scene="fit"):
         raise ValueError(f"{NAME}: no {scene!r} rows in the results table")
     out = {}
     for r in rows.itertuples():
-        out.setdefault(r.system, {})[r.metric[len("fit_"):]] = float(r.value)
+        out.setdefault(r.system, {})[r.metric[len("fit_") :]] = float(r.value)
     return out
 
 
@@ -42,7 +47,8 @@ def medians_of(table):
     if t.empty:
         raise ValueError(f"{NAME}: no ms_per_step_median rows in the results table")
     return t[["system", "n_awake", "n_frozen", "value", "flag"]].astype(
-        {"n_awake": int, "n_frozen": int})
+        {"n_awake": int, "n_frozen": int}
+    )
 
 
 def _shades(n, cmap="viridis"):
@@ -57,13 +63,15 @@ def _ns(ms, digits=3):
 
 
 def _pm(fit, key):
-    """"value ± standard error" of a per-body cost, in ns."""
+    """ "value ± standard error" of a per-body cost, in ns."""
     return f"{_ns(fit[key])} ± {_ns(fit[key + '_stderr'], 2)}"
 
 
 def _label(fit):
-    return (f"a = {_pm(fit, 'a')} ns, b = {_pm(fit, 'b')} ns, b/a = "
-            f"{style.fmt(fit['b_over_a'])} ± {style.fmt(fit.get('b_over_a_stderr', math.nan), 2)}")
+    return (
+        f"a = {_pm(fit, 'a')} ns, b = {_pm(fit, 'b')} ns, b/a = "
+        f"{style.fmt(fit['b_over_a'])} ± {style.fmt(fit.get('b_over_a_stderr', math.nan), 2)}"
+    )
 
 
 def draw(table, meta):
@@ -73,8 +81,9 @@ def draw(table, meta):
     systems = [s for s in style.SYSTEM_STYLE if s in fits]
     awake_counts = sorted(med["n_awake"].unique())
     frozen_counts = sorted(med["n_frozen"].unique())
-    fig, axes = plt.subplots(len(systems), 2, figsize=(style.WIDTH, 1.75 * len(systems) + 0.5),
-                             squeeze=False)
+    fig, axes = plt.subplots(
+        len(systems), 2, figsize=(style.WIDTH, 1.75 * len(systems) + 0.5), squeeze=False
+    )
     for i, system in enumerate(systems):
         fit, m = fits[system], med[med["system"] == system]
         marker = style.system_style(system)["marker"]
@@ -83,21 +92,25 @@ def draw(table, meta):
         for nf, color in zip(frozen_counts, _shades(len(frozen_counts))):
             p = m[m["n_frozen"] == nf].sort_values("n_awake")
             ax_aw.plot(p["n_awake"], p["value"], linestyle="none", marker=marker, color=color)
-            ax_aw.plot(x_aw, fit["a"] * x_aw + fit["b"] * nf + fit["c"], color=color,
-                       linewidth=0.9)
+            ax_aw.plot(x_aw, fit["a"] * x_aw + fit["b"] * nf + fit["c"], color=color, linewidth=0.9)
         x_fr = np.linspace(0, max(frozen_counts), 50)
         for na, color in zip(awake_counts, _shades(len(awake_counts), "plasma")):
             p = m[m["n_awake"] == na].sort_values("n_frozen")
             ax_fr.plot(p["n_frozen"], p["value"], linestyle="none", marker=marker, color=color)
-            ax_fr.plot(x_fr, fit["a"] * na + fit["b"] * x_fr + fit["c"], color=color,
-                       linewidth=0.9)
+            ax_fr.plot(x_fr, fit["a"] * na + fit["b"] * x_fr + fit["c"], color=color, linewidth=0.9)
             ideal = fit["a"] * na + fit["c"]
-            ax_fr.plot(x_fr, np.full_like(x_fr, ideal), color="0.55", linestyle="--",
-                       linewidth=0.8)
+            ax_fr.plot(x_fr, np.full_like(x_fr, ideal), color="0.55", linestyle="--", linewidth=0.8)
         bad = m[m["flag"] != ""]
         if len(bad):
-            ax_fr.text(0.98, 0.05, f"{len(bad)} mixes failed the awake/flight check",
-                       transform=ax_fr.transAxes, ha="right", fontsize=6, color="red")
+            ax_fr.text(
+                0.98,
+                0.05,
+                f"{len(bad)} mixes failed the awake/flight check",
+                transform=ax_fr.transAxes,
+                ha="right",
+                fontsize=6,
+                color="red",
+            )
         ax_aw.set_title(f"{system}: {ROW_NOTE.get(system, '')}", loc="left", fontsize=7.5)
         ax_fr.set_title(_label(fit), loc="left", fontsize=7)
         ax_aw.set_ylabel("ms per step")
@@ -107,40 +120,87 @@ def draw(table, meta):
             ax.set_ylim(bottom=0)
     axes[-1, 0].set_xlabel("N_awake: bodies in flight (solved)")
     axes[-1, 1].set_xlabel("N_frozen: bodies in the resting row")
-    fig.text(0.5, 1.0, "fit: ms/step = a N_awake + b N_frozen + c  (a, b per body-step)",
-             ha="center", va="bottom", fontsize=7.5)
-    frozen_handles = [Line2D([], [], color=c, marker="o", label=f"{nf}")
-                      for nf, c in zip(frozen_counts, _shades(len(frozen_counts)))]
-    awake_handles = [Line2D([], [], color=c, marker="o", label=f"{na}")
-                     for na, c in zip(awake_counts, _shades(len(awake_counts), "plasma"))]
+    fig.text(
+        0.5,
+        1.0,
+        "fit: ms/step = a N_awake + b N_frozen + c  (a, b per body-step)",
+        ha="center",
+        va="bottom",
+        fontsize=7.5,
+    )
+    frozen_handles = [
+        Line2D([], [], color=c, marker="o", label=f"{nf}")
+        for nf, c in zip(frozen_counts, _shades(len(frozen_counts)))
+    ]
+    awake_handles = [
+        Line2D([], [], color=c, marker="o", label=f"{na}")
+        for na, c in zip(awake_counts, _shades(len(awake_counts), "plasma"))
+    ]
     ideal = Line2D([], [], color="0.55", linestyle="--", label="ideal b = 0")
     # legends under the columns they belong to, clear of the data
-    axes[-1, 0].legend(handles=frozen_handles, title="lines at fixed N_frozen",
-                       loc="upper center", bbox_to_anchor=(0.5, -0.32), ncol=len(frozen_counts),
-                       fontsize=6, title_fontsize=6, frameon=False)
-    axes[-1, 1].legend(handles=awake_handles + [ideal], title="lines at fixed N_awake",
-                       loc="upper center", bbox_to_anchor=(0.5, -0.32),
-                       ncol=len(awake_counts) + 1, fontsize=6, title_fontsize=6, frameon=False)
+    axes[-1, 0].legend(
+        handles=frozen_handles,
+        title="lines at fixed N_frozen",
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.32),
+        ncol=len(frozen_counts),
+        fontsize=6,
+        title_fontsize=6,
+        frameon=False,
+    )
+    axes[-1, 1].legend(
+        handles=awake_handles + [ideal],
+        title="lines at fixed N_awake",
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.32),
+        ncol=len(awake_counts) + 1,
+        fontsize=6,
+        title_fontsize=6,
+        frameon=False,
+    )
     fig.tight_layout(h_pad=1.2)
     style.save_figure(fig, NAME)
 
     style.write_table(_paper_table(fits, fits_min, systems), NAME)
-    numbers = {"model": "ms/step = a N_awake + b N_frozen + c", "systems": systems,
-               "n_awake": [int(x) for x in awake_counts],
-               "n_frozen": [int(x) for x in frozen_counts],
-               "mixes_failing_checks": int((med["flag"] != "").sum())}
+    numbers = {
+        "model": "ms/step = a N_awake + b N_frozen + c",
+        "systems": systems,
+        "n_awake": [int(x) for x in awake_counts],
+        "n_frozen": [int(x) for x in frozen_counts],
+        "mixes_failing_checks": int((med["flag"] != "").sum()),
+    }
     for system in systems:
-        numbers[system] = {**_fit_numbers(fits[system]),
-                           "fastest_repeat": _fit_numbers(fits_min[system])}
+        numbers[system] = {
+            **_fit_numbers(fits[system]),
+            "fastest_repeat": _fit_numbers(fits_min[system]),
+        }
     return numbers
 
 
 def _fit_numbers(f):
-    keys = ("a", "a_stderr", "b", "b_stderr", "c", "c_stderr", "b_over_a", "b_over_a_stderr",
-            "r2", "rms_residual", "max_abs_residual", "b_over_b_off", "a_over_a_off", "points")
-    return {**{k: f[k] for k in keys if k in f},
-            "a_ns": f["a"] * NS_PER_MS, "b_ns": f["b"] * NS_PER_MS,
-            "a_stderr_ns": f["a_stderr"] * NS_PER_MS, "b_stderr_ns": f["b_stderr"] * NS_PER_MS}
+    keys = (
+        "a",
+        "a_stderr",
+        "b",
+        "b_stderr",
+        "c",
+        "c_stderr",
+        "b_over_a",
+        "b_over_a_stderr",
+        "r2",
+        "rms_residual",
+        "max_abs_residual",
+        "b_over_b_off",
+        "a_over_a_off",
+        "points",
+    )
+    return {
+        **{k: f[k] for k in keys if k in f},
+        "a_ns": f["a"] * NS_PER_MS,
+        "b_ns": f["b"] * NS_PER_MS,
+        "a_stderr_ns": f["a_stderr"] * NS_PER_MS,
+        "b_stderr_ns": f["b_stderr"] * NS_PER_MS,
+    }
 
 
 def _paper_table(fits, fits_min, systems):
@@ -148,17 +208,19 @@ def _paper_table(fits, fits_min, systems):
     rows = []
     for system in systems:
         for estimator, f in (("median", fits[system]), ("fastest repeat", fits_min[system])):
-            rows.append({
-                "system": system, "ms/step from": estimator,
-                "a (ns/body-step)": _pm(f, "a"),
-                "b (ns/body-step)": _pm(f, "b"),
-                "c (ms/step)": f"{style.fmt(f['c'])} ± {style.fmt(f['c_stderr'], 2)}",
-                "b/a": f"{style.fmt(f['b_over_a'])} ± "
-                       f"{style.fmt(f.get('b_over_a_stderr'), 2)}",
-                "b/b(off)": style.fmt(f.get("b_over_b_off")),
-                "R^2": style.fmt(f["r2"], 4),
-                "RMS residual (ms)": style.fmt(f["rms_residual"], 2),
-            })
+            rows.append(
+                {
+                    "system": system,
+                    "ms/step from": estimator,
+                    "a (ns/body-step)": _pm(f, "a"),
+                    "b (ns/body-step)": _pm(f, "b"),
+                    "c (ms/step)": f"{style.fmt(f['c'])} ± {style.fmt(f['c_stderr'], 2)}",
+                    "b/a": f"{style.fmt(f['b_over_a'])} ± {style.fmt(f.get('b_over_a_stderr'), 2)}",
+                    "b/b(off)": style.fmt(f.get("b_over_b_off")),
+                    "R^2": style.fmt(f["r2"], 4),
+                    "RMS residual (ms)": style.fmt(f["rms_residual"], 2),
+                }
+            )
     return pd.DataFrame(rows)
 
 

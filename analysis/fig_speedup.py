@@ -6,6 +6,7 @@ count is in the table). paper/generated/fig_speedup.csv: per scene and system, m
 and the speed-up. The numbers: per family, at its largest size, every system's ms/step, speed-up
 and awake count; pybullet's at the largest size it was run at.
 """
+
 import math
 
 import matplotlib.pyplot as plt
@@ -22,8 +23,18 @@ FREEZING = ("sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep", "pybullet-
 
 
 def _check(table):
-    need = {"family", "size", "scene", "bodies", "system", "ms_per_step_median", "speedup",
-            "n_awake_before", "n_awake_after", "flag"}
+    need = {
+        "family",
+        "size",
+        "scene",
+        "bodies",
+        "system",
+        "ms_per_step_median",
+        "speedup",
+        "n_awake_before",
+        "n_awake_after",
+        "flag",
+    }
     missing = need - set(table.columns)
     if missing:
         raise ValueError(f"{NAME}: results table lacks columns {sorted(missing)}")
@@ -42,15 +53,28 @@ def _plot_family(ax_ms, ax_sp, t, systems):
         whole = (s["flag"] != "NOT all frozen").to_numpy()
         ax_ms.plot(x, y, color=st["color"], linestyle=st["linestyle"], label=system)
         ax_ms.plot(x[whole], y[whole], linestyle="none", marker=st["marker"], color=st["color"])
-        ax_ms.plot(x[~whole], y[~whole], linestyle="none", marker=st["marker"],
-                   markerfacecolor="white", color=st["color"])
+        ax_ms.plot(
+            x[~whole],
+            y[~whole],
+            linestyle="none",
+            marker=st["marker"],
+            markerfacecolor="white",
+            color=st["color"],
+        )
         if system in FREEZING:
             sp = s["speedup"].to_numpy(float)
             ax_sp.plot(x, sp, color=st["color"], linestyle=st["linestyle"])
-            ax_sp.plot(x[whole], sp[whole], linestyle="none", marker=st["marker"],
-                       color=st["color"])
-            ax_sp.plot(x[~whole], sp[~whole], linestyle="none", marker=st["marker"],
-                       markerfacecolor="white", color=st["color"])
+            ax_sp.plot(
+                x[whole], sp[whole], linestyle="none", marker=st["marker"], color=st["color"]
+            )
+            ax_sp.plot(
+                x[~whole],
+                sp[~whole],
+                linestyle="none",
+                marker=st["marker"],
+                markerfacecolor="white",
+                color=st["color"],
+            )
     ax_sp.axhline(1.0, color="0.4", linewidth=0.8, linestyle="-")
     for ax in (ax_ms, ax_sp):
         ax.set_xscale("log")
@@ -68,8 +92,9 @@ def draw(table, meta):
     families = [f for f in FAMILY_TITLE if f in set(table["family"])]
     if not families:
         raise ValueError(f"{NAME}: no rest_row or pyramid rows in the table")
-    fig, axes = plt.subplots(2, len(families), figsize=(style.WIDTH, 5.0), squeeze=False,
-                             sharex="col")
+    fig, axes = plt.subplots(
+        2, len(families), figsize=(style.WIDTH, 5.0), squeeze=False, sharex="col"
+    )
     for j, family in enumerate(families):
         t = table[table["family"] == family]
         _plot_family(axes[0, j], axes[1, j], t, systems)
@@ -81,12 +106,30 @@ def draw(table, meta):
     for s in systems:
         st = style.system_style(s)
         text = f"{s} (<= {cap} bodies)" if cap and s.startswith("pybullet") else s
-        handles.append(Line2D([], [], color=st["color"], marker=st["marker"],
-                              linestyle=st["linestyle"], label=text))
-    handles.append(Line2D([], [], color="0.3", marker="o", markerfacecolor="white",
-                          linestyle="none", label="not all frozen while timed"))
-    fig.legend(handles=handles, loc="lower center", ncol=4, frameon=False,
-               bbox_to_anchor=(0.5, 0.0))
+        handles.append(
+            Line2D(
+                [],
+                [],
+                color=st["color"],
+                marker=st["marker"],
+                linestyle=st["linestyle"],
+                label=text,
+            )
+        )
+    handles.append(
+        Line2D(
+            [],
+            [],
+            color="0.3",
+            marker="o",
+            markerfacecolor="white",
+            linestyle="none",
+            label="not all frozen while timed",
+        )
+    )
+    fig.legend(
+        handles=handles, loc="lower center", ncol=4, frameon=False, bbox_to_anchor=(0.5, 0.0)
+    )
     fig.tight_layout(rect=(0, 0.1, 1, 1))
     style.save_figure(fig, NAME)
 
@@ -117,8 +160,7 @@ def _paper_table(table, systems):
                 cell += f" (x{_ratio(r['speedup'])})"
             if r["flag"] == "NOT all frozen":
                 before, after = int(r["n_awake_before"]), int(r["n_awake_after"])
-                cell += f" *{before} awake" if before == after else \
-                    f" *{before}->{after} awake"
+                cell += f" *{before} awake" if before == after else f" *{before}->{after} awake"
             row[system] = cell
         rows.append(row)
     return pd.DataFrame(rows)
@@ -130,9 +172,15 @@ def _numbers(table, families, systems, cap):
         t = table[table["family"] == family]
         largest = int(t["bodies"].max())
         at = t[t["bodies"] == largest]
-        fam = {"largest_scene": at["scene"].iloc[0], "largest_bodies": largest,
-               "sizes": sorted(int(b) for b in t["bodies"].unique()),
-               "ms": {}, "speedup": {}, "speedup_paired": {}, "n_awake": {}}
+        fam = {
+            "largest_scene": at["scene"].iloc[0],
+            "largest_bodies": largest,
+            "sizes": sorted(int(b) for b in t["bodies"].unique()),
+            "ms": {},
+            "speedup": {},
+            "speedup_paired": {},
+            "n_awake": {},
+        }
         for r in at.itertuples():
             if math.isfinite(r.ms_per_step_median):
                 fam["ms"][r.system] = r.ms_per_step_median
@@ -146,21 +194,33 @@ def _numbers(table, families, systems, cap):
             if s.empty:
                 continue
             r = s.loc[s["bodies"].idxmax()]
-            fam["largest_run"][system] = {"scene": r["scene"], "bodies": int(r["bodies"]),
-                                          "ms": r["ms_per_step_median"], "speedup": r["speedup"],
-                                          "n_awake": int(r["n_awake_before"])}
+            fam["largest_run"][system] = {
+                "scene": r["scene"],
+                "bodies": int(r["bodies"]),
+                "ms": r["ms_per_step_median"],
+                "speedup": r["speedup"],
+                "n_awake": int(r["n_awake_before"]),
+            }
         # the largest speed-up anywhere in the family, per system
-        fam["max_speedup"] = {s: float(np.nanmax(t.loc[t["system"] == s, "speedup"]))
-                              for s in FREEZING if (t["system"] == s).any()
-                              and t.loc[t["system"] == s, "speedup"].notna().any()}
+        fam["max_speedup"] = {
+            s: float(np.nanmax(t.loc[t["system"] == s, "speedup"]))
+            for s in FREEZING
+            if (t["system"] == s).any() and t.loc[t["system"] == s, "speedup"].notna().any()
+        }
         out[family] = fam
     partial = table[table["flag"] == "NOT all frozen"]
-    out["not_all_frozen"] = [f"{r.scene} {r.system}: {int(r.n_awake_before)} of {int(r.bodies)} "
-                             f"awake" for r in partial.itertuples()]
-    paper = table[(table["family"] == "pyramid") & (table["system"] == "sim-paper")
-                  & table["n_awake_before"].notna()]
-    out["paper_pyramid_awake_fraction"] = {r.scene: r.n_awake_before / r.bodies
-                                           for r in paper.itertuples()}
+    out["not_all_frozen"] = [
+        f"{r.scene} {r.system}: {int(r.n_awake_before)} of {int(r.bodies)} awake"
+        for r in partial.itertuples()
+    ]
+    paper = table[
+        (table["family"] == "pyramid")
+        & (table["system"] == "sim-paper")
+        & table["n_awake_before"].notna()
+    ]
+    out["paper_pyramid_awake_fraction"] = {
+        r.scene: r.n_awake_before / r.bodies for r in paper.itertuples()
+    }
     return out
 
 

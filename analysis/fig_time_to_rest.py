@@ -9,6 +9,7 @@ paper/generated/fig_time_to_rest.csv: scene x system, steps (or "never (k awake)
 per system, the steps for every scene, how many scenes it never froze (and which), the median
 steps over the scenes it did freeze; the cap.
 """
+
 import math
 
 import matplotlib.pyplot as plt
@@ -30,8 +31,9 @@ def runs_of(table):
     t = table[table["part"] == "time_to_freeze"] if "part" in table else table
     if t.empty:
         raise ValueError(f"{NAME}: no time_to_freeze rows in the results table")
-    wide = t.pivot_table(index=["scene", "system"], columns="metric", values="value",
-                         aggfunc="first", dropna=False)
+    wide = t.pivot_table(
+        index=["scene", "system"], columns="metric", values="value", aggfunc="first", dropna=False
+    )
     need = {"steps_to_all_frozen", "n_awake_at_end", "n_awake_1s_after", "cap_steps"}
     if need - set(wide.columns):
         raise ValueError(f"{NAME}: results table lacks metrics {sorted(need - set(wide.columns))}")
@@ -61,10 +63,23 @@ def draw(table, meta):
             r = r.iloc[0]
             y = i + (k - (len(systems) - 1) / 2) * bar_h
             if r["never"]:
-                ax.barh(y, cap, height=bar_h, color="white", edgecolor=st["color"], hatch="////",
-                        linewidth=0.6)
-                ax.text(cap * 1.05, y, f"never ({int(r['n_awake_at_end'])} awake)",
-                        va="center", fontsize=5, color=st["color"])
+                ax.barh(
+                    y,
+                    cap,
+                    height=bar_h,
+                    color="white",
+                    edgecolor=st["color"],
+                    hatch="////",
+                    linewidth=0.6,
+                )
+                ax.text(
+                    cap * 1.05,
+                    y,
+                    f"never ({int(r['n_awake_at_end'])} awake)",
+                    va="center",
+                    fontsize=5,
+                    color=st["color"],
+                )
                 continue
             steps = float(r["steps_to_all_frozen"])
             ax.barh(y, steps, height=bar_h, color=st["color"], edgecolor="none")
@@ -74,10 +89,9 @@ def draw(table, meta):
     ax.set_xscale("log")
     ax.set_xlim(0.8, cap * 4)
     ax.axvline(cap, color="0.4", linewidth=0.8, linestyle=":")
-    ax.text(cap * 1.05, -0.45, f"cap: {cap * dt:g} s", ha="left", va="top", fontsize=6,
-            color="0.3")
+    ax.text(cap * 1.05, -0.45, f"cap: {cap * dt:g} s", ha="left", va="top", fontsize=6, color="0.3")
     ax.set_yticks(range(len(scenes)), scenes)
-    ax.set_ylim(len(scenes) - 0.5, -0.5)          # first scene on top
+    ax.set_ylim(len(scenes) - 0.5, -0.5)  # first scene on top
     ax.grid(axis="y", visible=False)
     step = f"1/{round(1 / dt)}" if abs(1 / dt - round(1 / dt)) < 1e-9 else f"{dt:.4g}"
     ax.set_xlabel(f"steps until every body is frozen/asleep (dt = {step} s)")
@@ -87,12 +101,13 @@ def draw(table, meta):
     ax.xaxis.set_major_formatter(plain)
     top.xaxis.set_major_formatter(plain)
     handles = [Patch(color=style.system_style(s)["color"], label=s) for s in systems]
-    handles += [Patch(facecolor="white", edgecolor="0.3", hatch="////",
-                      label="never within the cap"),
-                Line2D([], [], marker="x", color="red", linestyle="none",
-                       label="awake again 1 s later")]
-    ax.legend(handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.12), ncol=4,
-              frameon=False)
+    handles += [
+        Patch(facecolor="white", edgecolor="0.3", hatch="////", label="never within the cap"),
+        Line2D([], [], marker="x", color="red", linestyle="none", label="awake again 1 s later"),
+    ]
+    ax.legend(
+        handles=handles, loc="lower center", bbox_to_anchor=(0.5, 1.12), ncol=4, frameon=False
+    )
     fig.tight_layout()
     style.save_figure(fig, NAME)
 
@@ -108,17 +123,27 @@ def _certificate(table):
         return None
     t = table[table["part"] == "certificate"]
     wide = t.pivot_table(index="scene", columns="metric", values="value", aggfunc="first")
-    per_scene = {scene: {"certificates": int(r.certificates),
-                         "steps_certifying": int(r.steps_certifying),
-                         "steps_run": int(r.steps_run),
-                         "us_per_certificate": (None if math.isnan(r.freeze_after_per_certificate)
-                                                else float(r.freeze_after_per_certificate))}
-                 for scene, r in wide.iterrows()}
-    costs = [v["us_per_certificate"] for v in per_scene.values()
-             if v["us_per_certificate"] is not None]
-    return {"scenes": per_scene,
-            "median_us_per_certificate": float(np.median(costs)) if costs else None,
-            "max_us_per_certificate": float(np.max(costs)) if costs else None}
+    per_scene = {
+        scene: {
+            "certificates": int(r.certificates),
+            "steps_certifying": int(r.steps_certifying),
+            "steps_run": int(r.steps_run),
+            "us_per_certificate": (
+                None
+                if math.isnan(r.freeze_after_per_certificate)
+                else float(r.freeze_after_per_certificate)
+            ),
+        }
+        for scene, r in wide.iterrows()
+    }
+    costs = [
+        v["us_per_certificate"] for v in per_scene.values() if v["us_per_certificate"] is not None
+    ]
+    return {
+        "scenes": per_scene,
+        "median_us_per_certificate": float(np.median(costs)) if costs else None,
+        "max_us_per_certificate": float(np.max(costs)) if costs else None,
+    }
 
 
 def _cell(r):
@@ -148,19 +173,21 @@ def _numbers(runs, scenes, systems, cap, dt):
         s = runs[runs["system"] == system]
         froze = s[~s["never"]]
         out[system] = {
-            "steps": {r.scene: (None if r.never else int(r.steps_to_all_frozen))
-                      for r in s.itertuples()},
+            "steps": {
+                r.scene: (None if r.never else int(r.steps_to_all_frozen)) for r in s.itertuples()
+            },
             "never": [r.scene for r in s.itertuples() if r.never],
             "n_never": int(s["never"].sum()),
             "awake_at_cap": {r.scene: int(r.n_awake_at_end) for r in s.itertuples() if r.never},
-            "median_steps_when_frozen": (float(np.median(froze["steps_to_all_frozen"]))
-                                         if len(froze) else math.nan),
+            "median_steps_when_frozen": (
+                float(np.median(froze["steps_to_all_frozen"])) if len(froze) else math.nan
+            ),
             "did_not_hold": [r.scene for r in s.itertuples() if r.n_awake_1s_after > 0],
             # per scene family (drop seeds, stacks...): median steps, None if any run never froze
             "family_median_steps": {
-                family: (None if g["never"].any()
-                         else float(np.median(g["steps_to_all_frozen"])))
-                for family, g in s.groupby(s["scene"].str.split("(").str[0], sort=False)},
+                family: (None if g["never"].any() else float(np.median(g["steps_to_all_frozen"])))
+                for family, g in s.groupby(s["scene"].str.split("(").str[0], sort=False)
+            },
         }
     fastest = {}
     for scene in scenes:

@@ -35,6 +35,7 @@ whether
 sim-off's error is at most the best peer's (``sim_off_within_best_peer``; the issue's done-when on
 the landing scene), and the fastest sim-off solver setting whose error is (``sim_off_fastest_
 setting_within_best_peer``, "none" if no swept setting is)."""
+
 import math
 
 import matplotlib.pyplot as plt
@@ -47,25 +48,47 @@ from analysis import style
 
 NAME = "fig_tradeoff"
 #: (column, axis label, short name in the numbers) of each error measure drawn
-MEASURES = (("pose_error_max_m", "largest pose error (m)", "pose"),
-            ("penetration_final_m", "deepest overlap at the end (m)", "penetration"))
+MEASURES = (
+    ("pose_error_max_m", "largest pose error (m)", "pose"),
+    ("penetration_final_m", "deepest overlap at the end (m)", "penetration"),
+)
 FREEZING = ("sim-paper", "sim-extended", "sim-sleep", "pymunk-sleep", "pybullet-sleep")
 OFF = {"sim": "sim-off", "pymunk": "pymunk", "pybullet": "pybullet"}
 #: sim-off's solver knobs (role "solver"): series name -> (system, parameter, style)
 SOLVER_SERIES = {
-    "sim-off substeps": ("sim-off", "substeps",
-                         {"color": "#000000", "marker": "o", "linestyle": "-"}),
-    "sim-off iterations": ("sim-off", "iterations",
-                           {"color": "#666666", "marker": "X", "linestyle": (0, (1, 1.5))}),
+    "sim-off substeps": (
+        "sim-off",
+        "substeps",
+        {"color": "#000000", "marker": "o", "linestyle": "-"},
+    ),
+    "sim-off iterations": (
+        "sim-off",
+        "iterations",
+        {"color": "#666666", "marker": "X", "linestyle": (0, (1, 1.5))},
+    ),
 }
 PEERS = ("pymunk", "pybullet")
 #: a setting "matches the baseline" in penetration when the overlap it leaves at the end exceeds the
 #: baseline's by at most this fraction of the slop (0.5 mm at slop 5 mm)
 PENETRATION_MARGIN = 0.1
-REQUIRED = {"scene", "system", "engine", "role", "parameter", "value", "is_default", "speedup",
-            "speedup_min", "awake_fraction", "bodies",
-            "pose_error_max_m", "pose_error_mean_m", "exact_error_max_m", "penetration_max_m",
-            "penetration_final_m"}
+REQUIRED = {
+    "scene",
+    "system",
+    "engine",
+    "role",
+    "parameter",
+    "value",
+    "is_default",
+    "speedup",
+    "speedup_min",
+    "awake_fraction",
+    "bodies",
+    "pose_error_max_m",
+    "pose_error_mean_m",
+    "exact_error_max_m",
+    "penetration_max_m",
+    "penetration_final_m",
+}
 
 
 def pareto(points, column):
@@ -88,13 +111,16 @@ def _setting(row):
 
 
 def _errors(row):
-    return {"speedup": row["speedup"], "speedup_min": row["speedup_min"],
-            "pose_error_max_m": row["pose_error_max_m"],
-            "pose_error_mean_m": row["pose_error_mean_m"],
-            "angle_error_max_rad": row["angle_error_max_rad"],
-            "exact_error_max_m": row["exact_error_max_m"],
-            "penetration_max_m": row["penetration_max_m"],
-            "penetration_final_m": row["penetration_final_m"]}
+    return {
+        "speedup": row["speedup"],
+        "speedup_min": row["speedup_min"],
+        "pose_error_max_m": row["pose_error_max_m"],
+        "pose_error_mean_m": row["pose_error_mean_m"],
+        "angle_error_max_rad": row["angle_error_max_rad"],
+        "exact_error_max_m": row["exact_error_max_m"],
+        "penetration_max_m": row["penetration_max_m"],
+        "penetration_final_m": row["penetration_final_m"],
+    }
 
 
 def solver_numbers(rows):
@@ -102,10 +128,15 @@ def solver_numbers(rows):
     settings among ``rows`` (one scene's timed rows)."""
     out = {}
     for _, (system, parameter, _) in SOLVER_SERIES.items():
-        pts = rows[(rows["role"] == "solver") & (rows["system"] == system)
-                   & (rows["parameter"] == parameter)].sort_values("value")
-        out[parameter] = [{"value": int(p["value"]), "is_default": bool(p["is_default"]),
-                           **_errors(p)} for _, p in pts.iterrows()]
+        pts = rows[
+            (rows["role"] == "solver")
+            & (rows["system"] == system)
+            & (rows["parameter"] == parameter)
+        ].sort_values("value")
+        out[parameter] = [
+            {"value": int(p["value"]), "is_default": bool(p["is_default"]), **_errors(p)}
+            for _, p in pts.iterrows()
+        ]
     return out
 
 
@@ -115,19 +146,24 @@ def defaults_comparison(scene_numbers, rows):
     accurate as the best peer."""
     base = scene_numbers["baseline"]
     pose = {off: base[off]["pose_error_max_m"] for off in OFF.values() if off in base}
-    out = {"pose_error_max_m": pose,
-           "reference_resolution_m": {off: r["pose_error_max_m"] for off, r in
-                                      scene_numbers["reference_resolution"].items()},
-           "exact_error_max_m": {off: base[off]["exact_error_max_m"] for off in pose},
-           "reference_exact_error_max_m": dict(scene_numbers["reference_exact_error_max_m"])}
+    out = {
+        "pose_error_max_m": pose,
+        "reference_resolution_m": {
+            off: r["pose_error_max_m"] for off, r in scene_numbers["reference_resolution"].items()
+        },
+        "exact_error_max_m": {off: base[off]["exact_error_max_m"] for off in pose},
+        "reference_exact_error_max_m": dict(scene_numbers["reference_exact_error_max_m"]),
+    }
     peers = {p: pose[p] for p in PEERS if p in pose and math.isfinite(pose[p])}
     if "sim-off" not in pose or not peers:
         return out
     best = min(peers, key=peers.get)
-    out.update(best_peer=best, best_peer_pose_error_max_m=peers[best],
-               sim_off_over_best_peer=pose["sim-off"] / peers[best] if peers[best] > 0
-               else math.inf,
-               sim_off_within_best_peer=bool(pose["sim-off"] <= peers[best]))
+    out.update(
+        best_peer=best,
+        best_peer_pose_error_max_m=peers[best],
+        sim_off_over_best_peer=pose["sim-off"] / peers[best] if peers[best] > 0 else math.inf,
+        sim_off_within_best_peer=bool(pose["sim-off"] <= peers[best]),
+    )
     solver = rows[(rows["role"] == "solver") & (rows["pose_error_max_m"] <= peers[best])]
     if solver.empty:
         out["sim_off_fastest_setting_within_best_peer"] = "none"
@@ -149,51 +185,68 @@ def draw(table, meta):
     scenes = list(dict.fromkeys(table["scene"]))
     timed = table[table["role"].isin(["baseline", "sweep", "solver"])]
 
-    fig, axes = plt.subplots(len(scenes), len(MEASURES), squeeze=False,
-                             figsize=(style.WIDTH, 2.6 * len(scenes) + 0.9))
+    fig, axes = plt.subplots(
+        len(scenes), len(MEASURES), squeeze=False, figsize=(style.WIDTH, 2.6 * len(scenes) + 0.9)
+    )
     numbers = {"error_floor": floor, "scenes": {}}
     fronts = []
     for r, scene in enumerate(scenes):
         rows = timed[timed["scene"] == scene]
         ref = table[(table["scene"] == scene) & (table["role"] == "resolution")]
         scene_numbers = numbers["scenes"][scene] = {
-            "bodies": int(rows["bodies"].iloc[0]), "baseline": {}, "reference_resolution": {},
-            "reference_exact_error_max_m": {}, "match_limit": {}, "systems": {}}
+            "bodies": int(rows["bodies"].iloc[0]),
+            "baseline": {},
+            "reference_resolution": {},
+            "reference_exact_error_max_m": {},
+            "match_limit": {},
+            "systems": {},
+        }
         for engine, off in OFF.items():
             base = rows[(rows["system"] == off) & (rows["role"] == "baseline")]
             if base.empty:
                 continue
             b = base.iloc[0]
             scene_numbers["baseline"][off] = {
-                "pose_error_max_m": b["pose_error_max_m"], "pose_error_mean_m":
-                    b["pose_error_mean_m"], "angle_error_max_rad": b["angle_error_max_rad"],
+                "pose_error_max_m": b["pose_error_max_m"],
+                "pose_error_mean_m": b["pose_error_mean_m"],
+                "angle_error_max_rad": b["angle_error_max_rad"],
                 "penetration_max_m": b["penetration_max_m"],
                 "penetration_final_m": b["penetration_final_m"],
-                "exact_error_max_m": b["exact_error_max_m"], "wall_s": b["wall_s_median"]}
-            own = table[(table["scene"] == scene) & (table["role"] == "reference")
-                        & (table["system"] == off)]
+                "exact_error_max_m": b["exact_error_max_m"],
+                "wall_s": b["wall_s_median"],
+            }
+            own = table[
+                (table["scene"] == scene)
+                & (table["role"] == "reference")
+                & (table["system"] == off)
+            ]
             if not own.empty:
-                scene_numbers["reference_exact_error_max_m"][off] = own.iloc[0][
-                    "exact_error_max_m"]
+                scene_numbers["reference_exact_error_max_m"][off] = own.iloc[0]["exact_error_max_m"]
             res = ref[ref["system"] == off]
             resolution = res.iloc[0]["pose_error_max_m"] if not res.empty else math.nan
             if not res.empty:
                 scene_numbers["reference_resolution"][off] = {
-                    "dt_s": res.iloc[0]["dt_s"], "iterations": res.iloc[0]["value"],
+                    "dt_s": res.iloc[0]["dt_s"],
+                    "iterations": res.iloc[0]["value"],
                     "pose_error_max_m": resolution,
-                    "penetration_max_m": res.iloc[0]["penetration_max_m"]}
+                    "penetration_max_m": res.iloc[0]["penetration_max_m"],
+                }
             scene_numbers["match_limit"][off] = {
                 "pose": b["pose_error_max_m"] + resolution,
-                "penetration": b["penetration_final_m"] + PENETRATION_MARGIN * slop}
+                "penetration": b["penetration_final_m"] + PENETRATION_MARGIN * slop,
+            }
         scene_numbers["solver"] = solver_numbers(rows)
         scene_numbers["defaults_comparison"] = defaults_comparison(scene_numbers, rows)
         # settings under which no body ever froze do the baseline's work: their speed-up should
         # be ~1, so its spread is the timing noise of this run (the machine is shared)
         idle = rows[(rows["role"] == "sweep") & (rows["awake_fraction"] >= 1.0)]
         scene_numbers["never_froze_speedups"] = {
-            f"{p['system']} {_setting(p)}": {"speedup": p["speedup"],
-                                             "speedup_min": p["speedup_min"]}
-            for _, p in idle.iterrows()}
+            f"{p['system']} {_setting(p)}": {
+                "speedup": p["speedup"],
+                "speedup_min": p["speedup_min"],
+            }
+            for _, p in idle.iterrows()
+        }
         for system in FREEZING:
             pts = rows[rows["system"] == system]
             if pts.empty:
@@ -203,23 +256,28 @@ def draw(table, meta):
             entry = scene_numbers["systems"][system] = {}
             default = pts[pts["is_default"]]
             if not default.empty:
-                d = default.iloc[0]        # every parameter at its default: the same run
-                entry["default"] = {"speedup": d["speedup"], "pose_error_max_m":
-                                    d["pose_error_max_m"], "pose_error_mean_m":
-                                    d["pose_error_mean_m"], "penetration_max_m":
-                                    d["penetration_max_m"], "penetration_final_m":
-                                    d["penetration_final_m"], "n_awake_final":
-                                    int(d["n_awake_final"]), "awake_fraction":
-                                    d["awake_fraction"]}
+                d = default.iloc[0]  # every parameter at its default: the same run
+                entry["default"] = {
+                    "speedup": d["speedup"],
+                    "pose_error_max_m": d["pose_error_max_m"],
+                    "pose_error_mean_m": d["pose_error_mean_m"],
+                    "penetration_max_m": d["penetration_max_m"],
+                    "penetration_final_m": d["penetration_final_m"],
+                    "n_awake_final": int(d["n_awake_final"]),
+                    "awake_fraction": d["awake_fraction"],
+                }
             fastest = pts.loc[pts["speedup"].idxmax()]
-            entry["fastest"] = {"setting": _setting(fastest), "speedup": fastest["speedup"],
-                                "pose_error_max_m": fastest["pose_error_max_m"],
-                                "penetration_final_m": fastest["penetration_final_m"],
-                                "penetration_max_m": fastest["penetration_max_m"]}
+            entry["fastest"] = {
+                "setting": _setting(fastest),
+                "speedup": fastest["speedup"],
+                "pose_error_max_m": fastest["pose_error_max_m"],
+                "penetration_final_m": fastest["penetration_final_m"],
+                "penetration_max_m": fastest["penetration_max_m"],
+            }
             # matching in one measure alone can be degenerate (bodies asleep in mid-air overlap
             # nothing), so a setting matches when it matches in every measure
             limits = scene_numbers["match_limit"][OFF[engine]]
-            ok = pts[pts["awake_fraction"] < 1.0]            # settings that froze something
+            ok = pts[pts["awake_fraction"] < 1.0]  # settings that froze something
             for column, _, short in MEASURES:
                 ok = ok[ok[column] <= limits[short]]
                 entry[f"worst_{short}_m"] = float(pts[column].max())
@@ -245,68 +303,182 @@ def draw(table, meta):
                 st = style.system_style(off)
                 y = max(float(base[column].iloc[0]), bottom)
                 ax.axhline(y, color=st["color"], lw=0.7, ls=(0, (4, 3)), alpha=0.6, zorder=1)
-                ax.plot([1.0], [y], marker="*", ms=9, color=st["color"], mec="black", mew=0.5,
-                        ls="none", zorder=5)
-            series = [(system, rows[rows["system"] == system], style.system_style(system))
-                      for system in FREEZING]
-            series += [(name, rows[(rows["role"] == "solver") & (rows["system"] == system)
-                                   & (rows["parameter"] == parameter)], st)
-                       for name, (system, parameter, st) in SOLVER_SERIES.items()]
+                ax.plot(
+                    [1.0],
+                    [y],
+                    marker="*",
+                    ms=9,
+                    color=st["color"],
+                    mec="black",
+                    mew=0.5,
+                    ls="none",
+                    zorder=5,
+                )
+            series = [
+                (system, rows[rows["system"] == system], style.system_style(system))
+                for system in FREEZING
+            ]
+            series += [
+                (
+                    name,
+                    rows[
+                        (rows["role"] == "solver")
+                        & (rows["system"] == system)
+                        & (rows["parameter"] == parameter)
+                    ],
+                    st,
+                )
+                for name, (system, parameter, st) in SOLVER_SERIES.items()
+            ]
             for name, pts, st in series:
                 if pts.empty:
                     continue
                 zero = pts[column] <= floor
-                ax.scatter(pts.loc[~zero, "speedup"], pts.loc[~zero, column], marker=st["marker"],
-                           s=14, color=st["color"], alpha=0.75, zorder=3, linewidths=0)
-                ax.scatter(pts.loc[zero, "speedup"], np.full(int(zero.sum()), bottom),
-                           marker=st["marker"], s=14, facecolor="none", edgecolor=st["color"],
-                           linewidths=0.8, zorder=3)
+                ax.scatter(
+                    pts.loc[~zero, "speedup"],
+                    pts.loc[~zero, column],
+                    marker=st["marker"],
+                    s=14,
+                    color=st["color"],
+                    alpha=0.75,
+                    zorder=3,
+                    linewidths=0,
+                )
+                ax.scatter(
+                    pts.loc[zero, "speedup"],
+                    np.full(int(zero.sum()), bottom),
+                    marker=st["marker"],
+                    s=14,
+                    facecolor="none",
+                    edgecolor=st["color"],
+                    linewidths=0.8,
+                    zorder=3,
+                )
                 d = pts[pts["is_default"]]
-                ax.scatter(d["speedup"], d[column].clip(lower=bottom), marker=st["marker"], s=30,
-                           facecolor=st["color"], edgecolor="black", linewidths=0.8, zorder=4)
+                ax.scatter(
+                    d["speedup"],
+                    d[column].clip(lower=bottom),
+                    marker=st["marker"],
+                    s=30,
+                    facecolor=st["color"],
+                    edgecolor="black",
+                    linewidths=0.8,
+                    zorder=4,
+                )
                 front = pareto(pts, column)
-                ax.step(front["speedup"], front[column].clip(lower=bottom), where="pre",
-                        color=st["color"], ls=st["linestyle"], lw=1.0, zorder=2)
+                ax.step(
+                    front["speedup"],
+                    front[column].clip(lower=bottom),
+                    where="pre",
+                    color=st["color"],
+                    ls=st["linestyle"],
+                    lw=1.0,
+                    zorder=2,
+                )
                 for _, p in front.iterrows():
-                    fronts.append({"scene": scene, "measure": short, "series": name,
-                                   "system": p["system"],
-                                   "parameter": p["parameter"], "value": p["value"],
-                                   "unit": p["unit"], "is_default": bool(p["is_default"]),
-                                   "speedup": p["speedup"], "error_m": p[column]})
+                    fronts.append(
+                        {
+                            "scene": scene,
+                            "measure": short,
+                            "series": name,
+                            "system": p["system"],
+                            "parameter": p["parameter"],
+                            "value": p["value"],
+                            "unit": p["unit"],
+                            "is_default": bool(p["is_default"]),
+                            "speedup": p["speedup"],
+                            "error_m": p[column],
+                        }
+                    )
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.xaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
             ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
             ax.xaxis.set_minor_formatter(NullFormatter())
             lo, hi = ax.get_ylim()
-            if hi / lo < 10:           # at least a decade, so that log ticks are labelled
+            if hi / lo < 10:  # at least a decade, so that log ticks are labelled
                 mid = math.sqrt(lo * hi)
-                ax.set_ylim(mid / 10 ** 0.5, mid * 10 ** 0.5)
+                ax.set_ylim(mid / 10**0.5, mid * 10**0.5)
             ax.set_ylabel(ylabel)
             ax.set_title(f"{scene}, {int(rows['bodies'].iloc[0])} bodies: {short}")
             if r == len(scenes) - 1:
                 ax.set_xlabel("speed-up over its engine at defaults, sleeping off")
 
-    handles = [Line2D([], [], marker=style.system_style(s)["marker"],
-                      color=style.system_style(s)["color"], ls=style.system_style(s)["linestyle"],
-                      label=s) for s in FREEZING]
-    handles += [Line2D([], [], marker=st["marker"], color=st["color"], ls=st["linestyle"],
-                       label=f"{name} (freezing off)")
-                for name, (_, _, st) in SOLVER_SERIES.items()]
-    handles += [Line2D([], [], marker="*", ms=9, color=style.system_style(off)["color"],
-                       mec="black", mew=0.5, ls=(0, (4, 3)), label=f"{off} at dt (baseline)")
-                for off in OFF.values()]
-    handles.append(Line2D([], [], marker="o", color="white", mfc="lightgray", mec="black",
-                          label="default setting"))
-    handles.append(Line2D([], [], marker="o", color="white", mfc="none", mec="gray",
-                          label=f"error <= {floor:g} (at panel floor)"))
-    fig.legend(handles=handles, loc="lower center", ncol=4, frameon=False,
-               bbox_to_anchor=(0.5, 0.0))
+    handles = [
+        Line2D(
+            [],
+            [],
+            marker=style.system_style(s)["marker"],
+            color=style.system_style(s)["color"],
+            ls=style.system_style(s)["linestyle"],
+            label=s,
+        )
+        for s in FREEZING
+    ]
+    handles += [
+        Line2D(
+            [],
+            [],
+            marker=st["marker"],
+            color=st["color"],
+            ls=st["linestyle"],
+            label=f"{name} (freezing off)",
+        )
+        for name, (_, _, st) in SOLVER_SERIES.items()
+    ]
+    handles += [
+        Line2D(
+            [],
+            [],
+            marker="*",
+            ms=9,
+            color=style.system_style(off)["color"],
+            mec="black",
+            mew=0.5,
+            ls=(0, (4, 3)),
+            label=f"{off} at dt (baseline)",
+        )
+        for off in OFF.values()
+    ]
+    handles.append(
+        Line2D(
+            [], [], marker="o", color="white", mfc="lightgray", mec="black", label="default setting"
+        )
+    )
+    handles.append(
+        Line2D(
+            [],
+            [],
+            marker="o",
+            color="white",
+            mfc="none",
+            mec="gray",
+            label=f"error <= {floor:g} (at panel floor)",
+        )
+    )
+    fig.legend(
+        handles=handles, loc="lower center", ncol=4, frameon=False, bbox_to_anchor=(0.5, 0.0)
+    )
     fig.tight_layout(rect=(0, 0.12, 1, 1))
     style.save_figure(fig, NAME)
-    style.write_table(pd.DataFrame(fronts, columns=["scene", "measure", "series", "system",
-                                                    "parameter", "value", "unit", "is_default",
-                                                    "speedup", "error_m"]), NAME)
+    style.write_table(
+        pd.DataFrame(
+            fronts,
+            columns=[
+                "scene",
+                "measure",
+                "series",
+                "system",
+                "parameter",
+                "value",
+                "unit",
+                "is_default",
+                "speedup",
+                "error_m",
+            ],
+        ),
+        NAME,
+    )
     return numbers
 
 

@@ -2,6 +2,7 @@
 ``study.filmstrip`` tables: bodies as filled polygons coloured by state (frozen ones darker
 and hatched), the floor, optional dashed "ghost" outlines of the reference (off) run, and the state
 legend."""
+
 import math
 
 import numpy as np
@@ -27,16 +28,40 @@ def draw_frame(ax, frame, ghost=None, xlim=None, ylim=None, names=True):
     drawn as dashed outlines (the reference run at the same step)."""
     for _, row in frame.iterrows():
         frozen = bool(row["frozen"])
-        ax.add_patch(Polygon(outline_xy(row["outline"]), closed=True,
-                             facecolor=style.state_color(row["state"], frozen),
-                             edgecolor="black", linewidth=0.8, hatch="///" if frozen else None))
+        ax.add_patch(
+            Polygon(
+                outline_xy(row["outline"]),
+                closed=True,
+                facecolor=style.state_color(row["state"], frozen),
+                edgecolor="black",
+                linewidth=0.8,
+                hatch="///" if frozen else None,
+            )
+        )
         if names:
-            ax.text(row["x"], row["y"], row["name"], ha="center", va="center", fontsize=7,
-                    color="white" if frozen else "black", fontweight="bold")
+            ax.text(
+                row["x"],
+                row["y"],
+                row["name"],
+                ha="center",
+                va="center",
+                fontsize=7,
+                color="white" if frozen else "black",
+                fontweight="bold",
+            )
     if ghost is not None:
         for _, row in ghost.iterrows():
-            ax.add_patch(Polygon(outline_xy(row["outline"]), closed=True, fill=False,
-                                 edgecolor="black", linestyle="--", linewidth=0.6, alpha=0.6))
+            ax.add_patch(
+                Polygon(
+                    outline_xy(row["outline"]),
+                    closed=True,
+                    fill=False,
+                    edgecolor="black",
+                    linestyle="--",
+                    linewidth=0.6,
+                    alpha=0.6,
+                )
+            )
     ax.axhline(0.0, color="black", linewidth=1.0)
     ax.set_aspect("equal")
     ax.grid(False)
@@ -55,15 +80,26 @@ def extent(table, margin=0.3):
 
 
 def state_legend(fig, frozen=True, ghost=False, ncol=5, y=1.02):
-    handles = [Patch(facecolor=style.state_color(s), edgecolor="black", label=style.STATE_LABEL[s])
-               for s in range(3)]
+    handles = [
+        Patch(facecolor=style.state_color(s), edgecolor="black", label=style.STATE_LABEL[s])
+        for s in range(3)
+    ]
     if frozen:
-        handles.append(Patch(facecolor=style.state_color(2, True), edgecolor="black", hatch="///",
-                             label="frozen (not solved)"))
+        handles.append(
+            Patch(
+                facecolor=style.state_color(2, True),
+                edgecolor="black",
+                hatch="///",
+                label="frozen (not solved)",
+            )
+        )
     if ghost:
-        handles.append(Patch(fill=False, edgecolor="black", linestyle="--", label="off (reference)"))
-    fig.legend(handles=handles, loc="lower center", ncol=ncol, bbox_to_anchor=(0.5, y),
-               frameon=False)
+        handles.append(
+            Patch(fill=False, edgecolor="black", linestyle="--", label="off (reference)")
+        )
+    fig.legend(
+        handles=handles, loc="lower center", ncol=ncol, bbox_to_anchor=(0.5, y), frameon=False
+    )
 
 
 def final_error(table, policy, reference="off"):
@@ -106,10 +142,19 @@ def body_a_numbers(table, policies):
     """What the paper quotes of body A in a two-body seed figure: its paper events, the step it
     froze under each policy, and its final pose error against off."""
     from analysis import style
+
     err = {p: final_error(table, p) for p in policies}
-    return {"a_paper_events": [{"step": int(e.step), "from": style.STATE_LABEL[int(e.from_state)],
-                                "to": style.STATE_LABEL[int(e.state)], "cause": e.cause}
-                               for e in events(table, "paper", "A").itertuples()],
-            "a_frozen_step": {p: nan_if_none(frozen_step(table, p, "A")) for p in policies},
-            "final_position_error_m": {p: err[p][0] for p in policies},
-            "final_angle_error_rad": {p: err[p][1] for p in policies}}
+    return {
+        "a_paper_events": [
+            {
+                "step": int(e.step),
+                "from": style.STATE_LABEL[int(e.from_state)],
+                "to": style.STATE_LABEL[int(e.state)],
+                "cause": e.cause,
+            }
+            for e in events(table, "paper", "A").itertuples()
+        ],
+        "a_frozen_step": {p: nan_if_none(frozen_step(table, p, "A")) for p in policies},
+        "final_position_error_m": {p: err[p][0] for p in policies},
+        "final_angle_error_rad": {p: err[p][1] for p in policies},
+    }

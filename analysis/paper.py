@@ -7,6 +7,7 @@ e.g. the quick pipeline), the source is copied there first, so that both resolve
 
     python -m analysis.paper [--png DIR]     (--png: also render every page to DIR/page-N.png)
 """
+
 import argparse
 import inspect
 import json
@@ -30,14 +31,21 @@ SETUP_FROM = ("fig_speedup", "bench_step", "bench_freeze")
 
 def world_defaults():
     """sim.World's keyword defaults (dt, iterations, slop, ...), as the paper quotes them."""
-    return {name: p.default for name, p in inspect.signature(sim.World).parameters.items()
-            if p.default is not inspect.Parameter.empty and isinstance(p.default, (int, float))}
+    return {
+        name: p.default
+        for name, p in inspect.signature(sim.World).parameters.items()
+        if p.default is not inspect.Parameter.empty and isinstance(p.default, (int, float))
+    }
 
 
 def policy_parameters():
     """Each freeze policy's parameters and their defaults."""
-    modules = {"off": freeze.off, "sleep": freeze.sleep, "paper": freeze.paper,
-               "extended": freeze.extended}
+    modules = {
+        "off": freeze.off,
+        "sleep": freeze.sleep,
+        "paper": freeze.paper,
+        "extended": freeze.extended,
+    }
     return {name: dict(getattr(modules[name], "PARAMETERS", {})) for name in sim.POLICY_NAMES}
 
 
@@ -55,13 +63,20 @@ def setup_numbers():
             break
     if meta is None:
         raise FileNotFoundError(f"no experiment metadata in {paths.DATA}: run make reproduce")
-    return meta, {"world": world_defaults(), "policies": policy_parameters(),
-                  "paper_floor_angle_deg": math.degrees(math.acos(freeze_paper.COS_FLOOR)),
-                  "peer_iterations": dict(DEFAULT_ITERATIONS),
-                  "cpu": meta["cpu"], "cpu_count": meta["cpu_count"],
-                  "platform": meta["platform"], "python": meta["python"],
-                  "packages": meta["packages"], "commits": sorted(commits),
-                  "quick": any(quick), "date_utc": meta["date_utc"]}
+    return meta, {
+        "world": world_defaults(),
+        "policies": policy_parameters(),
+        "paper_floor_angle_deg": math.degrees(math.acos(freeze_paper.COS_FLOOR)),
+        "peer_iterations": dict(DEFAULT_ITERATIONS),
+        "cpu": meta["cpu"],
+        "cpu_count": meta["cpu_count"],
+        "platform": meta["platform"],
+        "python": meta["python"],
+        "packages": meta["packages"],
+        "commits": sorted(commits),
+        "quick": any(quick),
+        "date_utc": meta["date_utc"],
+    }
 
 
 def compile_paper(png_dir=None):
@@ -75,15 +90,21 @@ def compile_paper(png_dir=None):
     print(f"wrote {paths.PDF}")
     if png_dir is not None:
         png_dir = paths.ensure(png_dir)
-        typst.compile(str(out / "paper.typ"), output=str(png_dir / "page-{p}.png"),
-                      root=str(out), format="png", ppi=110)
+        typst.compile(
+            str(out / "paper.typ"),
+            output=str(png_dir / "page-{p}.png"),
+            root=str(out),
+            format="png",
+            ppi=110,
+        )
         print(f"wrote {png_dir}/page-*.png")
     return paths.PDF
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="python -m analysis.paper",
-                                     description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m analysis.paper", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--png", default=None, help="also render each page to DIR/page-N.png")
     args = parser.parse_args(argv)
     return compile_paper(args.png)

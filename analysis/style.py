@@ -10,6 +10,7 @@ and never runs a simulation (re-plotting is cheap; Make rules on files keep it s
 ``main = style.entry(NAME, draw)`` gives each module its command line; ``draw(table, meta)``
 returns the dict of numbers written to ``<name>.json`` (always written: it is the Make target).
 """
+
 import json
 import math
 import sys
@@ -27,26 +28,37 @@ from sim.files import write_text_atomically  # noqa: E402
 #: one colour, marker and line per system, everywhere (colour-blind-safe Okabe-Ito palette; sleeping
 #: variants of the peers dashed)
 SYSTEM_STYLE = {
-    "sim-off":        {"color": "#000000", "marker": "o", "linestyle": "-"},
-    "sim-sleep":      {"color": "#56B4E9", "marker": "s", "linestyle": "-"},
-    "sim-paper":      {"color": "#E69F00", "marker": "^", "linestyle": "-"},
-    "sim-extended":   {"color": "#009E73", "marker": "D", "linestyle": "-"},
-    "pymunk":         {"color": "#CC79A7", "marker": "v", "linestyle": ":"},
-    "pymunk-sleep":   {"color": "#CC79A7", "marker": "v", "linestyle": "--"},
-    "pybullet":       {"color": "#D55E00", "marker": "P", "linestyle": ":"},
+    "sim-off": {"color": "#000000", "marker": "o", "linestyle": "-"},
+    "sim-sleep": {"color": "#56B4E9", "marker": "s", "linestyle": "-"},
+    "sim-paper": {"color": "#E69F00", "marker": "^", "linestyle": "-"},
+    "sim-extended": {"color": "#009E73", "marker": "D", "linestyle": "-"},
+    "pymunk": {"color": "#CC79A7", "marker": "v", "linestyle": ":"},
+    "pymunk-sleep": {"color": "#CC79A7", "marker": "v", "linestyle": "--"},
+    "pybullet": {"color": "#D55E00", "marker": "P", "linestyle": ":"},
     "pybullet-sleep": {"color": "#D55E00", "marker": "P", "linestyle": "--"},
 }
 #: body state -> RGB 0..255 (FREE, VERTICAL_STABLE, ROTATION_STABLE, SLEEPING); the recordings use
 #: the same colours, frozen bodies drawn darker
 STATE_RGB = ((66, 135, 245), (245, 166, 35), (80, 190, 90), (150, 150, 150))
 STATE_LABEL = ("free (vertical-unstable)", "vertical-stable", "rotation-stable", "sleeping")
-WIDTH = 6.3        # in, the paper's text width
+WIDTH = 6.3  # in, the paper's text width
 RC = {
-    "figure.figsize": (WIDTH, 3.0), "figure.dpi": 100, "font.size": 8, "axes.titlesize": 9,
-    "axes.labelsize": 8, "legend.fontsize": 7, "xtick.labelsize": 7, "ytick.labelsize": 7,
-    "axes.grid": True, "grid.alpha": 0.3, "grid.linewidth": 0.5, "lines.linewidth": 1.2,
-    "lines.markersize": 4, "axes.spines.top": False, "axes.spines.right": False,
-    "svg.hashsalt": "freeze2d",        # stable ids: an unchanged figure is an unchanged file
+    "figure.figsize": (WIDTH, 3.0),
+    "figure.dpi": 100,
+    "font.size": 8,
+    "axes.titlesize": 9,
+    "axes.labelsize": 8,
+    "legend.fontsize": 7,
+    "xtick.labelsize": 7,
+    "ytick.labelsize": 7,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "grid.linewidth": 0.5,
+    "lines.linewidth": 1.2,
+    "lines.markersize": 4,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "svg.hashsalt": "freeze2d",  # stable ids: an unchanged figure is an unchanged file
     "savefig.bbox": "tight",
 }
 plt.rcParams.update(RC)
@@ -67,8 +79,10 @@ def load(name):
     """(table, metadata) of ``results/data/<name>.{csv,json}``; a clear error when missing."""
     csv_path, json_path = paths.DATA / f"{name}.csv", paths.DATA / f"{name}.json"
     if not csv_path.exists() or not json_path.exists():
-        raise FileNotFoundError(f"{csv_path} (and .json) missing: run `make {name}` or "
-                                f"`python -m experiments.{name}` first")
+        raise FileNotFoundError(
+            f"{csv_path} (and .json) missing: run `make {name}` or "
+            f"`python -m experiments.{name}` first"
+        )
     return pd.read_csv(csv_path), json.loads(json_path.read_text())
 
 
@@ -91,11 +105,14 @@ def write_numbers(name, numbers, meta):
     """Write ``paper/generated/<name>.json``: the numbers the paper quotes, the experiment's
     parameters (so that the paper quotes those from data too) and where they came from (commit,
     quick or full sizes). Non-finite numbers become strings ("nan")."""
-    out = {"numbers": numbers, "parameters": meta.get("parameters", {}),
-           "source": f"results/data/{name}.csv",
-           "commit": meta.get("git", {}).get("commit", "unknown"),
-           "quick": bool(meta.get("parameters", {}).get("quick", False)),
-           "date_utc": meta.get("date_utc", "unknown")}
+    out = {
+        "numbers": numbers,
+        "parameters": meta.get("parameters", {}),
+        "source": f"results/data/{name}.csv",
+        "commit": meta.get("git", {}).get("commit", "unknown"),
+        "quick": bool(meta.get("parameters", {}).get("quick", False)),
+        "date_utc": meta.get("date_utc", "unknown"),
+    }
     path = paths.ensure(paths.GENERATED) / f"{name}.json"
     write_text_atomically(path, json.dumps(jsonable(out), indent=2) + "\n")
     return path
@@ -110,6 +127,7 @@ def fmt(x, digits=3):
 
 def entry(name, draw):
     """The command line ``python -m analysis.<name>``: load, draw, write the numbers."""
+
     def main(argv=None):
         if argv is None:
             argv = sys.argv[1:]
@@ -120,4 +138,5 @@ def entry(name, draw):
         path = write_numbers(name, numbers, meta)
         print(f"wrote {path}")
         return numbers
+
     return main

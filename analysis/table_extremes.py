@@ -19,6 +19,7 @@ Writes paper/figures/fig_extremes.svg, paper/generated/table_extremes.csv (one r
 (axis, value), one column per system, each cell its mark and reason codes, "n/a" where the system
 has no cell on that axis) and paper/generated/table_extremes.json. Never simulates.
 """
+
 import math
 
 import matplotlib.pyplot as plt
@@ -27,15 +28,26 @@ from matplotlib.patches import Patch
 
 from analysis import style
 from study.common import REFERENCE, SYSTEMS
-from study.extremes.axes import (AXES, NO_PRESOLVE, NO_PRESOLVE_SYSTEMS, SIM_ONLY_AXES,
-                                       applies, runner_system)
+from study.extremes.axes import (
+    AXES,
+    NO_PRESOLVE,
+    NO_PRESOLVE_SYSTEMS,
+    SIM_ONLY_AXES,
+    applies,
+    runner_system,
+)
 
 NAME = "table_extremes"
 FIGURE = "fig_extremes"
 
 #: one colour per mark (Okabe-Ito-like; failed and stable differ in lightness too, for grey print)
-STATUS_COLOR = {"stable": "#c7e9c0", "degraded": "#f0c571", "failed": "#d55e00",
-                "rejected": "#56b4e9", "not run": "#e8e8e8"}
+STATUS_COLOR = {
+    "stable": "#c7e9c0",
+    "degraded": "#f0c571",
+    "failed": "#d55e00",
+    "rejected": "#56b4e9",
+    "not run": "#e8e8e8",
+}
 STATUS_ORDER = ("stable", "degraded", "failed", "rejected", "not run")
 #: the legend's words for a mark
 STATUS_LABEL = {"rejected": "refused (clear error)"}
@@ -45,12 +57,28 @@ NOT_APPLICABLE = "n/a"
 #: how bad a mark is, to compare a freezing system with its engine's sleeping-off system
 SEVERITY = {"stable": 0, "degraded": 1, "failed": 2}
 #: reason -> one-letter code drawn in the cell (failed: capitals, degraded: lower case)
-CODES = (("error", "X"), ("non-finite", "N"), ("explosion", "E"), ("tunnelling", "T"),
-         ("chattering", "C"), ("outcome", "O"), ("penetration", "p"), ("drift", "d"),
-         ("energy growth", "e"))
-CODE_TEXT = {"X": "error raised", "N": "non-finite", "E": "explosion", "T": "tunnelling",
-             "C": "state chattering", "O": "outcome differs from reference",
-             "p": "penetration", "d": "drift", "e": "energy growth"}
+CODES = (
+    ("error", "X"),
+    ("non-finite", "N"),
+    ("explosion", "E"),
+    ("tunnelling", "T"),
+    ("chattering", "C"),
+    ("outcome", "O"),
+    ("penetration", "p"),
+    ("drift", "d"),
+    ("energy growth", "e"),
+)
+CODE_TEXT = {
+    "X": "error raised",
+    "N": "non-finite",
+    "E": "explosion",
+    "T": "tunnelling",
+    "C": "state chattering",
+    "O": "outcome differs from reference",
+    "p": "penetration",
+    "d": "drift",
+    "e": "energy growth",
+}
 #: the figure's words for each axis (its Axis record's label)
 AXIS_LABEL = {name: axis.label for name, axis in AXES.items()}
 
@@ -123,7 +151,7 @@ def draw_grid(grid, systems, variants=()):
             break
     halves = [grid[:split], grid[split:]] if split < n else [grid]
     tall = max(len(h) for h in halves)
-    row_in, head_in, foot_in = 0.125, 0.62, 0.5           # inches: a row, the header, the key
+    row_in, head_in, foot_in = 0.125, 0.62, 0.5  # inches: a row, the header, the key
     height = head_in + row_in * tall + foot_in
     fig, panels = plt.subplots(1, len(halves), figsize=(style.WIDTH, height), squeeze=False)
     where = columns_x(systems, variants)
@@ -134,15 +162,29 @@ def draw_grid(grid, systems, variants=()):
             for system in every:
                 x = where[system]
                 if system not in cells and not applies(axis, system):
-                    continue                                  # not applicable: blank
+                    continue  # not applicable: blank
                 status, letters = cells.get(system, ("not run", ""))
-                ax.add_patch(plt.Rectangle((x, y), 1, 1, facecolor=STATUS_COLOR[status],
-                                           edgecolor="white", linewidth=0.6,
-                                           hatch="////" if status == "not run" else None))
+                ax.add_patch(
+                    plt.Rectangle(
+                        (x, y),
+                        1,
+                        1,
+                        facecolor=STATUS_COLOR[status],
+                        edgecolor="white",
+                        linewidth=0.6,
+                        hatch="////" if status == "not run" else None,
+                    )
+                )
                 if letters:
-                    ax.text(x + 0.5, y + 0.55, letters, ha="center", va="center",
-                            fontsize=4.6 if len(letters) < 4 else 3.8,
-                            color="white" if status == "failed" else "black")
+                    ax.text(
+                        x + 0.5,
+                        y + 0.55,
+                        letters,
+                        ha="center",
+                        va="center",
+                        fontsize=4.6 if len(letters) < 4 else 3.8,
+                        color="white" if status == "failed" else "black",
+                    )
         labels, previous = [], None
         for axis, value, _ in half:
             head = AXIS_LABEL.get(axis, axis) + ": " if axis != previous else ""
@@ -152,9 +194,13 @@ def draw_grid(grid, systems, variants=()):
         for y in range(1, len(half)):
             if half[y][0] != half[y - 1][0]:
                 ax.axhline(y, color="black", linewidth=0.6)
-        if variants:                        # the no-presolve systems are reported apart
-            ax.axvline(where[variants[0]] - 0.25, color="0.4", linewidth=0.6,
-                       ymax=len(half) / tall if tall else 1)
+        if variants:  # the no-presolve systems are reported apart
+            ax.axvline(
+                where[variants[0]] - 0.25,
+                color="0.4",
+                linewidth=0.6,
+                ymax=len(half) / tall if tall else 1,
+            )
         ax.set_xlim(0, right)
         ax.set_ylim(tall, 0)
         ax.set_yticks([y + 0.5 for y in range(len(half))])
@@ -166,18 +212,38 @@ def draw_grid(grid, systems, variants=()):
         ax.grid(False)
         for side in ax.spines.values():
             side.set_visible(False)
-    handles = [Patch(facecolor=STATUS_COLOR[s], edgecolor="0.6", label=STATUS_LABEL.get(s, s),
-                     hatch="////" if s == "not run" else None) for s in STATUS_ORDER]
-    handles.append(Patch(facecolor="white", edgecolor="0.6",
-                         label="blank: not applicable"))
+    handles = [
+        Patch(
+            facecolor=STATUS_COLOR[s],
+            edgecolor="0.6",
+            label=STATUS_LABEL.get(s, s),
+            hatch="////" if s == "not run" else None,
+        )
+        for s in STATUS_ORDER
+    ]
+    handles.append(Patch(facecolor="white", edgecolor="0.6", label="blank: not applicable"))
     failed_codes = "   ".join(f"{c} {t}" for c, t in CODE_TEXT.items() if c.isupper())
     degraded_codes = "   ".join(f"{c} {t}" for c, t in CODE_TEXT.items() if c.islower())
-    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=6,
-               frameon=False, bbox_to_anchor=(0.5, 0.22 / height))
-    fig.text(0.5, 0.06 / height, f"failed because: {failed_codes}\ndegraded by: {degraded_codes}",
-             ha="center", va="bottom", fontsize=5.2, linespacing=1.4)
-    fig.subplots_adjust(left=0.17, right=0.99, top=1 - head_in / height,
-                        bottom=foot_in / height, wspace=0.9)
+    fig.legend(
+        handles=handles,
+        loc="lower center",
+        ncol=len(handles),
+        fontsize=6,
+        frameon=False,
+        bbox_to_anchor=(0.5, 0.22 / height),
+    )
+    fig.text(
+        0.5,
+        0.06 / height,
+        f"failed because: {failed_codes}\ndegraded by: {degraded_codes}",
+        ha="center",
+        va="bottom",
+        fontsize=5.2,
+        linespacing=1.4,
+    )
+    fig.subplots_adjust(
+        left=0.17, right=0.99, top=1 - head_in / height, bottom=foot_in / height, wspace=0.9
+    )
     return fig
 
 
@@ -204,36 +270,50 @@ def headline(table, systems, axes_values):
         breaks, fails, refused = {}, {}, {}
         for system in systems:
             s = t[t["system"] == system]
-            if s.empty:                                   # not applicable on this axis
+            if s.empty:  # not applicable on this axis
                 continue
             order = sorted(s.itertuples(), key=lambda r: _position(values, r.value))
             first_break = next((r for r in order if r.status in ("degraded", "failed")), None)
             first_fail = next((r for r in order if r.status == "failed"), None)
             first_refused = next((r for r in order if r.status == "rejected"), None)
-            breaks[system] = (_position(values, first_break.value) if first_break is not None
-                              else math.inf, first_break)
+            breaks[system] = (
+                _position(values, first_break.value) if first_break is not None else math.inf,
+                first_break,
+            )
             fails[system] = first_fail.value if first_fail is not None else None
             refused[system] = first_refused.value if first_refused is not None else None
         compared = axis not in SIM_ONLY_AXES
         earliest = min((i for i, _ in breaks.values()), default=math.inf) if compared else math.inf
-        first = ([s for s, (i, _) in breaks.items() if i == earliest]
-                 if math.isfinite(earliest) else [])
+        first = (
+            [s for s, (i, _) in breaks.items() if i == earliest] if math.isfinite(earliest) else []
+        )
         together = len(breaks) > 1 and len(first) == len(breaks)
         per_axis[axis] = {
             "breaks_first": [] if together else first,
-            "breaks_first_at": (value_label(axis, values[earliest])
-                                if math.isfinite(earliest) and not together else None),
+            "breaks_first_at": (
+                value_label(axis, values[earliest])
+                if math.isfinite(earliest) and not together
+                else None
+            ),
             "breaks_together_at": value_label(axis, values[earliest]) if together else None,
             "compared": compared,
-            "first_degraded_or_failed": {s: (value_label(axis, r.value) if r is not None else None)
-                                         for s, (_, r) in breaks.items()},
-            "first_failed": {s: (value_label(axis, v) if v is not None else None)
-                             for s, v in fails.items()},
-            "first_rejected": {s: value_label(axis, v) for s, v in refused.items()
-                               if v is not None},
+            "first_degraded_or_failed": {
+                s: (value_label(axis, r.value) if r is not None else None)
+                for s, (_, r) in breaks.items()
+            },
+            "first_failed": {
+                s: (value_label(axis, v) if v is not None else None) for s, v in fails.items()
+            },
+            "first_rejected": {
+                s: value_label(axis, v) for s, v in refused.items() if v is not None
+            },
         }
-    counts = {s: {st: int(((table["system"] == s) & (table["status"] == st)).sum())
-                  for st in STATUS_ORDER} for s in systems}
+    counts = {
+        s: {
+            st: int(((table["system"] == s) & (table["status"] == st)).sum()) for st in STATUS_ORDER
+        }
+        for s in systems
+    }
     return per_axis, counts
 
 
@@ -243,17 +323,22 @@ def freezing_effect(table, systems=None):
     off (study.common.REFERENCE; a no-presolve policy against sim-off without presolve too)
     on the same (axis, value): what freezing itself costs or saves at the extremes. Only the
     cells of ``systems`` (default: all) are compared."""
-    marks = {(r.axis, r.value, r.system): r.status for r in table.itertuples()
-             if systems is None or r.system in systems}
+    marks = {
+        (r.axis, r.value, r.system): r.status
+        for r in table.itertuples()
+        if systems is None or r.system in systems
+    }
     worse, better = [], []
     for (axis, value, system), status in marks.items():
         runner = runner_system(system)
-        base = REFERENCE.get(runner, runner) + system[len(runner):]
+        base = REFERENCE.get(runner, runner) + system[len(runner) :]
         other = marks.get((axis, value, base))
         if base == system or status not in SEVERITY or other not in SEVERITY:
             continue
-        text = f"{system} {AXIS_LABEL.get(axis, axis)} {value_label(axis, value)}: {status} " \
-               f"({base}: {other})"
+        text = (
+            f"{system} {AXIS_LABEL.get(axis, axis)} {value_label(axis, value)}: {status} "
+            f"({base}: {other})"
+        )
         if SEVERITY[status] > SEVERITY[other]:
             worse.append(text)
         elif SEVERITY[status] < SEVERITY[other]:
@@ -279,13 +364,15 @@ def summary_table(grid, systems):
 
 def _failures(table, systems):
     failed = table[table["system"].isin(systems) & (table["status"] == "failed")]
-    return [f"{r.system} {AXIS_LABEL.get(r.axis, r.axis)} {value_label(r.axis, r.value)}: "
-            f"{r.reason}" for r in failed.itertuples()]
+    return [
+        f"{r.system} {AXIS_LABEL.get(r.axis, r.axis)} {value_label(r.axis, r.value)}: {r.reason}"
+        for r in failed.itertuples()
+    ]
 
 
 def draw(table, meta):
     table = table.copy()
-    for col in ("reason", "decision", "error"):      # an all-empty column reads back as NaN
+    for col in ("reason", "decision", "error"):  # an all-empty column reads back as NaN
         if col in table:
             table[col] = table[col].astype(object).fillna("").astype(str)
     params = meta.get("parameters", {})
@@ -303,9 +390,12 @@ def draw(table, meta):
     per_axis, counts = headline(main_table, systems, axes_values)
     sim_systems = [s for s in systems if s.startswith("sim-")]
     thresholds = params.get("thresholds", {})
-    decisions = {f"{r.system} {value_label(r.axis, r.value)}": r.decision
-                 for r in main_table[(main_table["axis"] == "impact_threshold")
-                                     & (main_table["decision"] != "")].itertuples()}
+    decisions = {
+        f"{r.system} {value_label(r.axis, r.value)}": r.decision
+        for r in main_table[
+            (main_table["axis"] == "impact_threshold") & (main_table["decision"] != "")
+        ].itertuples()
+    }
     chatter = table[table["reason"].str.contains("chattering")]
     worse, better = freezing_effect(table, systems)
     refs = params.get("references", [])
@@ -317,11 +407,14 @@ def draw(table, meta):
         "sim_failures": _failures(table, sim_systems),
         "freezing_worse_than_off": worse,
         "freezing_better_than_off": better,
-        "chattering_cells": [f"{r.system} {r.axis} {value_label(r.axis, r.value)}"
-                             for r in chatter.itertuples()],
-        "rejected_cells": [f"{r.system} {AXIS_LABEL.get(r.axis, r.axis)} "
-                           f"{value_label(r.axis, r.value)}: {r.error or r.reason}"
-                           for r in rejected.itertuples()],
+        "chattering_cells": [
+            f"{r.system} {r.axis} {value_label(r.axis, r.value)}" for r in chatter.itertuples()
+        ],
+        "rejected_cells": [
+            f"{r.system} {AXIS_LABEL.get(r.axis, r.axis)} "
+            f"{value_label(r.axis, r.value)}: {r.error or r.reason}"
+            for r in rejected.itertuples()
+        ],
         "impact_threshold_v_star": {p: thresholds[p].get("v_star") for p in thresholds},
         "impact_decisions": decisions,
         "references_invalid": [r["key"] for r in refs if not r.get("valid", True)],
@@ -336,21 +429,31 @@ def no_presolve_numbers(table, systems, variants, axes_values):
     no-presolve twins, against the same peers), and how each sim policy's first break moved."""
     if not variants:
         return {"systems": [], "cells": 0, "counts": {}, "per_axis": {}}
-    placed = {a: v for a, v in axes_values.items()
-              if table[(table["axis"] == a) & table["system"].isin(variants)].shape[0]}
+    placed = {
+        a: v
+        for a, v in axes_values.items()
+        if table[(table["axis"] == a) & table["system"].isin(variants)].shape[0]
+    }
     fair = [s for s in systems if not s.startswith("sim-")] + variants
     per_axis, counts = headline(table[table["system"].isin(fair)], fair, placed)
     with_presolve, _ = headline(table[table["system"].isin(systems)], systems, placed)
     for axis, entry in per_axis.items():
         entry["with_presolve"] = {
-            v: with_presolve.get(axis, {}).get("first_degraded_or_failed", {})
-            .get(runner_system(v)) for v in variants}
+            v: with_presolve.get(axis, {}).get("first_degraded_or_failed", {}).get(runner_system(v))
+            for v in variants
+        }
     worse, better = freezing_effect(table, variants)
-    return {"systems": variants, "suffix": NO_PRESOLVE, "axes": list(placed),
-            "cells": int(table["system"].isin(variants).sum()),
-            "counts": {v: counts[v] for v in variants}, "per_axis": per_axis,
-            "sim_failures": _failures(table, variants),
-            "freezing_worse_than_off": worse, "freezing_better_than_off": better}
+    return {
+        "systems": variants,
+        "suffix": NO_PRESOLVE,
+        "axes": list(placed),
+        "cells": int(table["system"].isin(variants).sum()),
+        "counts": {v: counts[v] for v in variants},
+        "per_axis": per_axis,
+        "sim_failures": _failures(table, variants),
+        "freezing_worse_than_off": worse,
+        "freezing_better_than_off": better,
+    }
 
 
 main = style.entry(NAME, draw)

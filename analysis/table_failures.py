@@ -13,6 +13,7 @@ Writes
 - the numbers the text quotes (failure counts per system, which scenarios break which system,
   speed-ups, whether each danger met frozen bodies).
 """
+
 import matplotlib.pyplot as plt
 from matplotlib.colors import ListedColormap
 import numpy as np
@@ -21,7 +22,7 @@ from analysis import style
 
 NAME = "table_failures"
 OK, WRONG_FREEZING, WRONG_ENGINE = 0, 1, 2
-CELL_COLORS = ("#cfe8c9", "#e9a3a0", "#d4d4d4")     # right, wrong by freezing, wrong as the engine
+CELL_COLORS = ("#cfe8c9", "#e9a3a0", "#d4d4d4")  # right, wrong by freezing, wrong as the engine
 REFERENCES = ("sim-off", "pymunk", "pybullet")
 
 
@@ -31,13 +32,30 @@ def _bool(series):
 
 
 def _check(table):
-    needed = {"scenario", "system", "reference", "truth", "expected", "truth_is_expected",
-              "outcome", "right", "changed", "engine_right", "pose_error_m", "pose_error_rad",
-              "speedup", "asleep_at_event", "key_ever_frozen", "frozen_fraction"}
+    needed = {
+        "scenario",
+        "system",
+        "reference",
+        "truth",
+        "expected",
+        "truth_is_expected",
+        "outcome",
+        "right",
+        "changed",
+        "engine_right",
+        "pose_error_m",
+        "pose_error_rad",
+        "speedup",
+        "asleep_at_event",
+        "key_ever_frozen",
+        "frozen_fraction",
+    }
     missing = needed - set(table.columns)
     if missing:
-        raise ValueError(f"{NAME}: results table lacks column(s) {', '.join(sorted(missing))}: "
-                         f"rerun `python -m experiments.{NAME}`")
+        raise ValueError(
+            f"{NAME}: results table lacks column(s) {', '.join(sorted(missing))}: "
+            f"rerun `python -m experiments.{NAME}`"
+        )
     table = table.copy()
     for col in ("truth_is_expected", "right", "changed", "engine_right"):
         table[col] = _bool(table[col])
@@ -69,9 +87,11 @@ def cell(row):
 
 
 def _grid(table, scenarios, systems, value):
-    return (table.assign(_v=table.apply(value, axis=1))
-            .pivot(index="scenario", columns="system", values="_v")
-            .reindex(index=scenarios, columns=systems))
+    return (
+        table.assign(_v=table.apply(value, axis=1))
+        .pivot(index="scenario", columns="system", values="_v")
+        .reindex(index=scenarios, columns=systems)
+    )
 
 
 def figure(table, scenarios, systems):
@@ -89,9 +109,11 @@ def figure(table, scenarios, systems):
                 text += f"\n×{speedups.loc[sc, system]:.2g}"
             ax.text(j, i, text, ha="center", va="center", fontsize=5.2, linespacing=1.0)
     ax.set_xticks(range(len(systems)), systems, rotation=30, ha="right")
-    ax.set_yticks(range(len(scenarios)),
-                  [f"{sc.replace('_', ' ')}\n(truth: {truths[sc]})" for sc in scenarios],
-                  fontsize=6)
+    ax.set_yticks(
+        range(len(scenarios)),
+        [f"{sc.replace('_', ' ')}\n(truth: {truths[sc]})" for sc in scenarios],
+        fontsize=6,
+    )
     ax.tick_params(length=0)
     ax.grid(False)
     ax.set_xticks(np.arange(len(systems) + 1) - 0.5, minor=True)
@@ -101,11 +123,20 @@ def figure(table, scenarios, systems):
     for spine in ax.spines.values():
         spine.set_visible(False)
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in CELL_COLORS]
-    ax.legend(handles, ("right", "wrong: freezing changed the outcome",
-                        "wrong as the engine with sleeping off"),
-              loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, frameon=False, fontsize=6)
-    ax.set_title("outcome per scenario and system (×: speed-up over the same engine, sleeping "
-                 "off)", fontsize=7, pad=16)
+    ax.legend(
+        handles,
+        ("right", "wrong: freezing changed the outcome", "wrong as the engine with sleeping off"),
+        loc="lower center",
+        bbox_to_anchor=(0.5, 1.0),
+        ncol=3,
+        frameon=False,
+        fontsize=6,
+    )
+    ax.set_title(
+        "outcome per scenario and system (×: speed-up over the same engine, sleeping off)",
+        fontsize=7,
+        pad=16,
+    )
     style.save_figure(fig, NAME)
 
 
@@ -127,43 +158,63 @@ def draw(table, meta):
     engine_wrong = table[(table["system"] == table["reference"]) & ~table["right"]]
     events = table[table["asleep_at_event"].notna()]
     numbers = {
-        "scenarios": scenarios, "n_scenarios": len(scenarios), "systems": systems,
+        "scenarios": scenarios,
+        "n_scenarios": len(scenarios),
+        "systems": systems,
         "truth_all_expected": bool(table["truth_is_expected"].all()),
         "truth_mismatches": sorted(set(table.loc[~table["truth_is_expected"], "scenario"])),
         "failures": {s: int((wrong["system"] == s).sum()) for s in systems},
         "failures_by_freezing": {s: int((by_freezing["system"] == s).sum()) for s in freezing},
-        "broken_by": {s: list(by_freezing.loc[by_freezing["system"] == s, "scenario"])
-                      for s in freezing},
-        "breaks": {sc: list(by_freezing.loc[by_freezing["scenario"] == sc, "system"])
-                   for sc in scenarios},
+        "broken_by": {
+            s: list(by_freezing.loc[by_freezing["system"] == s, "scenario"]) for s in freezing
+        },
+        "breaks": {
+            sc: list(by_freezing.loc[by_freezing["scenario"] == sc, "system"]) for sc in scenarios
+        },
         "wrong_outcome": {f"{r.scenario}/{r.system}": r.outcome for r in wrong.itertuples()},
-        "engine_failures": {f"{r.scenario}/{r.system}": r.outcome
-                            for r in engine_wrong.itertuples()},
-        "scenarios_all_right": [sc for sc in scenarios
-                                if table.loc[table["scenario"] == sc, "right"].all()],
-        "max_pose_error_m": {s: float(table.loc[table["system"] == s, "pose_error_m"].max())
-                             for s in freezing},
+        "engine_failures": {
+            f"{r.scenario}/{r.system}": r.outcome for r in engine_wrong.itertuples()
+        },
+        "scenarios_all_right": [
+            sc for sc in scenarios if table.loc[table["scenario"] == sc, "right"].all()
+        ],
+        "max_pose_error_m": {
+            s: float(table.loc[table["system"] == s, "pose_error_m"].max()) for s in freezing
+        },
         "max_failure_pose_error_m": {
-            s: (float(by_freezing.loc[by_freezing["system"] == s, "pose_error_m"].max())
-                if (by_freezing["system"] == s).any() else 0.0) for s in freezing},
-        "speedup_median": {s: float(table.loc[table["system"] == s, "speedup"].median())
-                           for s in freezing},
-        "speedup_min": {s: float(table.loc[table["system"] == s, "speedup"].min())
-                        for s in freezing},
-        "speedup_max": {s: float(table.loc[table["system"] == s, "speedup"].max())
-                        for s in freezing},
+            s: (
+                float(by_freezing.loc[by_freezing["system"] == s, "pose_error_m"].max())
+                if (by_freezing["system"] == s).any()
+                else 0.0
+            )
+            for s in freezing
+        },
+        "speedup_median": {
+            s: float(table.loc[table["system"] == s, "speedup"].median()) for s in freezing
+        },
+        "speedup_min": {
+            s: float(table.loc[table["system"] == s, "speedup"].min()) for s in freezing
+        },
+        "speedup_max": {
+            s: float(table.loc[table["system"] == s, "speedup"].max()) for s in freezing
+        },
         # the same from the fastest repeats (ratio of minima): the check against a busy machine
         "speedup_of_minima_median": {
-            s: float(table.loc[table["system"] == s, "speedup_min"].median())
-            for s in freezing} if "speedup_min" in table else {},
+            s: float(table.loc[table["system"] == s, "speedup_min"].median()) for s in freezing
+        }
+        if "speedup_min" in table
+        else {},
         # did every scheduled danger meet frozen bodies? (fraction of key bodies frozen just
         # before the projectile arrived; the smallest over the event scenarios)
-        "asleep_at_event_min": {s: float(events.loc[events["system"] == s,
-                                                    "asleep_at_event"].min())
-                                for s in freezing} if len(events) else {},
-        "never_froze_key": {s: list(table.loc[(table["system"] == s)
-                                              & (table["key_ever_frozen"] == 0), "scenario"])
-                            for s in freezing},
+        "asleep_at_event_min": {
+            s: float(events.loc[events["system"] == s, "asleep_at_event"].min()) for s in freezing
+        }
+        if len(events)
+        else {},
+        "never_froze_key": {
+            s: list(table.loc[(table["system"] == s) & (table["key_ever_frozen"] == 0), "scenario"])
+            for s in freezing
+        },
         "repeats": int(table["repeats"].iloc[0]) if "repeats" in table else None,
     }
     return numbers

@@ -39,6 +39,7 @@ A blueprint is written with the recording, so the viewer opens on the scene view
 with the timelines and the event log below. A long run is recorded every K steps (``--every``;
 default: at most MAX_FRAMES frames), the step timeline keeping the true step numbers.
 """
+
 import argparse
 import json
 import math
@@ -63,8 +64,8 @@ from sim.files import write_text_atomically
 STATE_COLORS = np.array(STATE_RGB, np.uint8)
 #: a frozen (sim) or asleep (peer) body is drawn at this fraction of its state's colour
 FROZEN_SHADE = 0.5
-MAX_FRAMES = 2000          # default: record every ceil(steps / MAX_FRAMES) steps
-TABLES = ("table_failures",)      # --table: every row recorded (the extremes cells: by name)
+MAX_FRAMES = 2000  # default: record every ceil(steps / MAX_FRAMES) steps
+TABLES = ("table_failures",)  # --table: every row recorded (the extremes cells: by name)
 
 
 def body_colors(states, frozen):
@@ -81,7 +82,7 @@ def slug(system):
 
 def _rgb(system):
     hex_color = system_style(system.split(" (")[0])["color"].lstrip("#")
-    return [int(hex_color[k:k + 2], 16) for k in (0, 2, 4)]
+    return [int(hex_color[k : k + 2], 16) for k in (0, 2, 4)]
 
 
 class Track:
@@ -101,7 +102,7 @@ class Track:
         if not self.stopped:
             try:
                 self.runner = system.build(target.scene, target.dt)
-            except ValueError as exc:          # the system refuses the scene: a result, logged
+            except ValueError as exc:  # the system refuses the scene: a result, logged
                 self.stopped = f"not run: refused ({exc})"
 
     @property
@@ -121,7 +122,7 @@ class Recorder:
         self.target, self.every, self.arrow_scale = target, every, arrow_scale
         self.tracks = [Track(s, target) for s in target.systems]
         seen = {}
-        for t in self.tracks:                     # a system named twice: "sim-off", "sim-off_2"
+        for t in self.tracks:  # a system named twice: "sim-off", "sim-off_2"
             seen[t.path] = seen.get(t.path, 0) + 1
             if seen[t.path] > 1:
                 t.path = f"{t.path}_{seen[t.path]}"
@@ -132,55 +133,86 @@ class Recorder:
     # ---- layout and what does not change ---------------------------------------------------
     def blueprint(self):
         """The scene views side by side (a grid beyond four), the timelines and events below."""
-        views = [rrb.Spatial2DView(origin=f"systems/{t.path}",
-                                   name=t.system.name if t.path == slug(t.system.name) else t.path)
-                 for t in self.tracks]
+        views = [
+            rrb.Spatial2DView(
+                origin=f"systems/{t.path}",
+                name=t.system.name if t.path == slug(t.system.name) else t.path,
+            )
+            for t in self.tracks
+        ]
         scenes = rrb.Horizontal(*views) if len(views) <= 4 else rrb.Grid(*views, grid_columns=4)
         reference = self.tracks[0].system.name
         series = rrb.Horizontal(
-            rrb.TimeSeriesView(origin="timeline/divergence_m",
-                               name=f"largest position error vs {reference}, m"),
+            rrb.TimeSeriesView(
+                origin="timeline/divergence_m", name=f"largest position error vs {reference}, m"
+            ),
             rrb.TimeSeriesView(origin="timeline/awake", name="awake bodies"),
             rrb.TimeSeriesView(origin="timeline/kinetic_energy", name="kinetic energy, J"),
-            rrb.TimeSeriesView(origin="timeline/step_ms", name="step wall time, ms"))
-        below = rrb.Horizontal(rrb.TextLogView(origin="events", name="events"),
-                               rrb.TextDocumentView(origin="about", name="about"),
-                               column_shares=[2, 1])
-        return rrb.Blueprint(rrb.Vertical(scenes, series, below, row_shares=[3, 2, 1]),
-                             rrb.TimePanel(timeline="step"), collapse_panels=True)
+            rrb.TimeSeriesView(origin="timeline/step_ms", name="step wall time, ms"),
+        )
+        below = rrb.Horizontal(
+            rrb.TextLogView(origin="events", name="events"),
+            rrb.TextDocumentView(origin="about", name="about"),
+            column_shares=[2, 1],
+        )
+        return rrb.Blueprint(
+            rrb.Vertical(scenes, series, below, row_shares=[3, 2, 1]),
+            rrb.TimePanel(timeline="step"),
+            collapse_panels=True,
+        )
 
     def _static(self):
         rec, scene = self.rec, self.target.scene
         for t in self.tracks:
             rgb = _rgb(t.system.name)
-            for quantity in ("awake", "kinetic_energy", "step_ms", "divergence_m",
-                             "divergence_rad"):
-                rec.log(f"timeline/{quantity}/{t.path}",
-                        rr.SeriesLines(colors=[rgb], names=[t.system.name]), static=True)
+            for quantity in (
+                "awake",
+                "kinetic_energy",
+                "step_ms",
+                "divergence_m",
+                "divergence_rad",
+            ):
+                rec.log(
+                    f"timeline/{quantity}/{t.path}",
+                    rr.SeriesLines(colors=[rgb], names=[t.system.name]),
+                    static=True,
+                )
             strips = [np.vstack([v, v[:1]]) for v in t.shapes.statics]
-            if scene.floor_y is not None:          # wider than the scene by 10 m each side
+            if scene.floor_y is not None:  # wider than the scene by 10 m each side
                 x = np.array([b.position[0] for b in t.scene.bodies] + [0.0])
-                strips.append(np.array([(x.min() - 10.0, scene.floor_y),
-                                        (x.max() + 10.0, scene.floor_y)]))
+                strips.append(
+                    np.array([(x.min() - 10.0, scene.floor_y), (x.max() + 10.0, scene.floor_y)])
+                )
             if strips:
-                rec.log(f"systems/{t.path}/static",
-                        rr.LineStrips2D(strips, colors=[(0, 0, 0)] * len(strips)), static=True)
-        rec.log("about", rr.TextDocument(self.about(), media_type=rr.MediaType.MARKDOWN),
-                static=True)
+                rec.log(
+                    f"systems/{t.path}/static",
+                    rr.LineStrips2D(strips, colors=[(0, 0, 0)] * len(strips)),
+                    static=True,
+                )
+        rec.log(
+            "about", rr.TextDocument(self.about(), media_type=rr.MediaType.MARKDOWN), static=True
+        )
 
     def about(self):
         """What ran, as markdown: the target, each system's settings or why it did not run."""
         t = self.target
-        lines = [f"# {t.label}", "",
-                 f"{t.kind}; scene `{t.scene.name}` {json.dumps(jsonable(t.scene.params))}; "
-                 f"{len(t.scene.bodies)} bodies; dt {t.dt:g} s; {t.steps} steps "
-                 f"(recorded every {self.every}); reference {self.tracks[0].system.name}; "
-                 f"commit {git_state()['commit']}", ""]
+        lines = [
+            f"# {t.label}",
+            "",
+            f"{t.kind}; scene `{t.scene.name}` {json.dumps(jsonable(t.scene.params))}; "
+            f"{len(t.scene.bodies)} bodies; dt {t.dt:g} s; {t.steps} steps "
+            f"(recorded every {self.every}); reference {self.tracks[0].system.name}; "
+            f"commit {git_state()['commit']}",
+            "",
+        ]
         for track in self.tracks:
             settings = track.runner.settings if track.runner is not None else {}
-            lines += [f"## {track.system.name}", "",
-                      track.stopped or f"```\n{json.dumps(jsonable(settings), indent=1)}\n```",
-                      ""]
+            lines += [
+                f"## {track.system.name}",
+                "",
+                track.stopped or f"```\n{json.dumps(jsonable(settings), indent=1)}\n```",
+                "",
+            ]
         return "\n".join(lines)
 
     # ---- frames ------------------------------------------------------------------------------
@@ -197,11 +229,13 @@ class Recorder:
                 t0 = time.perf_counter()
                 try:
                     t.runner.step(self.every)
-                except Exception as exc:                 # the system's failure is a result
+                except Exception as exc:  # the system's failure is a result
                     self._stop(t, step, f"{type(exc).__name__}: {exc}")
                     continue
-                rec.log(f"timeline/step_ms/{t.path}",
-                        rr.Scalars(1e3 * (time.perf_counter() - t0) / self.every))
+                rec.log(
+                    f"timeline/step_ms/{t.path}",
+                    rr.Scalars(1e3 * (time.perf_counter() - t0) / self.every),
+                )
             positions, angles = t.runner.positions, t.runner.angles
             if not (np.isfinite(positions).all() and np.isfinite(angles).all()):
                 self._stop(t, step, "non-finite state")
@@ -215,8 +249,8 @@ class Recorder:
 
     def _bodies(self, t, positions, angles):
         rec = self.rec
-        w = t.shapes.world(positions, angles)                            # (N,K,2) m
-        strips = np.concatenate([w, w[:, :1]], axis=1)                  # closed outlines
+        w = t.shapes.world(positions, angles)  # (N,K,2) m
+        strips = np.concatenate([w, w[:, :1]], axis=1)  # closed outlines
         if t.world is not None:
             colors = body_colors(t.world.states, t.world.frozen)
         else:
@@ -227,25 +261,35 @@ class Recorder:
         if contacts is not None:
             c = contacts()
             rec.log(f"systems/{t.path}/contacts", rr.Points2D(c["point"], radii=0.02))
-            rec.log(f"systems/{t.path}/impulses", rr.Arrows2D(
-                origins=c["point"],
-                vectors=c["normal"] * c["normal_impulse"][:, None] * self.arrow_scale))
+            rec.log(
+                f"systems/{t.path}/impulses",
+                rr.Arrows2D(
+                    origins=c["point"],
+                    vectors=c["normal"] * c["normal_impulse"][:, None] * self.arrow_scale,
+                ),
+            )
 
     def _events(self, t, step):
         rec = self.rec
         world = t.world
         if world is not None:
-            for at, body, before, after, cause in world.events[t.n_events:]:
-                rec.log(f"events/{t.path}", rr.TextLog(
-                    f"{t.system.name} step {at}: {t.scene.body_name(body)} {before.name} -> "
-                    f"{after.name} ({cause})"))
+            for at, body, before, after, cause in world.events[t.n_events :]:
+                rec.log(
+                    f"events/{t.path}",
+                    rr.TextLog(
+                        f"{t.system.name} step {at}: {t.scene.body_name(body)} {before.name} -> "
+                        f"{after.name} ({cause})"
+                    ),
+                )
             t.n_events = len(world.events)
             return
         asleep = np.asarray(t.runner.asleep, dtype=bool)
         for body in np.flatnonzero(asleep != t.asleep):
             what = "fell asleep" if asleep[body] else "woke"
-            rec.log(f"events/{t.path}", rr.TextLog(
-                f"{t.system.name} step {step}: {t.scene.body_name(int(body))} {what}"))
+            rec.log(
+                f"events/{t.path}",
+                rr.TextLog(f"{t.system.name} step {step}: {t.scene.body_name(int(body))} {what}"),
+            )
         t.asleep = asleep
 
     def _scalars(self, t, reference):
@@ -263,8 +307,10 @@ class Recorder:
 
     def _stop(self, t, step, why):
         t.stopped = f"stopped at step {step}: {why}"
-        self.rec.log(f"events/{t.path}", rr.TextLog(f"{t.system.name} {t.stopped}",
-                                                    level=rr.TextLogLevel.ERROR))
+        self.rec.log(
+            f"events/{t.path}",
+            rr.TextLog(f"{t.system.name} {t.stopped}", level=rr.TextLogLevel.ERROR),
+        )
         print(f"{t.system.name}: {t.stopped}", file=sys.stderr)
 
     def run(self, steps, progress=None):
@@ -272,8 +318,10 @@ class Recorder:
         self.rec.set_time("time", duration=0.0)
         for t in self.tracks:
             if t.stopped:
-                self.rec.log(f"events/{t.path}", rr.TextLog(f"{t.system.name} {t.stopped}",
-                                                            level=rr.TextLogLevel.WARN))
+                self.rec.log(
+                    f"events/{t.path}",
+                    rr.TextLog(f"{t.system.name} {t.stopped}", level=rr.TextLogLevel.WARN),
+                )
                 print(f"{t.system.name}: {t.stopped}", file=sys.stderr)
         frames = steps // self.every
         for k in range(frames + 1):
@@ -304,22 +352,32 @@ def record(target, path, steps=None, every=None, arrow_scale=0.5, progress=None)
 def _progress(label):
     start = time.perf_counter()
 
-    live = sys.stderr.isatty()                 # a terminal: one line, rewritten; a log: lines
+    live = sys.stderr.isatty()  # a terminal: one line, rewritten; a log: lines
     start_of_line = "\r" if live else ""
 
     def show(k, frames):
         if k == frames or (k and k % (100 if live else 1000) == 0):
-            print(f"{start_of_line}{label}: frame {k}/{frames}, "
-                  f"{time.perf_counter() - start:.1f} s",
-                  end="\n" if k == frames or not live else "", file=sys.stderr, flush=True)
+            print(
+                f"{start_of_line}{label}: frame {k}/{frames}, {time.perf_counter() - start:.1f} s",
+                end="\n" if k == frames or not live else "",
+                file=sys.stderr,
+                flush=True,
+            )
+
     return show
 
 
 def _record_one(name, args):
     target = targets.resolve(name, systems=args.systems, size=args.size, dt=args.dt)
     path = Path(args.out) if args.out else RECORDINGS / f"{target.stem}.rrd"
-    record(target, path, steps=args.steps, every=args.every, arrow_scale=args.arrow_scale,
-           progress=_progress(target.label))
+    record(
+        target,
+        path,
+        steps=args.steps,
+        every=args.every,
+        arrow_scale=args.arrow_scale,
+        progress=_progress(target.label),
+    )
     size = path.stat().st_size
     print(f"wrote {path} ({size / 1e6:.1f} MB; open it with: rerun {path})")
     return path
@@ -334,8 +392,10 @@ def _record_table(args):
         args.out = str(folder / f"{scenario}.rrd")
         written.append(_record_one(f"{args.table}/{scenario}", args))
     total = sum(p.stat().st_size for p in written)
-    lines = [f"# {args.table}: one recording per row, every system of the table "
-             f"(python -m analysis.trace {args.table}/<row>); {total / 1e6:.1f} MB in all"]
+    lines = [
+        f"# {args.table}: one recording per row, every system of the table "
+        f"(python -m analysis.trace {args.table}/<row>); {total / 1e6:.1f} MB in all"
+    ]
     lines += [f"{p.name}\t{p.stat().st_size / 1e6:.2f} MB" for p in written]
     write_text_atomically(folder / "index.txt", "\n".join(lines) + "\n")
     print(f"{args.table}: {len(written)} recordings, {total / 1e6:.1f} MB in {folder}")
@@ -344,29 +404,57 @@ def _record_table(args):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(
-        prog="python -m analysis.trace", description=__doc__.splitlines()[0],
-        epilog=targets.available(), formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("name", nargs="?", help="a scene builder, scenario, scene file (.toml) "
-                        "or table cell (see below)")
-    parser.add_argument("--systems", default=None,
-                        help="comma-separated systems, the first the reference (default: a "
-                             "cell's table's systems, else " + ",".join(targets.DEFAULT_SYSTEMS)
-                             + ")")
-    parser.add_argument("--size", type=int, default=None,
-                        help="a builder's size argument (rest_row n, stack height, pyramid base, "
-                             "drop n)")
-    parser.add_argument("--dt", type=float, default=None, help="s per step of a scene "
-                        "(default 1/60; a cell runs at its table's)")
-    parser.add_argument("--steps", type=int, default=None,
-                        help=f"steps to record (default: a scenario's or cell's duration, else "
-                             f"{targets.DEFAULT_STEPS})")
-    parser.add_argument("--every", type=int, default=None,
-                        help=f"record every K steps (default: at most {MAX_FRAMES} frames)")
+        prog="python -m analysis.trace",
+        description=__doc__.splitlines()[0],
+        epilog=targets.available(),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument(
+        "name",
+        nargs="?",
+        help="a scene builder, scenario, scene file (.toml) or table cell (see below)",
+    )
+    parser.add_argument(
+        "--systems",
+        default=None,
+        help="comma-separated systems, the first the reference (default: a "
+        "cell's table's systems, else " + ",".join(targets.DEFAULT_SYSTEMS) + ")",
+    )
+    parser.add_argument(
+        "--size",
+        type=int,
+        default=None,
+        help="a builder's size argument (rest_row n, stack height, pyramid base, drop n)",
+    )
+    parser.add_argument(
+        "--dt",
+        type=float,
+        default=None,
+        help="s per step of a scene (default 1/60; a cell runs at its table's)",
+    )
+    parser.add_argument(
+        "--steps",
+        type=int,
+        default=None,
+        help=f"steps to record (default: a scenario's or cell's duration, else "
+        f"{targets.DEFAULT_STEPS})",
+    )
+    parser.add_argument(
+        "--every",
+        type=int,
+        default=None,
+        help=f"record every K steps (default: at most {MAX_FRAMES} frames)",
+    )
     parser.add_argument("--out", default=None, help="output .rrd (default results/recordings/)")
-    parser.add_argument("--table", choices=TABLES, default=None,
-                        help="record every row of a table, one file each, into --out-dir")
-    parser.add_argument("--out-dir", default=None,
-                        help="folder for --table (default results/recordings/<table>)")
+    parser.add_argument(
+        "--table",
+        choices=TABLES,
+        default=None,
+        help="record every row of a table, one file each, into --out-dir",
+    )
+    parser.add_argument(
+        "--out-dir", default=None, help="folder for --table (default results/recordings/<table>)"
+    )
     parser.add_argument("--arrow-scale", type=float, default=0.5, help="m per N s of impulse")
     parser.add_argument("--list", action="store_true", help="print what NAME can be and exit")
     args = parser.parse_args(argv)

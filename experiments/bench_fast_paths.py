@@ -40,6 +40,7 @@ stage boundary, which costs a little); the ms columns of those rows are the prof
 
     python -m experiments.bench_fast_paths [--quick]
 """
+
 import math
 import statistics
 
@@ -52,26 +53,36 @@ from study.peers import make_runner
 from study.timing import interleaved
 
 NAME = "bench_fast_paths"
-PAYS = 0.05             # a fast path is kept when it saves at least this share of a step
+PAYS = 0.05  # a fast path is kept when it saves at least this share of a step
 WARMUP_STEPS = 10
-FULL = {"columns": (100, 10), "pyramid": 40, "row": 1000, "statics": 100, "steps": 30,
-        "repeats": 9}
+FULL = {"columns": (100, 10), "pyramid": 40, "row": 1000, "statics": 100, "steps": 30, "repeats": 9}
 QUICK = {"columns": (10, 5), "pyramid": 10, "row": 100, "statics": 10, "steps": 5, "repeats": 3}
 
 
 def columns(n_columns, height, mu):
     """``n_columns`` columns of ``height`` unit boxes, 0.5 m apart, friction ``mu`` (floor too)."""
-    bodies = [sim.Body.box(1.0, 1.0, position=(1.5 * c, 0.5 + i), friction=mu)
-              for c in range(n_columns) for i in range(height)]
-    return sim.Scene(bodies=bodies, floor_friction=mu, name="columns",
-                     params={"columns": n_columns, "height": height, "friction": mu})
+    bodies = [
+        sim.Body.box(1.0, 1.0, position=(1.5 * c, 0.5 + i), friction=mu)
+        for c in range(n_columns)
+        for i in range(height)
+    ]
+    return sim.Scene(
+        bodies=bodies,
+        floor_friction=mu,
+        name="columns",
+        params={"columns": n_columns, "height": height, "friction": mu},
+    )
 
 
 def with_ledges(scene, n, height=50.0):
     """``scene`` plus ``n`` static 1 x 0.2 m ledges ``height`` m up (never touched)."""
     ledges = [sim.Body.box(1.0, 0.2, position=(2.0 * k, height)) for k in range(n)]
-    return sim.Scene(bodies=scene.bodies, static_bodies=ledges, name=scene.name + "+ledges",
-                     params={**scene.params, "ledges": n, "ledge_height": height})
+    return sim.Scene(
+        bodies=scene.bodies,
+        static_bodies=ledges,
+        name=scene.name + "+ledges",
+        params={**scene.params, "ledges": n, "ledge_height": height},
+    )
 
 
 def warm_runner(scene, **settings):
@@ -93,8 +104,14 @@ def median_profile(w, steps, repeats, bar=None):
 
 
 def _row(part, scene, variant, ms, share=math.nan, note=""):
-    return {"part": part, "scene": scene, "variant": variant, "ms_per_step_median": ms,
-            "saving_share_of_step": share, "note": note}
+    return {
+        "part": part,
+        "scene": scene,
+        "variant": variant,
+        "ms_per_step_median": ms,
+        "saving_share_of_step": share,
+        "note": note,
+    }
 
 
 def friction(config, repeats, bar):
@@ -108,11 +125,25 @@ def friction(config, repeats, bar):
         rows_solved = [p["solve"] + p["relax"] for p in profiles]
         contacts = runners[1].world.inspect().n_active
         name = f"columns({config['columns'][0]}x{config['columns'][1]}, mu={mu})"
-        rows.append(_row("friction", name, "fast_paths=False", off,
-                         note=f"{contacts} contacts; solve+relax {rows_solved[0]:.4g} ms "
-                              f"(profiled)"))
-        rows.append(_row("friction", name, "fast_paths=True", on, 1.0 - on / off,
-                         f"solve+relax {rows_solved[1]:.4g} ms (profiled)"))
+        rows.append(
+            _row(
+                "friction",
+                name,
+                "fast_paths=False",
+                off,
+                note=f"{contacts} contacts; solve+relax {rows_solved[0]:.4g} ms (profiled)",
+            )
+        )
+        rows.append(
+            _row(
+                "friction",
+                name,
+                "fast_paths=True",
+                on,
+                1.0 - on / off,
+                f"solve+relax {rows_solved[1]:.4g} ms (profiled)",
+            )
+        )
     return rows
 
 
@@ -120,14 +151,23 @@ def profile_share(part, scene, stage, config, repeats, bar, note):
     """Rows: a scene's profiled step, and one ``stage``'s share of it (an upper bound)."""
     runner = warm_runner(scene)
     p = median_profile(runner.world, config["steps"], repeats, bar)
-    return [_row(part, label(scene), "step (profiled)", p["total"]),
-            _row(part, label(scene), f"{stage} stage", p[stage], p[stage] / p["total"], note)]
+    return [
+        _row(part, label(scene), "step (profiled)", p["total"]),
+        _row(part, label(scene), f"{stage} stage", p[stage], p[stage] / p["total"], note),
+    ]
 
 
 def box_sat(config, repeats, bar):
     scene = sim.scenes.pyramid(config["pyramid"])
-    return profile_share("box_sat", scene, "narrowphase", config, repeats, bar,
-                         "upper bound of any SAT saving (SAT, clipping and manifold update)")
+    return profile_share(
+        "box_sat",
+        scene,
+        "narrowphase",
+        config,
+        repeats,
+        bar,
+        "upper bound of any SAT saving (SAT, clipping and manifold update)",
+    )
 
 
 def statics(config, repeats, bar):
@@ -136,16 +176,31 @@ def statics(config, repeats, bar):
     times = interleaved(runners, [config["steps"]] * 2, repeats, bar)
     without, with_ = (statistics.median(t) for t in times)
     name = label(base)
-    return [_row("statics", name, "no static polygons", without),
-            _row("statics", name, f"{config['statics']} static ledges, untouched", with_,
-                 1.0 - with_ / without, "negative = the ledges' cost")]
+    return [
+        _row("statics", name, "no static polygons", without),
+        _row(
+            "statics",
+            name,
+            f"{config['statics']} static ledges, untouched",
+            with_,
+            1.0 - with_ / without,
+            "negative = the ledges' cost",
+        ),
+    ]
 
 
 def rotation(config, repeats, bar):
     scene = sim.scenes.rest_row(config["row"])
-    return profile_share("rotation", scene, "broadphase", config, repeats, bar,
-                         "upper bound of skipping rotation work (geometry update and refit "
-                         "test of every awake body)")
+    return profile_share(
+        "rotation",
+        scene,
+        "broadphase",
+        config,
+        repeats,
+        bar,
+        "upper bound of skipping rotation work (geometry update and refit "
+        "test of every awake body)",
+    )
 
 
 def verdicts(table):
@@ -154,48 +209,89 @@ def verdicts(table):
     f = table[(table["part"] == "friction") & (table["variant"] == "fast_paths=True")]
     frictionless = float(f["saving_share_of_step"].iloc[0])
     frictional = float(f["saving_share_of_step"].iloc[1])
-    out.append({"candidate": "friction", "saving": frictionless,
-                "verdict": "kept" if frictionless >= PAYS else "does not pay",
-                "detail": f"saves {frictionless:.0%} of a frictionless step; {frictional:+.0%} "
-                          f"on the frictional scene (noise)"})
+    out.append(
+        {
+            "candidate": "friction",
+            "saving": frictionless,
+            "verdict": "kept" if frictionless >= PAYS else "does not pay",
+            "detail": f"saves {frictionless:.0%} of a frictionless step; {frictional:+.0%} "
+            f"on the frictional scene (noise)",
+        }
+    )
     bound = float(table[table["part"] == "box_sat"]["saving_share_of_step"].dropna().iloc[0])
-    out.append({"candidate": "box_sat", "saving": bound,
-                "verdict": ("removed: cannot pay (its bound is under the rule)" if bound < PAYS
-                            else "removed: built, it saved 2.5-4.9 %, under the rule (see "
-                                 "docstring); this bound is looser"),
-                "detail": f"upper bound {bound:.1%} of a pyramid step (whole narrowphase)"})
+    out.append(
+        {
+            "candidate": "box_sat",
+            "saving": bound,
+            "verdict": (
+                "removed: cannot pay (its bound is under the rule)"
+                if bound < PAYS
+                else "removed: built, it saved 2.5-4.9 %, under the rule (see "
+                "docstring); this bound is looser"
+            ),
+            "detail": f"upper bound {bound:.1%} of a pyramid step (whole narrowphase)",
+        }
+    )
     share = float(table[table["part"] == "rotation"]["saving_share_of_step"].dropna().iloc[0])
-    out.append({"candidate": "rotation", "saving": share,
-                "verdict": ("not built: may pay, the bound is above the rule" if share >= PAYS
-                            else "not built: cannot pay"),
-                "detail": f"upper bound {share:.1%} of a step (whole broadphase)"})
+    out.append(
+        {
+            "candidate": "rotation",
+            "saving": share,
+            "verdict": (
+                "not built: may pay, the bound is above the rule"
+                if share >= PAYS
+                else "not built: cannot pay"
+            ),
+            "detail": f"upper bound {share:.1%} of a step (whole broadphase)",
+        }
+    )
     s = float(table[table["part"] == "statics"]["saving_share_of_step"].dropna().iloc[0])
-    out.append({"candidate": "statics", "saving": s, "verdict": "structural (resting grid)",
-                "detail": f"untouched static polygons change a step by {-s:+.1%}"})
+    out.append(
+        {
+            "candidate": "statics",
+            "saving": s,
+            "verdict": "structural (resting grid)",
+            "detail": f"untouched static polygons change a step by {-s:+.1%}",
+        }
+    )
     return out
 
 
 def run(config, args):
     compile_kernels()
-    sim.World(sim.scenes.rest_row(2), dt=DT).profile(1)     # the profiled loop, compiled too
+    sim.World(sim.scenes.rest_row(2), dt=DT).profile(1)  # the profiled loop, compiled too
     repeats = config["repeats"]
     rows = []
-    with tqdm(total=2 * (2 * repeats) + repeats + 2 * repeats + repeats, desc=NAME,
-              unit="repeat") as bar:
+    with tqdm(
+        total=2 * (2 * repeats) + repeats + 2 * repeats + repeats, desc=NAME, unit="repeat"
+    ) as bar:
         rows += friction(config, repeats, bar)
         rows += box_sat(config, repeats, bar)
         rows += statics(config, repeats, bar)
         rows += rotation(config, repeats, bar)
     table = pd.DataFrame(rows)
-    scenes = [columns(*config["columns"], 0.0), columns(*config["columns"], 0.6),
-              sim.scenes.pyramid(config["pyramid"]), sim.scenes.rest_row(config["row"]),
-              with_ledges(sim.scenes.rest_row(config["row"]), config["statics"])]
+    scenes = [
+        columns(*config["columns"], 0.0),
+        columns(*config["columns"], 0.6),
+        sim.scenes.pyramid(config["pyramid"]),
+        sim.scenes.rest_row(config["row"]),
+        with_ledges(sim.scenes.rest_row(config["row"]), config["statics"]),
+    ]
     settings = make_runner("sim-off", sim.scenes.rest_row(2), dt=DT, slop=SLOP).settings
-    return table, scenes, {"dt": DT, "slop": SLOP, "warmup_steps": WARMUP_STEPS,
-                           "system_settings": {"sim-off": settings},
-                           "substeps": settings["substeps"],
-                           "iterations": settings["iterations"], "pays": PAYS,
-                           "verdicts": verdicts(table)}
+    return (
+        table,
+        scenes,
+        {
+            "dt": DT,
+            "slop": SLOP,
+            "warmup_steps": WARMUP_STEPS,
+            "system_settings": {"sim-off": settings},
+            "substeps": settings["substeps"],
+            "iterations": settings["iterations"],
+            "pays": PAYS,
+            "verdicts": verdicts(table),
+        },
+    )
 
 
 main = entry(NAME, __doc__, FULL, QUICK, run)

@@ -66,6 +66,7 @@ metadata, the fits and every target's verdict.
     python -m experiments.bench_freeze [--quick] [--repeats R]
 writes results/data/bench_freeze.csv and bench_freeze.json.
 """
+
 import argparse
 import math
 import statistics
@@ -77,38 +78,61 @@ from tqdm import tqdm
 import sim
 from study.common import DT, SLOP, build, compile_kernels, label, n_awake
 from study.metadata import collect, write_results
-from study.protocols import (FALL_HEIGHT, FLY_PITCH, FREEZE_HOLD_S, FREEZING, MIX_SYSTEMS,
-                                   WARMUP_STEPS, block, fall_scene, flight_budget, freeze_run,
-                                   freeze_tasks, long_row, mix_scene, per_body_cost,
-                                   settle_and_time, timing_rows)
+from study.protocols import (
+    FALL_HEIGHT,
+    FLY_PITCH,
+    FREEZE_HOLD_S,
+    FREEZING,
+    MIX_SYSTEMS,
+    WARMUP_STEPS,
+    block,
+    fall_scene,
+    flight_budget,
+    freeze_run,
+    freeze_tasks,
+    long_row,
+    mix_scene,
+    per_body_cost,
+    settle_and_time,
+    timing_rows,
+)
 from study.timing import interleaved
 
 NAME = "bench_freeze"
-DRIFT_SPEED = 3.0           # m/s, the drifting block's common velocity along x (part 4)
-DRIFT_SPREAD = 0.5          # m/s, +- uniform spread per velocity component; spin +- 1 rad/s
-SEED = 0                    # the drift scene's random velocities
+DRIFT_SPEED = 3.0  # m/s, the drifting block's common velocity along x (part 4)
+DRIFT_SPREAD = 0.5  # m/s, +- uniform spread per velocity component; spin +- 1 rad/s
+SEED = 0  # the drift scene's random velocities
 
 FROZEN_SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep")
 FROZEN_SYSTEMS_PB = FROZEN_SYSTEMS + ("pybullet-sleep",)
 FLIGHT_SYSTEMS = ("sim-off", "sim-extended")
 
 #: the issue's targets
-TARGET_FROZEN_MS = 0.02       # ms/step, sim fully frozen on rest_row(5000)
-TARGET_B_OVER_A = 0.02        # frozen body-step vs awake body-step
-TARGET_FREEZE_STEPS = 3       # rest_row frozen within this many steps under paper/extended
-TARGET_OVERHEAD = 1.05        # extended / off on a scene where nothing rests
+TARGET_FROZEN_MS = 0.02  # ms/step, sim fully frozen on rest_row(5000)
+TARGET_B_OVER_A = 0.02  # frozen body-step vs awake body-step
+TARGET_FREEZE_STEPS = 3  # rest_row frozen within this many steps under paper/extended
+TARGET_OVERHEAD = 1.05  # extended / off on a scene where nothing rests
 
 FULL = {
     "frozen_cost": (("rest_row", 5000, FROZEN_SYSTEMS), ("rest_row", 500, FROZEN_SYSTEMS_PB)),
-    "frozen_repeat_s": 0.1,           # aim of one timed repeat in part 1, s
-    "freeze_cap_s": 10.0,             # part 1: most simulated time spent waiting for the freeze
-    "mix_frozen": (0, 1000, 2000, 4000), "mix_awake": (100, 400, 1600), "mix_steps": 50,
-    "ttf_scenes": (("rest_row", {"n": 50}), ("drop", {"n": 30, "seed": 0}),
-                   ("drop", {"n": 30, "seed": 1}), ("drop", {"n": 30, "seed": 2}),
-                   ("pyramid", {"base": 10}), ("pyramid", {"base": 20}),
-                   ("stack", {"height": 5})),
+    "frozen_repeat_s": 0.1,  # aim of one timed repeat in part 1, s
+    "freeze_cap_s": 10.0,  # part 1: most simulated time spent waiting for the freeze
+    "mix_frozen": (0, 1000, 2000, 4000),
+    "mix_awake": (100, 400, 1600),
+    "mix_steps": 50,
+    "ttf_scenes": (
+        ("rest_row", {"n": 50}),
+        ("drop", {"n": 30, "seed": 0}),
+        ("drop", {"n": 30, "seed": 1}),
+        ("drop", {"n": 30, "seed": 2}),
+        ("pyramid", {"base": 10}),
+        ("pyramid", {"base": 20}),
+        ("stack", {"height": 5}),
+    ),
     "ttf_cap_s": 30.0,
-    "flight_n": 1000, "flight_steps": 50, "flight_repeat_factor": 3,
+    "flight_n": 1000,
+    "flight_steps": 50,
+    "flight_repeat_factor": 3,
     "repeats": 7,
 }
 QUICK = {
@@ -118,11 +142,19 @@ QUICK = {
     # flyers 10x apart and 50 steps a repeat, so that the awake cost (a ~ 0.13 us per step) is
     # resolved under sim-off too: with (20, 50) flyers and 10 steps, the flyers changed a sim-off
     # step by 0.004 ms, below its noise, and the fit's a was 0.04-0.18 +- 0.05 us, once negative
-    "mix_frozen": (0, 200, 400), "mix_awake": (20, 200), "mix_steps": 50,
-    "ttf_scenes": (("rest_row", {"n": 50}), ("drop", {"n": 10, "seed": 0}),
-                   ("pyramid", {"base": 5}), ("stack", {"height": 5})),
+    "mix_frozen": (0, 200, 400),
+    "mix_awake": (20, 200),
+    "mix_steps": 50,
+    "ttf_scenes": (
+        ("rest_row", {"n": 50}),
+        ("drop", {"n": 10, "seed": 0}),
+        ("pyramid", {"base": 5}),
+        ("stack", {"height": 5}),
+    ),
     "ttf_cap_s": 5.0,
-    "flight_n": 200, "flight_steps": 10, "flight_repeat_factor": 2,
+    "flight_n": 200,
+    "flight_steps": 10,
+    "flight_repeat_factor": 2,
     "repeats": 3,
 }
 
@@ -132,12 +164,26 @@ def drift_scene(n, seed=SEED):
     """n boxes in zero gravity, no floor, moving at DRIFT_SPEED m/s along x with a random spread
     and spin: neighbours close in and collide, but no body is ever slow."""
     rng = np.random.default_rng(seed)
-    v = np.column_stack([DRIFT_SPEED + rng.uniform(-DRIFT_SPREAD, DRIFT_SPREAD, n),
-                         rng.uniform(-DRIFT_SPREAD, DRIFT_SPREAD, n)])
+    v = np.column_stack(
+        [
+            DRIFT_SPEED + rng.uniform(-DRIFT_SPREAD, DRIFT_SPREAD, n),
+            rng.uniform(-DRIFT_SPREAD, DRIFT_SPREAD, n),
+        ]
+    )
     w = rng.uniform(-1.0, 1.0, n)
-    return sim.Scene(bodies=block(n, 0.0, v, w), name="drift", floor_y=None, gravity=(0.0, 0.0),
-                     params={"n": n, "seed": seed, "speed": DRIFT_SPEED, "spread": DRIFT_SPREAD,
-                             "pitch": FLY_PITCH})
+    return sim.Scene(
+        bodies=block(n, 0.0, v, w),
+        name="drift",
+        floor_y=None,
+        gravity=(0.0, 0.0),
+        params={
+            "n": n,
+            "seed": seed,
+            "speed": DRIFT_SPEED,
+            "spread": DRIFT_SPREAD,
+            "pitch": FLY_PITCH,
+        },
+    )
 
 
 # ---- part 1: a fully frozen scene --------------------------------------------------------------
@@ -148,8 +194,11 @@ def frozen_cost(config, repeats, progress):
         tag = label(scene)
         cap = int(round(config["freeze_cap_s"] / DT))
         runs = settle_and_time(scene, systems, cap, config["frozen_repeat_s"], repeats, progress)
-        off_median = (statistics.median(runs[systems.index("sim-off")]["times"])
-                      if "sim-off" in systems else math.nan)
+        off_median = (
+            statistics.median(runs[systems.index("sim-off")]["times"])
+            if "sim-off" in systems
+            else math.nan
+        )
         for system, run in zip(systems, runs):
             times, before, after = run["times"], run["before"], run["after"]
             med, low = statistics.median(times), min(times)
@@ -159,18 +208,27 @@ def frozen_cost(config, repeats, progress):
                 flag = "all frozen"
             else:
                 flag = "NOT all frozen"
-            common = dict(part="frozen_cost", scene=tag, system=system, bodies=n,
-                          n_aw=before, n_fr=n - before, flag=flag)
+            common = dict(
+                part="frozen_cost",
+                scene=tag,
+                system=system,
+                bodies=n,
+                n_aw=before,
+                n_fr=n - before,
+                flag=flag,
+            )
             rows += [
                 long_row(**common, metric="ms_per_step_median", value=med, unit="ms"),
                 long_row(**common, metric="ms_per_step_min", value=low, unit="ms"),
-                long_row(**common, metric="speedup_vs_off", value=off_median / med,
-                         unit="ratio"),
+                long_row(**common, metric="speedup_vs_off", value=off_median / med, unit="ratio"),
                 long_row(**common, metric="n_awake_before", value=before, unit="bodies"),
                 long_row(**common, metric="n_awake_after", value=after, unit="bodies"),
-                long_row(**common, metric="steps_to_all_frozen",
-                         value=math.nan if run["froze_at"] is None else run["froze_at"],
-                         unit="steps"),
+                long_row(
+                    **common,
+                    metric="steps_to_all_frozen",
+                    value=math.nan if run["froze_at"] is None else run["froze_at"],
+                    unit="steps",
+                ),
                 long_row(**common, metric="steps_per_repeat", value=run["steps"], unit="steps"),
                 long_row(**common, metric="repeats", value=repeats, unit="count"),
                 long_row(**common, metric="max_displacement", value=run["moved"], unit="m"),
@@ -193,7 +251,7 @@ def in_flight_overhead(config, repeats, progress):
     n = config["flight_n"]
     for scene in (fall_scene(n), drift_scene(n)):
         tag = label(scene)
-        budget = flight_budget() if scene.name == "fall" else 10 ** 9
+        budget = flight_budget() if scene.name == "fall" else 10**9
         steps = max(1, min(config["flight_steps"], (budget - WARMUP_STEPS) // repeats))
         runners = []
         for system in FLIGHT_SYSTEMS:
@@ -213,20 +271,24 @@ def in_flight_overhead(config, repeats, progress):
         speed = np.hypot(*runners[i_ext].velocities.T)
         for k, system in enumerate(FLIGHT_SYSTEMS):
             ok = before[k] == n and after[k] == n
-            common = dict(part="in_flight_overhead", scene=tag, system=system, bodies=n,
-                          n_aw=before[k], n_fr=n - before[k],
-                          flag="" if ok else "a body froze: not an in-flight scene")
+            common = dict(
+                part="in_flight_overhead",
+                scene=tag,
+                system=system,
+                bodies=n,
+                n_aw=before[k],
+                n_fr=n - before[k],
+                flag="" if ok else "a body froze: not an in-flight scene",
+            )
             rows += timing_rows(common, times[k], before[k], after[k], steps, repeats)
             if system == "sim-extended":
                 rows += [
-                    long_row(**common, metric="ratio_to_off_median", value=ratio_med,
-                             unit="ratio"),
-                    long_row(**common, metric="ratio_to_off_min", value=ratio_min,
-                             unit="ratio"),
-                    long_row(**common, metric="ratio_to_off_paired", value=paired,
-                             unit="ratio"),
-                    long_row(**common, metric="min_speed_after", value=float(speed.min()),
-                             unit="m/s"),
+                    long_row(**common, metric="ratio_to_off_median", value=ratio_med, unit="ratio"),
+                    long_row(**common, metric="ratio_to_off_min", value=ratio_min, unit="ratio"),
+                    long_row(**common, metric="ratio_to_off_paired", value=paired, unit="ratio"),
+                    long_row(
+                        **common, metric="min_speed_after", value=float(speed.min()), unit="m/s"
+                    ),
                 ]
         for r in runners:
             r.close()
@@ -249,8 +311,15 @@ def verdicts(table, config, fits):
     out = []
 
     def add(target, measured, goal, ok, note=""):
-        out.append({"target": target, "measured": measured, "goal": goal,
-                    "verdict": "PASS" if ok else "MISS", "note": note})
+        out.append(
+            {
+                "target": target,
+                "measured": measured,
+                "goal": goal,
+                "verdict": "PASS" if ok else "MISS",
+                "note": note,
+            }
+        )
 
     name, n, systems = config["frozen_cost"][0]
     tag = f"{name}({n})"
@@ -258,24 +327,38 @@ def verdicts(table, config, fits):
         ms = _value(table, "frozen_cost", "ms_per_step_median", tag, system)
         before = _value(table, "frozen_cost", "n_awake_before", tag, system)
         after = _value(table, "frozen_cost", "n_awake_after", tag, system)
-        add(f"1. {tag} fully frozen, {system}", f"{ms:.4f} ms/step (awake {before:.0f} -> "
-            f"{after:.0f})", f"< {TARGET_FROZEN_MS} ms/step, all frozen",
-            ms < TARGET_FROZEN_MS and before == 0 and after == 0)
+        add(
+            f"1. {tag} fully frozen, {system}",
+            f"{ms:.4f} ms/step (awake {before:.0f} -> {after:.0f})",
+            f"< {TARGET_FROZEN_MS} ms/step, all frozen",
+            ms < TARGET_FROZEN_MS and before == 0 and after == 0,
+        )
     ext = fits["sim-extended"]
-    add("2. frozen vs awake body-step, sim-extended", f"b/a = {ext['b_over_a']:.4g} "
+    add(
+        "2. frozen vs awake body-step, sim-extended",
+        f"b/a = {ext['b_over_a']:.4g} "
         f"(a {ext['a']:.3g}, b {ext['b']:.3g} +- {ext['b_stderr']:.2g} ms)",
-        f"b/a <= {TARGET_B_OVER_A}", ext["b_over_a"] <= TARGET_B_OVER_A,
-        f"fit RMS residual {ext['rms_residual']:.3g} ms/step, R^2 {ext['r2']:.4f}")
+        f"b/a <= {TARGET_B_OVER_A}",
+        ext["b_over_a"] <= TARGET_B_OVER_A,
+        f"fit RMS residual {ext['rms_residual']:.3g} ms/step, R^2 {ext['r2']:.4f}",
+    )
     for system in ("sim-paper", "sim-extended"):
         steps = _value(table, "time_to_freeze", "steps_to_all_frozen", "rest_row(50)", system)
-        add(f"3. rest_row(50) frozen, {system}", f"{steps:.0f} steps",
-            f"<= {TARGET_FREEZE_STEPS} steps", steps <= TARGET_FREEZE_STEPS)
+        add(
+            f"3. rest_row(50) frozen, {system}",
+            f"{steps:.0f} steps",
+            f"<= {TARGET_FREEZE_STEPS} steps",
+            steps <= TARGET_FREEZE_STEPS,
+        )
     for scene in (f"fall({config['flight_n']})", f"drift({config['flight_n']})"):
         ratio = _value(table, "in_flight_overhead", "ratio_to_off_median", scene, "sim-extended")
-        paired = _value(table, "in_flight_overhead", "ratio_to_off_paired", scene,
-                        "sim-extended")
-        add(f"4. {scene} extended / off", f"{ratio:.3f} (paired {paired:.3f})",
-            f"<= {TARGET_OVERHEAD}", ratio <= TARGET_OVERHEAD)
+        paired = _value(table, "in_flight_overhead", "ratio_to_off_paired", scene, "sim-extended")
+        add(
+            f"4. {scene} extended / off",
+            f"{ratio:.3f} (paired {paired:.3f})",
+            f"<= {TARGET_OVERHEAD}",
+            ratio <= TARGET_OVERHEAD,
+        )
     return out
 
 
@@ -284,29 +367,38 @@ def summary(table, config, fits, targets, quick):
     lines = []
     fmt = lambda x: "nan" if not np.isfinite(x) else f"{x:.4g}"
     t = table[table["part"] == "frozen_cost"]
-    lines.append("== 1. frozen_cost: ms/step once fully frozen "
-                 "(median [min]; awake before -> after)")
+    lines.append(
+        "== 1. frozen_cost: ms/step once fully frozen (median [min]; awake before -> after)"
+    )
     for scene in dict.fromkeys(t["scene"]):
         for system in dict.fromkeys(t.loc[t["scene"] == scene, "system"]):
             g = lambda m: _value(table, "frozen_cost", m, scene, system)
-            lines.append(f"  {scene:14s} {system:15s} {fmt(g('ms_per_step_median')):>9s} "
-                         f"[{fmt(g('ms_per_step_min'))}] ms  x{fmt(g('speedup_vs_off'))} vs off  "
-                         f"awake {g('n_awake_before'):.0f} -> {g('n_awake_after'):.0f}  "
-                         f"froze at step {fmt(g('steps_to_all_frozen'))}")
+            lines.append(
+                f"  {scene:14s} {system:15s} {fmt(g('ms_per_step_median')):>9s} "
+                f"[{fmt(g('ms_per_step_min'))}] ms  x{fmt(g('speedup_vs_off'))} vs off  "
+                f"awake {g('n_awake_before'):.0f} -> {g('n_awake_after'):.0f}  "
+                f"froze at step {fmt(g('steps_to_all_frozen'))}"
+            )
     lines.append("== 2. per_body_cost: ms/step = a N_awake + b N_frozen + c")
     t = table[(table["part"] == "per_body_cost") & (table["metric"] == "ms_per_step_median")]
     piv = t.pivot_table(index=["n_frozen", "n_awake"], columns="system", values="value")
     lines += ["  " + s for s in piv.to_string(float_format=lambda x: f"{x:.4f}").splitlines()]
     for system, f in fits.items():
-        lines.append(f"  fit {system:13s} a={f['a']:.4g}+-{f['a_stderr']:.2g}  "
-                     f"b={f['b']:.4g}+-{f['b_stderr']:.2g}  c={f['c']:.4g}+-{f['c_stderr']:.2g} "
-                     f"ms  b/a={f['b_over_a']:.4g}  RMS resid {f['rms_residual']:.3g} ms  "
-                     f"R^2 {f['r2']:.4f}")
+        lines.append(
+            f"  fit {system:13s} a={f['a']:.4g}+-{f['a_stderr']:.2g}  "
+            f"b={f['b']:.4g}+-{f['b_stderr']:.2g}  c={f['c']:.4g}+-{f['c_stderr']:.2g} "
+            f"ms  b/a={f['b_over_a']:.4g}  RMS resid {f['rms_residual']:.3g} ms  "
+            f"R^2 {f['r2']:.4f}"
+        )
     f = fits["sim-extended"]
-    lines.append(f"  a frozen body costs {f['b_over_b_off']:.3g} of a resting body solved under "
-                 f"off (b_ext / b_off)")
-    lines.append("== 3. time_to_freeze: steps until every body is frozen/asleep "
-                 f"(cap {config['ttf_cap_s']:g} s; 'never' = not within the cap, awake left)")
+    lines.append(
+        f"  a frozen body costs {f['b_over_b_off']:.3g} of a resting body solved under "
+        f"off (b_ext / b_off)"
+    )
+    lines.append(
+        "== 3. time_to_freeze: steps until every body is frozen/asleep "
+        f"(cap {config['ttf_cap_s']:g} s; 'never' = not within the cap, awake left)"
+    )
     t = table[table["part"] == "time_to_freeze"]
     for scene in dict.fromkeys(t["scene"]):
         cells = []
@@ -314,25 +406,32 @@ def summary(table, config, fits, targets, quick):
             steps = _value(table, "time_to_freeze", "steps_to_all_frozen", scene, system)
             left = _value(table, "time_to_freeze", "n_awake_at_end", scene, system)
             held = _value(table, "time_to_freeze", "n_awake_1s_after", scene, system)
-            cell = (f"never({left:.0f} awake)" if not np.isfinite(steps) else
-                    f"{steps:.0f}" + (f"(+{held:.0f} woke)" if held > 0 else ""))
+            cell = (
+                f"never({left:.0f} awake)"
+                if not np.isfinite(steps)
+                else f"{steps:.0f}" + (f"(+{held:.0f} woke)" if held > 0 else "")
+            )
             cells.append(f"{system}={cell}")
         lines.append(f"  {scene:17s} " + "  ".join(cells))
     lines.append("== 4. in_flight_overhead: nothing can rest")
     t = table[table["part"] == "in_flight_overhead"]
     for scene in dict.fromkeys(t["scene"]):
         g = lambda m, s: _value(table, "in_flight_overhead", m, scene, s)
-        lines.append(f"  {scene:11s} off {g('ms_per_step_median', 'sim-off'):.4f} ms  extended "
-                     f"{g('ms_per_step_median', 'sim-extended'):.4f} ms  ratio "
-                     f"{g('ratio_to_off_median', 'sim-extended'):.3f} (min "
-                     f"{g('ratio_to_off_min', 'sim-extended'):.3f}, paired "
-                     f"{g('ratio_to_off_paired', 'sim-extended'):.3f})  awake "
-                     f"{g('n_awake_after', 'sim-extended'):.0f}/"
-                     f"{g('n_awake_before', 'sim-extended'):.0f}")
+        lines.append(
+            f"  {scene:11s} off {g('ms_per_step_median', 'sim-off'):.4f} ms  extended "
+            f"{g('ms_per_step_median', 'sim-extended'):.4f} ms  ratio "
+            f"{g('ratio_to_off_median', 'sim-extended'):.3f} (min "
+            f"{g('ratio_to_off_min', 'sim-extended'):.3f}, paired "
+            f"{g('ratio_to_off_paired', 'sim-extended'):.3f})  awake "
+            f"{g('n_awake_after', 'sim-extended'):.0f}/"
+            f"{g('n_awake_before', 'sim-extended'):.0f}"
+        )
     lines.append("== targets" + (" (QUICK sizes: indicative only)" if quick else ""))
     for v in targets:
-        lines.append(f"  {v['verdict']:4s}  {v['target']}: {v['measured']}  (goal {v['goal']})"
-                     + (f"  [{v['note']}]" if v["note"] else ""))
+        lines.append(
+            f"  {v['verdict']:4s}  {v['target']}: {v['measured']}  (goal {v['goal']})"
+            + (f"  [{v['note']}]" if v["note"] else "")
+        )
     return "\n".join(lines)
 
 
@@ -343,17 +442,26 @@ def run(config, repeats):
     n_mix = len(config["mix_frozen"]) * len(config["mix_awake"]) * len(MIX_SYSTEMS)
     flight_repeats = config["flight_repeat_factor"] * repeats
     rows = []
-    with tqdm(total=sum(len(s) for _, _, s in config["frozen_cost"]) * repeats,
-              desc=f"{NAME} 1/4 frozen_cost", unit="repeat") as bar:
+    with tqdm(
+        total=sum(len(s) for _, _, s in config["frozen_cost"]) * repeats,
+        desc=f"{NAME} 1/4 frozen_cost",
+        unit="repeat",
+    ) as bar:
         rows += frozen_cost(config, repeats, bar)
     with tqdm(total=n_mix * repeats, desc=f"{NAME} 2/4 per_body_cost", unit="repeat") as bar:
         part, fits = per_body_cost(config, repeats, bar)
         rows += part
-    with tqdm(total=len(config["ttf_scenes"]) * len(FREEZING),
-              desc=f"{NAME} 3/4 time_to_freeze", unit="run") as bar:
+    with tqdm(
+        total=len(config["ttf_scenes"]) * len(FREEZING),
+        desc=f"{NAME} 3/4 time_to_freeze",
+        unit="run",
+    ) as bar:
         rows += time_to_freeze(config, bar)
-    with tqdm(total=2 * len(FLIGHT_SYSTEMS) * flight_repeats,
-              desc=f"{NAME} 4/4 in_flight_overhead", unit="repeat") as bar:
+    with tqdm(
+        total=2 * len(FLIGHT_SYSTEMS) * flight_repeats,
+        desc=f"{NAME} 4/4 in_flight_overhead",
+        unit="repeat",
+    ) as bar:
         rows += in_flight_overhead(config, flight_repeats, bar)
     return pd.DataFrame(rows), fits
 
@@ -369,11 +477,16 @@ def scenes_of(config):
 
 def main(argv=None, data_dir=None):
     """Command line entry; ``data_dir`` overrides results/data (tests)."""
-    parser = argparse.ArgumentParser(prog=f"python -m experiments.{NAME}",
-                                     description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog=f"python -m experiments.{NAME}", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
-    parser.add_argument("--repeats", type=int, default=None,
-                        help="timed repeats (default 7, quick 3; part 4 uses 3x, quick 2x)")
+    parser.add_argument(
+        "--repeats",
+        type=int,
+        default=None,
+        help="timed repeats (default 7, quick 3; part 4 uses 3x, quick 2x)",
+    )
     args = parser.parse_args(argv)
     config = QUICK if args.quick else FULL
     repeats = args.repeats or config["repeats"]
@@ -387,14 +500,24 @@ def main(argv=None, data_dir=None):
     for system in dict.fromkeys(FROZEN_SYSTEMS_PB + MIX_SYSTEMS + FREEZING):
         with build(system, probe) as r:
             settings[system] = r.settings
-    parameters = {"dt": DT, "slop": SLOP, "warmup_steps": WARMUP_STEPS, "repeats": repeats,
-                  "flight_repeats": config["flight_repeat_factor"] * repeats,
-                  "quick": args.quick, "sizes": config, "fall_height_m": FALL_HEIGHT,
-                  "fly_pitch_m": FLY_PITCH, "flight_budget_steps": flight_budget(),
-                  "drift": {"speed": DRIFT_SPEED, "spread": DRIFT_SPREAD, "seed": SEED},
-                  "freeze_hold_s": FREEZE_HOLD_S, "frozen_means": (
-                      "sim: World awake_slot < 0 (out of the awake list); pymunk/pybullet: asleep"),
-                  "system_settings": settings}
+    parameters = {
+        "dt": DT,
+        "slop": SLOP,
+        "warmup_steps": WARMUP_STEPS,
+        "repeats": repeats,
+        "flight_repeats": config["flight_repeat_factor"] * repeats,
+        "quick": args.quick,
+        "sizes": config,
+        "fall_height_m": FALL_HEIGHT,
+        "fly_pitch_m": FLY_PITCH,
+        "flight_budget_steps": flight_budget(),
+        "drift": {"speed": DRIFT_SPEED, "spread": DRIFT_SPREAD, "seed": SEED},
+        "freeze_hold_s": FREEZE_HOLD_S,
+        "frozen_means": (
+            "sim: World awake_slot < 0 (out of the awake list); pymunk/pybullet: asleep"
+        ),
+        "system_settings": settings,
+    }
     metadata = collect(scenes_of(config), parameters, script=NAME, seed=SEED)
     metadata["fits"] = fits
     metadata["targets"] = targets

@@ -1,5 +1,5 @@
-"""Table "bench_kernels": does the contact solver's compiled code use packed vector instructions, and
-what does one contact cost per sweep?
+"""Table "bench_kernels": does the contact solver's compiled code use packed vector instructions,
+and what does one contact cost per sweep?
 
 Question (issue "Solver v2": "show in a bench script that the compiled kernel uses packed vector
 instructions"): sim's soft-step solver lays its contacts out in batches of ``soft_step.LANES``
@@ -36,6 +36,7 @@ Scenes: pyramid(100) (5050 boxes, ~10^4 contacts; quick: pyramid(10)); sim.World
     python -m experiments.bench_kernels [--quick]
 writes results/data/bench_kernels.csv + .json (with the CPU's name and vector features).
 """
+
 import inspect
 import re
 import statistics
@@ -65,8 +66,13 @@ KERNELS = {
 }
 #: example values of the kernels' scalar parameters, by name: zero counts, so a call compiles
 #: the kernel for these types and does nothing
-SCALAR_EXAMPLES = {"n_colours": 0, "n_batches": 0, "inv_h": 1.0 / (DT / 4), "push": 3.0,
-                   "skip_frictionless": True}
+SCALAR_EXAMPLES = {
+    "n_colours": 0,
+    "n_batches": 0,
+    "inv_h": 1.0 / (DT / 4),
+    "push": 3.0,
+    "skip_frictionless": True,
+}
 
 _ARITH = r"(?:add|sub|mul|div|max|min|sqrt|f(?:n?m(?:add|sub)|maddsub|msubadd)(?:132|213|231))"
 #: a double-precision arithmetic instruction, packed (pd) or scalar (sd), VEX/EVEX or SSE form
@@ -90,7 +96,7 @@ def count_instructions(asm):
             out["scalar"] += 1
             continue
         regs = re.findall(r"\b(zmm|ymm|xmm)\d+", operands)
-        widest = max(regs, key=_WIDTH.get) if regs else "xmm"   # SSE without a register: 128 bit
+        widest = max(regs, key=_WIDTH.get) if regs else "xmm"  # SSE without a register: 128 bit
         out[f"packed_{widest}"] += 1
     packed = out["packed_xmm"] + out["packed_ymm"] + out["packed_zmm"]
     doubles = sum(out[f"packed_{r}"] * w for r, w in _WIDTH.items())
@@ -121,8 +127,10 @@ def example_arguments(dispatcher, solver_types):
         elif name in SCALAR_EXAMPLES:
             args.append(SCALAR_EXAMPLES[name])
         else:
-            raise KeyError(f"{dispatcher.__name__}: no example for parameter {name!r}; "
-                           f"add it to SCALAR_EXAMPLES")
+            raise KeyError(
+                f"{dispatcher.__name__}: no example for parameter {name!r}; "
+                f"add it to SCALAR_EXAMPLES"
+            )
     return args
 
 
@@ -133,29 +141,35 @@ def kernel_asm(dispatcher, solver_types):
     signature = tuple(numba.typeof(a) for a in args)
     for name, t in zip(inspect.signature(dispatcher.py_func).parameters, signature):
         if name in solver_types and t != solver_types[name]:
-            raise RuntimeError(f"{dispatcher.__name__}.{name}: example type {t} is not the "
-                               f"World's {solver_types[name]}")
+            raise RuntimeError(
+                f"{dispatcher.__name__}.{name}: example type {t} is not the "
+                f"World's {solver_types[name]}"
+            )
     if signature in dispatcher.signatures:
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore")          # "Inspection disabled for cached code"
+            warnings.simplefilter("ignore")  # "Inspection disabled for cached code"
             asm = dispatcher.inspect_asm(signature)
         if count_instructions(asm)["packed"] + count_instructions(asm)["scalar"] > 0:
             return asm, signature, "dispatcher"
-    options = {k: v for k, v in dispatcher.targetoptions.items()
-               if k not in ("cache", "nopython")}
+    options = {k: v for k, v in dispatcher.targetoptions.items() if k not in ("cache", "nopython")}
     twin = numba.njit(**options)(dispatcher.py_func)
-    twin(*args)                                          # compiles; zero counts do nothing
+    twin(*args)  # compiles; zero counts do nothing
     return twin.inspect_asm(signature), signature, "uncached twin (same function and options)"
 
 
 def cpu_features():
     """The host CPU as LLVM sees it (what Numba compiles for) and its vector extensions."""
     import llvmlite.binding as llvm
+
     features = llvm.get_host_cpu_features()
-    return {"llvm_cpu_name": llvm.get_host_cpu_name(),
-            **{f: bool(features.get(f, False)) for f in ("sse2", "avx", "avx2", "fma",
-                                                         "avx512f", "avx512vl")},
-            "numba_slp_vectorize": bool(numba.config.SLP_VECTORIZE)}
+    return {
+        "llvm_cpu_name": llvm.get_host_cpu_name(),
+        **{
+            f: bool(features.get(f, False))
+            for f in ("sse2", "avx", "avx2", "fma", "avx512f", "avx512vl")
+        },
+        "numba_slp_vectorize": bool(numba.config.SLP_VECTORIZE),
+    }
 
 
 def cost(config):
@@ -167,7 +181,7 @@ def cost(config):
 
 
 def run(config, args):
-    sim.World(sim.scenes.stack(2), dt=DT).profile(2)     # compile (or load) the step loop
+    sim.World(sim.scenes.stack(2), dt=DT).profile(2)  # compile (or load) the step loop
     world, stage_ms = cost(config)
     look = world.inspect()
     solver_types = world_solver_types()
@@ -178,25 +192,51 @@ def run(config, args):
         counts = count_instructions(asm)
         sweeps = sweeps_of(world)
         ms = stage_ms[stage]
-        rows.append({"kernel": f"soft_step.{name}", "signature": str(signature),
-                     "asm_source": source, **counts,
-                     "packed_share": (counts["packed"] / (counts["packed"] + counts["scalar"])
-                                      if counts["packed"] + counts["scalar"] else float("nan")),
-                     "stage": stage, "ms_per_step": ms, "sweeps_per_step": sweeps,
-                     "contacts": look.n_active, "lanes": lanes,
-                     "ns_per_contact_sweep": (1e6 * ms / (look.n_active * sweeps)
-                                              if sweeps and look.n_active else float("nan")),
-                     "ns_per_lane_sweep": (1e6 * ms / (lanes * sweeps)
-                                           if sweeps and lanes else float("nan"))})
+        rows.append(
+            {
+                "kernel": f"soft_step.{name}",
+                "signature": str(signature),
+                "asm_source": source,
+                **counts,
+                "packed_share": (
+                    counts["packed"] / (counts["packed"] + counts["scalar"])
+                    if counts["packed"] + counts["scalar"]
+                    else float("nan")
+                ),
+                "stage": stage,
+                "ms_per_step": ms,
+                "sweeps_per_step": sweeps,
+                "contacts": look.n_active,
+                "lanes": lanes,
+                "ns_per_contact_sweep": (
+                    1e6 * ms / (look.n_active * sweeps)
+                    if sweeps and look.n_active
+                    else float("nan")
+                ),
+                "ns_per_lane_sweep": (
+                    1e6 * ms / (lanes * sweeps) if sweeps and lanes else float("nan")
+                ),
+            }
+        )
     table = pd.DataFrame(rows)
     scene = world.scene
-    parameters = {"dt": DT, "warmup_steps": WARMUP_STEPS, "repeats": config["repeats"],
-                  "steps_per_repeat": config["steps"], "substeps": world.substeps,
-                  "iterations": world.iterations, "relax_iterations": world.relax_iterations,
-                  "freeze": world.freeze, "lanes_per_batch": look.lanes,
-                  "contacts": look.n_active, "colours": look.n_colours,
-                  "batches": look.n_batches, "batch_fill": look.batch_fill,
-                  "profile_ms_per_step": stage_ms, "cpu_features": cpu_features()}
+    parameters = {
+        "dt": DT,
+        "warmup_steps": WARMUP_STEPS,
+        "repeats": config["repeats"],
+        "steps_per_repeat": config["steps"],
+        "substeps": world.substeps,
+        "iterations": world.iterations,
+        "relax_iterations": world.relax_iterations,
+        "freeze": world.freeze,
+        "lanes_per_batch": look.lanes,
+        "contacts": look.n_active,
+        "colours": look.n_colours,
+        "batches": look.n_batches,
+        "batch_fill": look.batch_fill,
+        "profile_ms_per_step": stage_ms,
+        "cpu_features": cpu_features(),
+    }
     return table, [scene], parameters
 
 

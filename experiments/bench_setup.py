@@ -14,6 +14,7 @@ Each time is the median of ``--repeats`` runs (default 3), garbage collector pau
 
     python -m experiments.bench_setup [--quick] [--repeats R]
 """
+
 import argparse
 import gc
 import statistics
@@ -24,12 +25,12 @@ import numpy as np
 import sim
 from sim.packing import pack
 
-ARRAY_SIZES = (10 ** 4, 10 ** 5, 10 ** 6)
-LIST_SIZES = (10 ** 3, 10 ** 4, 10 ** 5)
-QUICK_ARRAY_SIZES = (10 ** 3, 10 ** 4)
-QUICK_LIST_SIZES = (10 ** 2, 10 ** 3)
-COLUMNS = 1000          # boxes per row of the grid; unit boxes 0.5 m apart, rows stacked
-BOX = np.array([(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)])   # m, 1 x 1
+ARRAY_SIZES = (10**4, 10**5, 10**6)
+LIST_SIZES = (10**3, 10**4, 10**5)
+QUICK_ARRAY_SIZES = (10**3, 10**4)
+QUICK_LIST_SIZES = (10**2, 10**3)
+COLUMNS = 1000  # boxes per row of the grid; unit boxes 0.5 m apart, rows stacked
+BOX = np.array([(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)])  # m, 1 x 1
 
 
 def grid(n):
@@ -63,8 +64,11 @@ def arrays_run(n):
 def body_list_run(n):
     """(scene s, pack s) of n boxes as sim.Body objects (creating them is part of the scene)."""
     position = grid(n).tolist()
-    scene_s, scene = timed(lambda: sim.Scene(bodies=[
-        sim.Body.box(1.0, 1.0, position=tuple(p), friction=0.6) for p in position]))
+    scene_s, scene = timed(
+        lambda: sim.Scene(
+            bodies=[sim.Body.box(1.0, 1.0, position=tuple(p), friction=0.6) for p in position]
+        )
+    )
     pack_s, packed = timed(lambda: pack(scene))
     assert packed.n_dynamic == n
     return scene_s, pack_s
@@ -78,8 +82,11 @@ def measure(path, run, sizes, repeats):
         pack_s = statistics.median(t[1] for t in times)
         total = statistics.median(t[0] + t[1] for t in times)
         rows.append((path, n, scene_s, pack_s, total))
-        print(f"{path:<10} {n:>9,d} {scene_s:>9.3f} {pack_s:>9.3f} {total:>9.3f} "
-              f"{1e6 * total / n:>9.2f}", flush=True)
+        print(
+            f"{path:<10} {n:>9,d} {scene_s:>9.3f} {pack_s:>9.3f} {total:>9.3f} "
+            f"{1e6 * total / n:>9.2f}",
+            flush=True,
+        )
     return rows
 
 
@@ -88,9 +95,10 @@ def main():
     parser.add_argument("--quick", action="store_true", help="small sizes only")
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
-    arrays, lists = ((QUICK_ARRAY_SIZES, QUICK_LIST_SIZES) if args.quick
-                     else (ARRAY_SIZES, LIST_SIZES))
-    arrays_run(100)                       # first calls (imports, caches) outside the timings
+    arrays, lists = (
+        (QUICK_ARRAY_SIZES, QUICK_LIST_SIZES) if args.quick else (ARRAY_SIZES, LIST_SIZES)
+    )
+    arrays_run(100)  # first calls (imports, caches) outside the timings
     body_list_run(100)
     print(f"median of {args.repeats}; seconds, except the last column")
     print(f"{'path':<10} {'bodies':>9} {'scene s':>9} {'pack s':>9} {'total s':>9} {'us/body':>9}")

@@ -47,6 +47,7 @@ the issue; the "before" one (the previous solver) is quoted from the issue, not 
     python -m experiments.bench_step [--quick] [--repeats R] [--steps K]
 writes results/data/bench_step.csv + .json and results/data/bench_step_profile.csv + .json.
 """
+
 import argparse
 import statistics
 import time
@@ -65,17 +66,32 @@ from sim.data import STAGES
 NAME = "bench_step"
 PROFILE_NAME = "bench_step_profile"
 WARMUP_STEPS = 10
-TARGET_RATIO = 3.0        # the issue's target: sim-off at least this times pymunk's step rate
+TARGET_RATIO = 3.0  # the issue's target: sim-off at least this times pymunk's step rate
 DROP_SEED = 0
 
-FULL = {"rest_row": (10, 100, 1000, 5000), "pyramid": (10, 20, 40), "drop": (200,),
-        "window": 240, "repeats": 7, "steps": 50}
-QUICK = {"rest_row": (10, 100), "pyramid": (5, 10), "drop": (20,), "window": 30, "repeats": 3,
-         "steps": 10}
-BUILDERS = {"rest_row": sim.scenes.rest_row, "pyramid": sim.scenes.pyramid,
-            "drop": lambda n: sim.scenes.drop(n, seed=DROP_SEED)}
-PARAM = {"rest_row": "n", "pyramid": "base", "drop": "n"}   # the size parameter reported
-SETTLING = ("drop",)                                         # timed from the start, fresh builds
+FULL = {
+    "rest_row": (10, 100, 1000, 5000),
+    "pyramid": (10, 20, 40),
+    "drop": (200,),
+    "window": 240,
+    "repeats": 7,
+    "steps": 50,
+}
+QUICK = {
+    "rest_row": (10, 100),
+    "pyramid": (5, 10),
+    "drop": (20,),
+    "window": 30,
+    "repeats": 3,
+    "steps": 10,
+}
+BUILDERS = {
+    "rest_row": sim.scenes.rest_row,
+    "pyramid": sim.scenes.pyramid,
+    "drop": lambda n: sim.scenes.drop(n, seed=DROP_SEED),
+}
+PARAM = {"rest_row": "n", "pyramid": "base", "drop": "n"}  # the size parameter reported
+SETTLING = ("drop",)  # timed from the start, fresh builds
 #: the scenes of the issue's target (label: scene name, size)
 TARGETS = (("pyramid", 40), ("rest_row", 5000), ("drop", 200))
 
@@ -98,33 +114,60 @@ def bodies_in_bin(scene, runner):
 
 def _inspection(world):
     i = world.inspect()
-    return {"contacts": i.n_active, "colours": i.n_colours, "batches": i.n_batches,
-            "batch_fill": i.batch_fill}
+    return {
+        "contacts": i.n_active,
+        "colours": i.n_colours,
+        "batches": i.n_batches,
+        "batch_fill": i.batch_fill,
+    }
 
 
 def _profile_rows(scene, profiles, unprofiled_ms, steps, inspection, settings):
     """Long-format rows of the profile table: one per stage, plus "total"."""
-    base = {"scene": scene.name, "param": scene.params[PARAM[scene.name]],
-            "label": label(scene), "bodies": len(scene.bodies), "system": "sim-off",
-            **solver_summary(settings), "repeats": len(profiles), "steps_per_repeat": steps,
-            "ms_per_step_unprofiled": unprofiled_ms, **inspection}
+    base = {
+        "scene": scene.name,
+        "param": scene.params[PARAM[scene.name]],
+        "label": label(scene),
+        "bodies": len(scene.bodies),
+        "system": "sim-off",
+        **solver_summary(settings),
+        "repeats": len(profiles),
+        "steps_per_repeat": steps,
+        "ms_per_step_unprofiled": unprofiled_ms,
+        **inspection,
+    }
     total = statistics.median(p["total"] for p in profiles)
     rows = []
     for stage in list(profiles[0]):
         ms = statistics.median(p[stage] for p in profiles)
-        rows.append({**base, "stage": stage, "ms_per_step": ms,
-                     "share_of_total": ms / total if total > 0 else float("nan"),
-                     "profile_total_ms": total})
+        rows.append(
+            {
+                **base,
+                "stage": stage,
+                "ms_per_step": ms,
+                "share_of_total": ms / total if total > 0 else float("nan"),
+                "profile_total_ms": total,
+            }
+        )
     return rows
 
 
 def _row(scene, runner, per_step_ms, steps, build_s, mode, extra):
-    return {"scene": scene.name, "param": scene.params[PARAM[scene.name]], "label": label(scene),
-            "bodies": len(scene.bodies), "system": runner.name, "mode": mode,
-            **solver_summary(runner.settings),
-            "ms_per_step_median": statistics.median(per_step_ms),
-            "ms_per_step_min": min(per_step_ms), "repeats": len(per_step_ms),
-            "steps_per_repeat": steps, "build_s": build_s, **extra}
+    return {
+        "scene": scene.name,
+        "param": scene.params[PARAM[scene.name]],
+        "label": label(scene),
+        "bodies": len(scene.bodies),
+        "system": runner.name,
+        "mode": mode,
+        **solver_summary(runner.settings),
+        "ms_per_step_median": statistics.median(per_step_ms),
+        "ms_per_step_min": min(per_step_ms),
+        "repeats": len(per_step_ms),
+        "steps_per_repeat": steps,
+        "build_s": build_s,
+        **extra,
+    }
 
 
 def bench_resting(scene, repeats, steps, progress=None):
@@ -136,13 +179,13 @@ def bench_resting(scene, repeats, steps, progress=None):
         runner = build(name, scene)
         build_s.append(time.perf_counter() - t0)
         starts.append(runner.positions)
-        runner.step(WARMUP_STEPS)                   # first steps excluded (contacts, caches)
+        runner.step(WARMUP_STEPS)  # first steps excluded (contacts, caches)
         runners.append(runner)
     times = [[] for _ in runners]
     moved = [0.0 for _ in runners]
     order = list(range(len(runners)))
     for r in range(repeats):
-        for k in (order if r % 2 == 0 else order[::-1]):
+        for k in order if r % 2 == 0 else order[::-1]:
             times[k].append(1e3 * timed(runners[k], steps) / steps)
             moved[k] = max(moved[k], max_displacement(runners[k], starts[k]))
             if progress is not None:
@@ -150,13 +193,26 @@ def bench_resting(scene, repeats, steps, progress=None):
     world = runners[SYSTEMS.index("sim-off")].world
     inspection = _inspection(world)
     profiles = [world.profile(steps) for _ in range(repeats)]
-    rows = [_row(scene, runner, times[k], steps, build_s[k], "resting",
-                 {"max_displacement_m": moved[k], "bodies_in_bin": np.nan,
-                  **(inspection if runner.name == "sim-off" else {})})
-            for k, runner in enumerate(runners)]
+    rows = [
+        _row(
+            scene,
+            runner,
+            times[k],
+            steps,
+            build_s[k],
+            "resting",
+            {
+                "max_displacement_m": moved[k],
+                "bodies_in_bin": np.nan,
+                **(inspection if runner.name == "sim-off" else {}),
+            },
+        )
+        for k, runner in enumerate(runners)
+    ]
     sim_k = SYSTEMS.index("sim-off")
-    return rows, _profile_rows(scene, profiles, statistics.median(times[sim_k]), steps,
-                               inspection, runners[sim_k].settings)
+    return rows, _profile_rows(
+        scene, profiles, statistics.median(times[sim_k]), steps, inspection, runners[sim_k].settings
+    )
 
 
 def bench_settling(scene, repeats, window, progress=None):
@@ -166,7 +222,7 @@ def bench_settling(scene, repeats, window, progress=None):
     build_s = {name: [] for name in SYSTEMS}
     last = {}
     for r in range(repeats):
-        for name in (SYSTEMS if r % 2 == 0 else SYSTEMS[::-1]):
+        for name in SYSTEMS if r % 2 == 0 else SYSTEMS[::-1]:
             t0 = time.perf_counter()
             runner = build(name, scene)
             build_s[name].append(time.perf_counter() - t0)
@@ -184,14 +240,30 @@ def bench_settling(scene, repeats, window, progress=None):
     rows = []
     for name in SYSTEMS:
         runner = last[name]
-        rows.append(_row(scene, runner, times[name], window, statistics.median(build_s[name]),
-                         f"settling (fresh build, steps 1..{window})",
-                         {"max_displacement_m": np.nan,
-                          "bodies_in_bin": bodies_in_bin(scene, runner),
-                          **(inspection if name == "sim-off" else {})}))
+        rows.append(
+            _row(
+                scene,
+                runner,
+                times[name],
+                window,
+                statistics.median(build_s[name]),
+                f"settling (fresh build, steps 1..{window})",
+                {
+                    "max_displacement_m": np.nan,
+                    "bodies_in_bin": bodies_in_bin(scene, runner),
+                    **(inspection if name == "sim-off" else {}),
+                },
+            )
+        )
         runner.close()
-    return rows, _profile_rows(scene, profiles, statistics.median(times["sim-off"]), window,
-                               inspection, last["sim-off"].settings)
+    return rows, _profile_rows(
+        scene,
+        profiles,
+        statistics.median(times["sim-off"]),
+        window,
+        inspection,
+        last["sim-off"].settings,
+    )
 
 
 def compile_kernels():
@@ -205,8 +277,7 @@ def compile_kernels():
 def run(config, repeats, steps):
     """Benchmark every scene of ``config``; returns (table, profile table, scenes)."""
     compile_kernels()
-    scenes = [BUILDERS[name](p) for name in ("rest_row", "pyramid", "drop")
-              for p in config[name]]
+    scenes = [BUILDERS[name](p) for name in ("rest_row", "pyramid", "drop") for p in config[name]]
     rows, profile_rows = [], []
     with tqdm(total=len(scenes) * repeats * len(SYSTEMS), desc=NAME, unit="repeat") as bar:
         for scene in scenes:
@@ -219,8 +290,7 @@ def run(config, repeats, steps):
             profile_rows += p
     table = pd.DataFrame(rows)
     # ratio of medians, on the sim rows: how many times faster sim is than pymunk
-    med = table.pivot_table(index=["scene", "param"], columns="system",
-                            values="ms_per_step_median")
+    med = table.pivot_table(index=["scene", "param"], columns="system", values="ms_per_step_median")
     ratio = (med["pymunk"] / med["sim-off"]).rename("speedup_vs_pymunk")
     table = table.join(ratio, on=["scene", "param"])
     table.loc[table["system"] != "sim-off", "speedup_vs_pymunk"] = np.nan
@@ -235,20 +305,28 @@ def targets(table):
         row = sims[(sims["scene"] == scene) & (sims["param"] == param)]
         if len(row):
             ratio = float(row["speedup_vs_pymunk"].iloc[0])
-            out[row["label"].iloc[0]] = {"speedup_vs_pymunk": ratio,
-                                         "met": bool(ratio >= TARGET_RATIO)}
+            out[row["label"].iloc[0]] = {
+                "speedup_vs_pymunk": ratio,
+                "met": bool(ratio >= TARGET_RATIO),
+            }
     return out
 
 
 def main(argv=None, data_dir=None):
     """Command line entry; ``data_dir`` overrides results/data (tests)."""
-    parser = argparse.ArgumentParser(prog=f"python -m experiments.{NAME}",
-                                     description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog=f"python -m experiments.{NAME}", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
-    parser.add_argument("--repeats", type=int, default=None,
-                        help="timed repeats (default 7, quick 3)")
-    parser.add_argument("--steps", type=int, default=None,
-                        help="steps per repeat on resting scenes (default 50, quick 10)")
+    parser.add_argument(
+        "--repeats", type=int, default=None, help="timed repeats (default 7, quick 3)"
+    )
+    parser.add_argument(
+        "--steps",
+        type=int,
+        default=None,
+        help="steps per repeat on resting scenes (default 50, quick 10)",
+    )
     args = parser.parse_args(argv)
     config = QUICK if args.quick else FULL
     repeats = args.repeats or config["repeats"]
@@ -261,23 +339,35 @@ def main(argv=None, data_dir=None):
     for name in SYSTEMS:
         with build(name, sim.scenes.rest_row(2)) as runner:
             settings[name] = runner.settings
-    parameters = {"dt": DT, "slop": SLOP, "warmup_steps": WARMUP_STEPS, "repeats": repeats,
-                  "steps_per_repeat": steps, "settle_window_steps": config["window"],
-                  "drop_seed": DROP_SEED, "quick": args.quick, "sizes": config,
-                  "systems": list(SYSTEMS), "system_settings": settings,
-                  "solver_summary": {name: solver_summary(s) for name, s in settings.items()},
-                  "target_ratio": TARGET_RATIO, "targets": targets(table),
-                  "stages": list(STAGES)}
+    parameters = {
+        "dt": DT,
+        "slop": SLOP,
+        "warmup_steps": WARMUP_STEPS,
+        "repeats": repeats,
+        "steps_per_repeat": steps,
+        "settle_window_steps": config["window"],
+        "drop_seed": DROP_SEED,
+        "quick": args.quick,
+        "sizes": config,
+        "systems": list(SYSTEMS),
+        "system_settings": settings,
+        "solver_summary": {name: solver_summary(s) for name, s in settings.items()},
+        "target_ratio": TARGET_RATIO,
+        "targets": targets(table),
+        "stages": list(STAGES),
+    }
     metadata = collect(scenes, parameters, script=NAME, seed=DROP_SEED)
     csv_path, _ = write_results(NAME, table, metadata, folder=data_dir)
-    profile_path, _ = write_results(PROFILE_NAME, profile, {**metadata, "script": NAME,
-                                                            "table": PROFILE_NAME},
-                                    folder=data_dir)
+    profile_path, _ = write_results(
+        PROFILE_NAME, profile, {**metadata, "script": NAME, "table": PROFILE_NAME}, folder=data_dir
+    )
     with pd.option_context("display.width", 250, "display.max_columns", 30):
-        print(table.drop(columns=["mode", "relax_iterations", "build_s"]).to_string(
-            index=False, float_format=lambda x: f"{x:.4g}"))
-        wide = profile.pivot_table(index="stage", columns="label", values="ms_per_step",
-                                   sort=False)
+        print(
+            table.drop(columns=["mode", "relax_iterations", "build_s"]).to_string(
+                index=False, float_format=lambda x: f"{x:.4g}"
+            )
+        )
+        wide = profile.pivot_table(index="stage", columns="label", values="ms_per_step", sort=False)
         print(wide.to_string(float_format=lambda x: f"{x:.4f}"))
     print(f"wrote {csv_path} and {profile_path}")
     return table

@@ -8,6 +8,7 @@ reference the frozen runs should match), 240 steps at dt 1/60.
 
     python -m experiments.fig_overhang [--quick]     (quick = the same run: it is tiny)
 """
+
 from study import filmstrip
 from sim import scenes
 

@@ -44,32 +44,45 @@ when the awake-count and flight checks held). Fit rows: scene "fit" (medians) or
 writes results/data/fig_scaling.csv and fig_scaling.json (which also holds the fits). --quick:
 N_frozen {0, 200, 400} x N_awake {20, 50}, 3 repeats of 10 steps.
 """
+
 import pandas as pd
 from tqdm import tqdm
 
 import sim
 from study.common import DT, SLOP, build, compile_kernels, entry
 from study.cost_fit import fit_cost, relative_to_off
-from study.protocols import (FALL_HEIGHT, FLY_PITCH, WARMUP_STEPS, flight_budget,
-                                   per_body_cost)
+from study.protocols import FALL_HEIGHT, FLY_PITCH, WARMUP_STEPS, flight_budget, per_body_cost
 
 NAME = "fig_scaling"
 SYSTEMS = ("sim-extended", "sim-off", "pymunk-sleep")
 
-FULL = {"mix_frozen": (0, 1000, 2000, 4000), "mix_awake": (100, 200, 400, 800),
-        "mix_steps": 50, "mix_settle_s": 2.0, "repeats": 7}
-QUICK = {"mix_frozen": (0, 200, 400), "mix_awake": (20, 50),
-         "mix_steps": 10, "mix_settle_s": 1.0, "repeats": 3}
+FULL = {
+    "mix_frozen": (0, 1000, 2000, 4000),
+    "mix_awake": (100, 200, 400, 800),
+    "mix_steps": 50,
+    "mix_settle_s": 2.0,
+    "repeats": 7,
+}
+QUICK = {
+    "mix_frozen": (0, 200, 400),
+    "mix_awake": (20, 50),
+    "mix_steps": 10,
+    "mix_settle_s": 1.0,
+    "repeats": 3,
+}
 
 
 def fit_fastest(rows):
     """system -> fit_cost over each mix's fastest repeat (ms_per_step_min), with
     b/b_off and a/a_off against sim-off as for the median fit."""
     t = pd.DataFrame(rows)
-    t = t[(t["part"] == "per_body_cost") & (t["scene"] != "fit")
-          & (t["metric"] == "ms_per_step_min")]
-    fits = {system: fit_cost(g["n_awake"], g["n_frozen"], g["value"])
-            for system, g in t.groupby("system", sort=False)}
+    t = t[
+        (t["part"] == "per_body_cost") & (t["scene"] != "fit") & (t["metric"] == "ms_per_step_min")
+    ]
+    fits = {
+        system: fit_cost(g["n_awake"], g["n_frozen"], g["value"])
+        for system, g in t.groupby("system", sort=False)
+    }
     return relative_to_off(fits)
 
 
@@ -77,7 +90,7 @@ def fit_min_rows(rows, fits_min):
     """The median fit's rows again, scene "fit_min", with the fastest-repeat fit's values."""
     out = []
     for row in rows:
-        key = row["metric"][len("fit_"):]
+        key = row["metric"][len("fit_") :]
         if row["scene"] == "fit" and key in fits_min[row["system"]]:
             out.append({**row, "scene": "fit_min", "value": fits_min[row["system"]][key]})
     return out
@@ -89,8 +102,14 @@ def run(config, args):
     n_worlds = len(config["mix_frozen"]) * len(config["mix_awake"]) * len(SYSTEMS)
     scenes = []
     with tqdm(total=n_worlds * repeats, desc=f"{NAME} timing", unit="repeat") as bar:
-        rows, fits = per_body_cost(config, repeats, bar, systems=SYSTEMS,
-                                   extra_units={"b_over_a_stderr": "ratio"}, scenes_out=scenes)
+        rows, fits = per_body_cost(
+            config,
+            repeats,
+            bar,
+            systems=SYSTEMS,
+            extra_units={"b_over_a_stderr": "ratio"},
+            scenes_out=scenes,
+        )
     fits_min = fit_fastest(rows)
     rows += fit_min_rows(rows, fits_min)
     probe = sim.scenes.single_box()
@@ -98,12 +117,19 @@ def run(config, args):
     for system in SYSTEMS:
         with build(system, probe) as r:
             settings[system] = r.settings
-    parameters = {"dt": DT, "slop": SLOP, "warmup_steps": WARMUP_STEPS,
-                  "fall_height_m": FALL_HEIGHT, "fly_pitch_m": FLY_PITCH,
-                  "flight_budget_steps": flight_budget(), "systems": SYSTEMS,
-                  "model": "ms/step = a N_awake + b N_frozen + c", "fits": fits,
-                  "fits_min": fits_min,
-                  "system_settings": settings}
+    parameters = {
+        "dt": DT,
+        "slop": SLOP,
+        "warmup_steps": WARMUP_STEPS,
+        "fall_height_m": FALL_HEIGHT,
+        "fly_pitch_m": FLY_PITCH,
+        "flight_budget_steps": flight_budget(),
+        "systems": SYSTEMS,
+        "model": "ms/step = a N_awake + b N_frozen + c",
+        "fits": fits,
+        "fits_min": fits_min,
+        "system_settings": settings,
+    }
     return pd.DataFrame(rows), scenes, parameters
 
 

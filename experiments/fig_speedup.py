@@ -48,6 +48,7 @@ steps_to_all_frozen, settle_steps, steps_per_repeat, repeats, max_displacement_m
 writes results/data/fig_speedup.csv and fig_speedup.json. --quick: rest_row {30, 100}, pyramid
 {4, 8}, 2.5 s settle cap, 3 repeats of ~0.01 s.
 """
+
 import math
 import statistics
 
@@ -55,19 +56,32 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from study.common import (DT, FROZEN_MEANS, REFERENCE, SLOP, SYSTEMS, build,
-                                compile_kernels, entry, label)
+from study.common import (
+    DT,
+    FROZEN_MEANS,
+    REFERENCE,
+    SLOP,
+    SYSTEMS,
+    build,
+    compile_kernels,
+    entry,
+    label,
+)
 from study.peers import engine_of
 from study.protocols import FREEZING, WARMUP_STEPS, settle_and_time
 
 NAME = "fig_speedup"
-PYBULLET_MAX_BODIES = 1000      # larger scenes are not run under pybullet (cost, see docstring)
+PYBULLET_MAX_BODIES = 1000  # larger scenes are not run under pybullet (cost, see docstring)
 FAMILIES = ("rest_row", "pyramid")
 
-FULL = {"rest_row": (100, 300, 1000, 3000, 10000), "pyramid": (5, 10, 20, 40),
-        "settle_s": 4.0, "repeat_s": 0.1, "repeats": 7}
-QUICK = {"rest_row": (30, 100), "pyramid": (4, 8),
-         "settle_s": 2.5, "repeat_s": 0.01, "repeats": 3}
+FULL = {
+    "rest_row": (100, 300, 1000, 3000, 10000),
+    "pyramid": (5, 10, 20, 40),
+    "settle_s": 4.0,
+    "repeat_s": 0.1,
+    "repeats": 7,
+}
+QUICK = {"rest_row": (30, 100), "pyramid": (4, 8), "settle_s": 2.5, "repeat_s": 0.01, "repeats": 3}
 
 
 def scenes_of(config):
@@ -77,8 +91,9 @@ def scenes_of(config):
 
 def systems_for(scene):
     """The systems run on ``scene``: all, except pybullet above PYBULLET_MAX_BODIES."""
-    return tuple(s for s in SYSTEMS
-                 if engine_of(s) != "pybullet" or len(scene.bodies) <= PYBULLET_MAX_BODIES)
+    return tuple(
+        s for s in SYSTEMS if engine_of(s) != "pybullet" or len(scene.bodies) <= PYBULLET_MAX_BODIES
+    )
 
 
 def _size(scene):
@@ -94,17 +109,35 @@ def scene_rows(scene, runs, systems, repeats):
     rows = []
     for system in SYSTEMS:
         ref = REFERENCE[system]
-        row = {"family": scene.name, "size": _size(scene), "scene": label(scene), "bodies": n,
-               "system": system, "engine": engine_of(system), "reference": ref}
+        row = {
+            "family": scene.name,
+            "size": _size(scene),
+            "scene": label(scene),
+            "bodies": n,
+            "system": system,
+            "engine": engine_of(system),
+            "reference": ref,
+        }
         run = by_system.get(system)
         if run is None:
-            rows.append({**row, "ms_per_step_median": math.nan, "ms_per_step_min": math.nan,
-                         "speedup": math.nan, "speedup_paired": math.nan,
-                         "speedup_vs_sim_off": math.nan, "n_awake_before": math.nan,
-                         "n_awake_after": math.nan, "steps_to_all_frozen": math.nan,
-                         "settle_steps": math.nan, "steps_per_repeat": math.nan,
-                         "repeats": 0, "max_displacement_m": math.nan,
-                         "flag": f"not run: pybullet capped at {PYBULLET_MAX_BODIES} bodies"})
+            rows.append(
+                {
+                    **row,
+                    "ms_per_step_median": math.nan,
+                    "ms_per_step_min": math.nan,
+                    "speedup": math.nan,
+                    "speedup_paired": math.nan,
+                    "speedup_vs_sim_off": math.nan,
+                    "n_awake_before": math.nan,
+                    "n_awake_after": math.nan,
+                    "steps_to_all_frozen": math.nan,
+                    "settle_steps": math.nan,
+                    "steps_per_repeat": math.nan,
+                    "repeats": 0,
+                    "max_displacement_m": math.nan,
+                    "flag": f"not run: pybullet capped at {PYBULLET_MAX_BODIES} bodies",
+                }
+            )
             continue
         if system not in FREEZING:
             flag = "reference: sleeping off"
@@ -113,17 +146,25 @@ def scene_rows(scene, runs, systems, repeats):
         else:
             flag = "NOT all frozen"
         ref_times = by_system[ref]["times"]
-        rows.append({
-            **row,
-            "ms_per_step_median": median[system], "ms_per_step_min": min(run["times"]),
-            "speedup": median[ref] / median[system],
-            # the reference and this system ran back to back within each repeat
-            "speedup_paired": statistics.median(r / t for r, t in zip(ref_times, run["times"])),
-            "speedup_vs_sim_off": median["sim-off"] / median[system],
-            "n_awake_before": run["before"], "n_awake_after": run["after"],
-            "steps_to_all_frozen": math.nan if run["froze_at"] is None else run["froze_at"],
-            "settle_steps": run["age"], "steps_per_repeat": run["steps"], "repeats": repeats,
-            "max_displacement_m": run["moved"], "flag": flag})
+        rows.append(
+            {
+                **row,
+                "ms_per_step_median": median[system],
+                "ms_per_step_min": min(run["times"]),
+                "speedup": median[ref] / median[system],
+                # the reference and this system ran back to back within each repeat
+                "speedup_paired": statistics.median(r / t for r, t in zip(ref_times, run["times"])),
+                "speedup_vs_sim_off": median["sim-off"] / median[system],
+                "n_awake_before": run["before"],
+                "n_awake_after": run["after"],
+                "steps_to_all_frozen": math.nan if run["froze_at"] is None else run["froze_at"],
+                "settle_steps": run["age"],
+                "steps_per_repeat": run["steps"],
+                "repeats": repeats,
+                "max_displacement_m": run["moved"],
+                "flag": flag,
+            }
+        )
     return rows
 
 
@@ -137,17 +178,24 @@ def run(config, args):
     with tqdm(total=total, desc=f"{NAME} timing", unit="repeat") as bar:
         for scene in scenes:
             systems = systems_for(scene)
-            runs = settle_and_time(scene, systems, cap, config["repeat_s"], repeats, bar,
-                                   age_steps=cap)
+            runs = settle_and_time(
+                scene, systems, cap, config["repeat_s"], repeats, bar, age_steps=cap
+            )
             rows += scene_rows(scene, runs, systems, repeats)
     probe = sim.scenes.single_box()
     for system in SYSTEMS:
         with build(system, probe) as r:
             settings[system] = r.settings
-    parameters = {"dt": DT, "slop": SLOP, "settle_cap_steps": cap,
-                  "warmup_steps": WARMUP_STEPS,
-                  "pybullet_max_bodies": PYBULLET_MAX_BODIES, "reference": REFERENCE,
-                  "frozen_means": FROZEN_MEANS, "system_settings": settings}
+    parameters = {
+        "dt": DT,
+        "slop": SLOP,
+        "settle_cap_steps": cap,
+        "warmup_steps": WARMUP_STEPS,
+        "pybullet_max_bodies": PYBULLET_MAX_BODIES,
+        "reference": REFERENCE,
+        "frozen_means": FROZEN_MEANS,
+        "system_settings": settings,
+    }
     return pd.DataFrame(rows), scenes, parameters
 
 

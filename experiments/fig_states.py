@@ -7,6 +7,7 @@ under paper (the figure) and extended and off (for comparison), 120 steps at dt 
 
     python -m experiments.fig_states [--quick]     (quick = the same run: it is tiny)
 """
+
 from study import filmstrip
 from sim import scenes
 

@@ -30,7 +30,8 @@ often the rest certificate runs and what it costs, part "certificate": metrics c
 in all), steps_certifying (steps that tried any), steps_run, freeze_after_per_certificate (us: the
 rest-test stage's time in the steps that certified, per certificate: an upper bound).
 
-Columns (long form, bench_freeze's): part ("time_to_freeze" or "certificate"), scene, system, bodies, n_awake,
+Columns (long form, bench_freeze's): part ("time_to_freeze" or "certificate"), scene, system,
+bodies, n_awake,
 n_frozen (at the freeze, or at the cap), metric (steps_to_all_frozen, time_to_all_frozen,
 n_awake_at_end, n_awake_1s_after, max_displacement, cap_steps; sim also steps_to_all_not_free,
 n_not_free_at_end), value, unit, flag.
@@ -39,6 +40,7 @@ n_not_free_at_end), value, unit, flag.
 writes results/data/fig_time_to_rest.csv and fig_time_to_rest.json. --quick: rest_row(50),
 stack(5), pyramid(5), drop(10, seed 0), seed_fig1..3, cap 5 s.
 """
+
 import pandas as pd
 
 import sim
@@ -50,21 +52,35 @@ NAME = "fig_time_to_rest"
 SYSTEMS = FREEZING
 SEED_FIGS = (("seed_fig1", {}), ("seed_fig2", {}), ("seed_fig3", {}))
 
-FULL = {"scenes": (("rest_row", {"n": 50}), ("stack", {"height": 5}), ("stack", {"height": 10}),
-                   ("pyramid", {"base": 10}), ("pyramid", {"base": 20}),
-                   *(("drop", {"n": 30, "seed": seed}) for seed in range(5))) + SEED_FIGS,
-        "cap_s": 30.0}
-QUICK = {"scenes": (("rest_row", {"n": 50}), ("stack", {"height": 5}), ("pyramid", {"base": 5}),
-                    ("drop", {"n": 10, "seed": 0})) + SEED_FIGS,
-         "cap_s": 5.0}
+FULL = {
+    "scenes": (
+        ("rest_row", {"n": 50}),
+        ("stack", {"height": 5}),
+        ("stack", {"height": 10}),
+        ("pyramid", {"base": 10}),
+        ("pyramid", {"base": 20}),
+        *(("drop", {"n": 30, "seed": seed}) for seed in range(5)),
+    )
+    + SEED_FIGS,
+    "cap_s": 30.0,
+}
+QUICK = {
+    "scenes": (
+        ("rest_row", {"n": 50}),
+        ("stack", {"height": 5}),
+        ("pyramid", {"base": 5}),
+        ("drop", {"n": 10, "seed": 0}),
+    )
+    + SEED_FIGS,
+    "cap_s": 5.0,
+}
 
 
 def run(config, args):
     # compiled here once, so the pool's workers load the kernels from Numba's cache
     compile_kernels()
     tasks = freeze_tasks(config["scenes"], config["cap_s"], SYSTEMS)
-    rows = [row for rows in run_tasks(freeze_run, tasks, desc=f"{NAME} runs")
-            for row in rows]
+    rows = [row for rows in run_tasks(freeze_run, tasks, desc=f"{NAME} runs") for row in rows]
     scenes = [sim.scenes.BUILDERS[name](**params) for name, params in config["scenes"]]
     rows += [row for scene in scenes for row in certificate_cost(scene, config["cap_s"])]
     settings = {}
@@ -72,9 +88,15 @@ def run(config, args):
     for system in SYSTEMS:
         with build(system, probe) as r:
             settings[system] = r.settings
-    parameters = {"dt": DT, "slop": SLOP, "cap_steps": int(round(config["cap_s"] / DT)),
-                  "freeze_hold_s": FREEZE_HOLD_S, "systems": SYSTEMS,
-                  "frozen_means": FROZEN_MEANS, "system_settings": settings}
+    parameters = {
+        "dt": DT,
+        "slop": SLOP,
+        "cap_steps": int(round(config["cap_s"] / DT)),
+        "freeze_hold_s": FREEZE_HOLD_S,
+        "systems": SYSTEMS,
+        "frozen_means": FROZEN_MEANS,
+        "system_settings": settings,
+    }
     return pd.DataFrame(rows), scenes, parameters
 
 
@@ -83,7 +105,8 @@ def certificate_cost(scene, cap_s):
     with every stage timed until every body is frozen (or the cap), the certificates tried
     (one per candidate body per step), the steps that tried any, and the time of the rest test
     and freezing stage (``freeze_after``) in those steps per certificate: an upper bound on one
-    certificate's cost, since the stage also runs the cheap gates and freezes the bodies. In this process, after
+    certificate's cost, since the stage also runs the cheap gates and freezes the bodies. In this
+    process, after
     compilation (the kernels are compiled before)."""
     world = sim.World(scene, freeze="extended")
     cap = int(round(cap_s / DT))
@@ -93,18 +116,25 @@ def certificate_cost(scene, cap_s):
     while world.step_count < cap and world.n_awake > 0:
         ms = world.profile(1)["freeze_after"]
         now = world.inspect().certificates
-        if now > tried:                 # a step that certified: its rest-test stage counts
+        if now > tried:  # a step that certified: its rest-test stage counts
             busy += 1
             stage_ms += ms
         tried = now
-    common = {"part": "certificate", "scene": label(scene), "system": "sim-extended",
-              "bodies": len(scene.bodies), "n_aw": world.n_awake,
-              "n_fr": len(scene.bodies) - world.n_awake}
+    common = {
+        "part": "certificate",
+        "scene": label(scene),
+        "system": "sim-extended",
+        "bodies": len(scene.bodies),
+        "n_aw": world.n_awake,
+        "n_fr": len(scene.bodies) - world.n_awake,
+    }
     per = 1e3 * stage_ms / tried if tried else float("nan")
-    return [long_row(**common, metric="certificates", value=tried, unit="count"),
-            long_row(**common, metric="steps_certifying", value=busy, unit="steps"),
-            long_row(**common, metric="steps_run", value=world.step_count, unit="steps"),
-            long_row(**common, metric="freeze_after_per_certificate", value=per, unit="us")]
+    return [
+        long_row(**common, metric="certificates", value=tried, unit="count"),
+        long_row(**common, metric="steps_certifying", value=busy, unit="steps"),
+        long_row(**common, metric="steps_run", value=world.step_count, unit="steps"),
+        long_row(**common, metric="freeze_after_per_certificate", value=per, unit="us"),
+    ]
 
 
 main = entry(NAME, __doc__, FULL, QUICK, run)

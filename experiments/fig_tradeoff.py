@@ -131,6 +131,7 @@ writes results/data/fig_tradeoff.csv and fig_tradeoff.json. --quick: pyramid(4) 
 4 + 3 boxes and 1 loner, 2.5 s, references at dt/4 (resolution dt/2; the same reference
 iterations), every other grid point (substeps 1, 4, 16; iterations 1, 4).
 """
+
 import inspect
 import math
 import statistics
@@ -141,8 +142,7 @@ from tqdm import tqdm
 
 import sim
 from study import common
-from study.common import (DT, SLOP, build, compile_kernels, n_awake, pose_error,
-                                sweep_store)
+from study.common import DT, SLOP, build, compile_kernels, n_awake, pose_error, sweep_store
 from study.executor import run_tasks
 from study.peers import DEFAULT_ITERATIONS, engine_of
 from study.peers.pybullet_runner import DEFAULT_SLEEP_THRESHOLD
@@ -152,7 +152,7 @@ from study.overlap import pad as _pad, separation as _separation, world_vertices
 from sim.geometry import mass_properties
 
 NAME = "fig_tradeoff"
-G = 9.81                     # m/s^2, |gravity| of every scene here
+G = 9.81  # m/s^2, |gravity| of every scene here
 
 #: the sleeping-off system of each engine (the speed-up's denominator and the reference)
 OFF = {"sim": "sim-off", "pymunk": "pymunk", "pybullet": "pybullet"}
@@ -166,16 +166,39 @@ SIM_ITERATIONS = DEFAULT_ITERATIONS["sim"]
 #: (system, parameter, unit, default, log10 step of the grid, exponents k: value = default *
 #: 10^(k * step)). Defaults are read from the code that defines them.
 SWEEPS = (
-    ("sim-paper", "impulse_threshold", "N s",
-     sim.freeze.paper.PARAMETERS["impulse_threshold"], 0.5, range(-3, 4)),
-    ("sim-extended", "impulse_threshold", "N s",
-     sim.freeze.extended.PARAMETERS["impulse_threshold"], 0.5, range(-3, 4)),
-    ("sim-extended", "rest_speed", "m/s",
-     sim.freeze.extended.PARAMETERS["rest_speed"], 0.5, range(-3, 4)),
-    ("sim-sleep", "sleep_speed", "m/s", sim.freeze.sleep.PARAMETERS["sleep_speed"], 0.5,
-     range(-3, 4)),
-    ("sim-sleep", "sleep_time", "s", sim.freeze.sleep.PARAMETERS["sleep_time"], 0.5,
-     range(-3, 3)),
+    (
+        "sim-paper",
+        "impulse_threshold",
+        "N s",
+        sim.freeze.paper.PARAMETERS["impulse_threshold"],
+        0.5,
+        range(-3, 4),
+    ),
+    (
+        "sim-extended",
+        "impulse_threshold",
+        "N s",
+        sim.freeze.extended.PARAMETERS["impulse_threshold"],
+        0.5,
+        range(-3, 4),
+    ),
+    (
+        "sim-extended",
+        "rest_speed",
+        "m/s",
+        sim.freeze.extended.PARAMETERS["rest_speed"],
+        0.5,
+        range(-3, 4),
+    ),
+    (
+        "sim-sleep",
+        "sleep_speed",
+        "m/s",
+        sim.freeze.sleep.PARAMETERS["sleep_speed"],
+        0.5,
+        range(-3, 4),
+    ),
+    ("sim-sleep", "sleep_time", "s", sim.freeze.sleep.PARAMETERS["sleep_time"], 0.5, range(-3, 3)),
     ("pymunk-sleep", "sleep_time", "s", _PYMUNK_SLEEP_TIME, 0.5, range(-3, 3)),
     # Chipmunk's rule when idle_speed is unset: |g| dt (cpSpaceProcessComponents)
     ("pymunk-sleep", "idle_speed", "m/s", G * DT, 0.5, range(-3, 4)),
@@ -191,10 +214,9 @@ SOLVER_SWEEPS = (
 )
 
 FULL = {
-    "scenes": (("pyramid", {"base": 10}),
-               ("landing", {"base": 8, "layers": 2, "loners": 3})),
+    "scenes": (("pyramid", {"base": 10}), ("landing", {"base": 8, "layers": 2, "loners": 3})),
     "duration_s": 5.0,
-    "fine": 8,                       # reference dt = DT / fine; resolution run at DT / (fine/2)
+    "fine": 8,  # reference dt = DT / fine; resolution run at DT / (fine/2)
     # the references' iterations (sim: biased sweeps per substep; the peers: per step); the
     # resolution runs use half (see the docstring for the convergence measured)
     "reference_iterations": {"sim": 16, "pymunk": 40, "pybullet": 200},
@@ -202,18 +224,17 @@ FULL = {
     "repeats": {"sim": 15, "pymunk": 15, "pybullet": 5},
 }
 QUICK = {
-    "scenes": (("pyramid", {"base": 4}),
-               ("landing", {"base": 4, "layers": 1, "loners": 1})),
+    "scenes": (("pyramid", {"base": 4}), ("landing", {"base": 4, "layers": 1, "loners": 1})),
     "duration_s": 2.5,
     "fine": 4,
     "reference_iterations": {"sim": 16, "pymunk": 40, "pybullet": 200},
     "every_other_grid_point": True,  # k = -2, 0, 2 only
     "repeats": {"sim": 3, "pymunk": 3, "pybullet": 3},
 }
-DROP = 0.5                   # m, landing: fall height of each row and step of the loners' heights
-GAP = 0.125                  # m, landing: gap between neighbours in a row (as sim.scenes.pyramid)
-FRICTION = 0.6               # as every builder in sim.scenes
-ERROR_FLOOR = 1e-9           # m or rad; analysis draws smaller errors (round-off) at this value
+DROP = 0.5  # m, landing: fall height of each row and step of the loners' heights
+GAP = 0.125  # m, landing: gap between neighbours in a row (as sim.scenes.pyramid)
+FRICTION = 0.6  # as every builder in sim.scenes
+ERROR_FLOOR = 1e-9  # m or rad; analysis draws smaller errors (round-off) at this value
 
 
 # ---- scenes ------------------------------------------------------------------------------------
@@ -225,22 +246,45 @@ def landing(base=8, layers=2, loners=3, drop=DROP, size=1.0, gap=GAP, friction=F
     beside the pile falling flat onto the floor from drop, 2 drop, 3 drop m. All start at rest,
     none touching, so every landing is flat and the contact sequence does not depend on dt."""
     if base < 1 or layers < 0 or layers >= base or loners < 0:
-        raise ValueError(f"landing needs base >= 1, 0 <= layers < base, loners >= 0; got "
-                         f"base={base}, layers={layers}, loners={loners}")
+        raise ValueError(
+            f"landing needs base >= 1, 0 <= layers < base, loners >= 0; got "
+            f"base={base}, layers={layers}, loners={loners}"
+        )
     pitch = size + gap
     bodies = []
-    y = 0.0                                  # bottom of the current row, m
+    y = 0.0  # bottom of the current row, m
     for layer in range(layers + 1):
         n = base - layer
-        bodies += [sim.Body.box(size, size, position=((k - (n - 1) / 2) * pitch, y + size / 2),
-                                friction=friction) for k in range(n)]
+        bodies += [
+            sim.Body.box(
+                size, size, position=((k - (n - 1) / 2) * pitch, y + size / 2), friction=friction
+            )
+            for k in range(n)
+        ]
         y += size + drop
-    x0 = (base / 2 + 1.5) * pitch            # clear of the pile's widest row by > 1 m
-    bodies += [sim.Body.box(size, size, position=(x0 + 1.5 * pitch * j, size / 2 + drop * (j + 1)),
-                            friction=friction) for j in range(loners)]
-    return sim.Scene(bodies=bodies, name="landing",
-                     params={"base": base, "layers": layers, "loners": loners, "drop": drop,
-                             "size": size, "gap": gap, "friction": friction})
+    x0 = (base / 2 + 1.5) * pitch  # clear of the pile's widest row by > 1 m
+    bodies += [
+        sim.Body.box(
+            size,
+            size,
+            position=(x0 + 1.5 * pitch * j, size / 2 + drop * (j + 1)),
+            friction=friction,
+        )
+        for j in range(loners)
+    ]
+    return sim.Scene(
+        bodies=bodies,
+        name="landing",
+        params={
+            "base": base,
+            "layers": layers,
+            "loners": loners,
+            "drop": drop,
+            "size": size,
+            "gap": gap,
+            "friction": friction,
+        },
+    )
 
 
 def make_scene(name, params):
@@ -275,7 +319,8 @@ def _centre_of_mass(body):
     _, centroid, _ = mass_properties(body.vertices, body.density)
     c, s = math.cos(body.angle), math.sin(body.angle)
     return np.asarray(body.position, dtype=float) + np.array(
-        [c * centroid[0] - s * centroid[1], s * centroid[0] + c * centroid[1]])
+        [c * centroid[0] - s * centroid[1], s * centroid[0] + c * centroid[1]]
+    )
 
 
 def scene_tag(scene):
@@ -296,13 +341,14 @@ class Polygons:
         scene.validate()
         self.n = len(scene.bodies)
         k = max(len(b.vertices) for b in list(scene.bodies) + list(scene.static_bodies))
-        self.local = np.empty((self.n, k, 2))            # (N,K,2) m, body frame about the COM
+        self.local = np.empty((self.n, k, 2))  # (N,K,2) m, body frame about the COM
         for i, b in enumerate(scene.bodies):
             _, centroid, _ = mass_properties(b.vertices, b.density)
             self.local[i] = _pad(np.asarray(b.vertices, dtype=float) - centroid, k)
         self.statics = np.array([_pad(_world(b), k) for b in scene.static_bodies]).reshape(
-            len(scene.static_bodies), k, 2)               # (S,K,2) m, world
-        self.floor_y = scene.floor_y                       # m or None
+            len(scene.static_bodies), k, 2
+        )  # (S,K,2) m, world
+        self.floor_y = scene.floor_y  # m or None
 
     def world(self, positions, angles):
         """(N,K,2) m: world vertices of every dynamic body at this pose."""
@@ -321,11 +367,11 @@ def deepest_overlap(polygons, positions, angles):
     if polygons.floor_y is not None and len(w):
         deepest = max(deepest, float(polygons.floor_y - w[..., 1].min()))
     others = np.concatenate([w, polygons.statics]) if len(polygons.statics) else w
-    lo, hi = w.min(axis=1), w.max(axis=1)                 # (N,2) bounding boxes
+    lo, hi = w.min(axis=1), w.max(axis=1)  # (N,2) bounding boxes
     olo, ohi = others.min(axis=1), others.max(axis=1)
     touch = ((lo[:, None] <= ohi[None]) & (olo[None] <= hi[:, None])).all(axis=2)
     n = len(w)
-    touch[:, :n] &= np.triu(np.ones((n, n), dtype=bool), k=1)   # each dynamic pair once
+    touch[:, :n] &= np.triu(np.ones((n, n), dtype=bool), k=1)  # each dynamic pair once
     i, j = np.nonzero(touch)
     if len(i):
         a, b = w[i], others[j]
@@ -345,7 +391,7 @@ def solver_grid(default, exponents):
     is not whole or below 1."""
     values = []
     for k in exponents:
-        value = default * 2.0 ** k
+        value = default * 2.0**k
         if value < 1 or value != int(value):
             raise ValueError(f"{default} * 2^{k} = {value} is not a whole number >= 1")
         values.append(int(value))
@@ -353,8 +399,11 @@ def solver_grid(default, exponents):
 
 
 def _grid_points(exponents, config):
-    return ([k for k in exponents if k % 2 == 0] if config["every_other_grid_point"]
-            else list(exponents))
+    return (
+        [k for k in exponents if k % 2 == 0]
+        if config["every_other_grid_point"]
+        else list(exponents)
+    )
 
 
 def settings_of(config):
@@ -383,12 +432,17 @@ def reference_settings(engine, config, role):
 def check_reference(config):
     """ValueError unless sim's reference is finer than every solver setting swept: a finer step
     (fine >= 2) and more sweeps per substep than the most swept."""
-    swept = max(solver_grid(d, _grid_points(ex, config)) for _, p, _, d, ex in SOLVER_SWEEPS
-                if p == "iterations")
+    swept = max(
+        solver_grid(d, _grid_points(ex, config))
+        for _, p, _, d, ex in SOLVER_SWEEPS
+        if p == "iterations"
+    )
     ref = reference_settings("sim", config, "reference")["iterations"]
     if ref <= max(swept) or config["fine"] < 2:
-        raise ValueError(f"sim's reference ({ref} sweeps per substep at dt/{config['fine']}) must "
-                         f"be finer than every swept setting (up to {max(swept)} sweeps)")
+        raise ValueError(
+            f"sim's reference ({ref} sweeps per substep at dt/{config['fine']}) must "
+            f"be finer than every swept setting (up to {max(swept)} sweeps)"
+        )
 
 
 def runner_settings(system, parameter, value, is_default):
@@ -417,10 +471,16 @@ def accuracy_run(task):
             awake_sum += awake
             if awake == 0 and math.isnan(all_asleep_at):
                 all_asleep_at = runner.time
-        return {"positions": runner.positions, "angles": runner.angles,
-                "penetration_max_m": deepest, "penetration_final_m": depth,
-                "n_awake_final": awake, "awake_fraction": awake_sum / (samples * polygons.n),
-                "all_asleep_at_s": all_asleep_at, "settings": runner.settings}
+        return {
+            "positions": runner.positions,
+            "angles": runner.angles,
+            "penetration_max_m": deepest,
+            "penetration_final_m": depth,
+            "n_awake_final": awake,
+            "awake_fraction": awake_sum / (samples * polygons.n),
+            "all_asleep_at_s": all_asleep_at,
+            "settings": runner.settings,
+        }
     finally:
         runner.close()
 
@@ -433,12 +493,12 @@ def timed_runs(scene, engine, settings, steps, repeats, progress):
     final = [None] * len(settings)
     order = list(range(len(settings)))
     for r in range(repeats):
-        for k in (order if r % 2 == 0 else order[::-1]):
+        for k in order if r % 2 == 0 else order[::-1]:
             system, parameter, _, value, is_default, _ = settings[k]
             progress.set_postfix_str(f"{scene_tag(scene)} {system} {parameter}")
             runner = build(system, scene, **runner_settings(system, parameter, value, is_default))
             try:
-                runner.step(1)                              # the first step is not timed
+                runner.step(1)  # the first step is not timed
                 times[k].append(timed(runner, steps - 1))
                 final[k] = (runner.positions, n_awake(runner))
             finally:
@@ -463,19 +523,44 @@ def run(config, args):
         base = {"scene": name, "scene_params": params}
         for engine in ENGINES:
             for role, div in (("reference", fine), ("resolution", fine // 2)):
-                tasks.append({**base, "system": OFF[engine], "dt": DT / div,
-                              "settings": reference_settings(engine, config, role),
-                              "sample_every": div, "samples": steps})
+                tasks.append(
+                    {
+                        **base,
+                        "system": OFF[engine],
+                        "dt": DT / div,
+                        "settings": reference_settings(engine, config, role),
+                        "sample_every": div,
+                        "samples": steps,
+                    }
+                )
                 keys.append((scene_tag(scene), engine, role, None))
             for k, (system, parameter, _, value, is_default, _) in enumerate(per_engine[engine]):
-                tasks.append({**base, "system": system, "dt": DT,
-                              "settings": runner_settings(system, parameter, value, is_default),
-                              "sample_every": 1, "samples": steps})
+                tasks.append(
+                    {
+                        **base,
+                        "system": system,
+                        "dt": DT,
+                        "settings": runner_settings(system, parameter, value, is_default),
+                        "sample_every": 1,
+                        "samples": steps,
+                    }
+                )
                 keys.append((scene_tag(scene), engine, "setting", k))
     store, header = sweep_store(NAME, args.quick, config)
     key_of = {id(t): repr(k) for t, k in zip(tasks, keys)}
-    results = dict(zip(keys, run_tasks(accuracy_run, tasks, desc=f"{NAME} accuracy runs",
-                                       store=store, header=header, key=lambda t: key_of[id(t)])))
+    results = dict(
+        zip(
+            keys,
+            run_tasks(
+                accuracy_run,
+                tasks,
+                desc=f"{NAME} accuracy runs",
+                store=store,
+                header=header,
+                key=lambda t: key_of[id(t)],
+            ),
+        )
+    )
 
     # 2. timed runs, serial, one engine at a time, settings interleaved
     total = sum(len(per_engine[e]) * config["repeats"][e] for e in ENGINES) * len(scenes)
@@ -484,7 +569,8 @@ def run(config, args):
         for scene in scenes:
             for engine in ENGINES:
                 timings[scene_tag(scene), engine] = timed_runs(
-                    scene, engine, per_engine[engine], steps, config["repeats"][engine], bar)
+                    scene, engine, per_engine[engine], steps, config["repeats"][engine], bar
+                )
 
     # 3. the table
     rows = []
@@ -498,26 +584,62 @@ def run(config, args):
             off_min = min(times[0])
             for role, div in (("reference", fine), ("resolution", fine // 2)):
                 res = results[tag, engine, role, None]
-                rows.append(_row(tag, scene, OFF[engine], engine, role, "iterations",
-                                 ITERATIONS_UNIT[engine],
-                                 reference_settings(engine, config, role)["iterations"],
-                                 False, DT / div, steps * div, res, ref, exact))
+                rows.append(
+                    _row(
+                        tag,
+                        scene,
+                        OFF[engine],
+                        engine,
+                        role,
+                        "iterations",
+                        ITERATIONS_UNIT[engine],
+                        reference_settings(engine, config, role)["iterations"],
+                        False,
+                        DT / div,
+                        steps * div,
+                        res,
+                        ref,
+                        exact,
+                    )
+                )
             for k, (system, parameter, unit, value, is_default, role) in enumerate(
-                    per_engine[engine]):
+                per_engine[engine]
+            ):
                 res = results[tag, engine, "setting", k]
-                row = _row(tag, scene, system, engine, role, parameter, unit, value, is_default,
-                           DT, steps, res, ref, exact)
+                row = _row(
+                    tag,
+                    scene,
+                    system,
+                    engine,
+                    role,
+                    parameter,
+                    unit,
+                    value,
+                    is_default,
+                    DT,
+                    steps,
+                    res,
+                    ref,
+                    exact,
+                )
                 med, low = statistics.median(times[k]), min(times[k])
                 end_pose, end_awake = final[k]
-                row.update(repeats=len(times[k]), wall_s_median=med, wall_s_min=low,
-                           wall_s_all=" ".join(f"{t:.6g}" for t in times[k]),
-                           off_wall_s_median=off_median, speedup=off_median / med,
-                           speedup_min=off_min / low,
-                           replay_difference_m=float(np.abs(end_pose - res["positions"]).max()))
+                row.update(
+                    repeats=len(times[k]),
+                    wall_s_median=med,
+                    wall_s_min=low,
+                    wall_s_all=" ".join(f"{t:.6g}" for t in times[k]),
+                    off_wall_s_median=off_median,
+                    speedup=off_median / med,
+                    speedup_min=off_min / low,
+                    replay_difference_m=float(np.abs(end_pose - res["positions"]).max()),
+                )
                 if end_awake != res["n_awake_final"]:
-                    raise RuntimeError(f"{tag} {system} {parameter}={value}: the timed run ended "
-                                       f"with {end_awake} awake, the accuracy run with "
-                                       f"{res['n_awake_final']}: runs are not reproducible")
+                    raise RuntimeError(
+                        f"{tag} {system} {parameter}={value}: the timed run ended "
+                        f"with {end_awake} awake, the accuracy run with "
+                        f"{res['n_awake_final']}: runs are not reproducible"
+                    )
                 rows.append(row)
     table = pd.DataFrame(rows, columns=COLUMNS)
 
@@ -528,33 +650,61 @@ def run(config, args):
             system_settings[f"{OFF[engine]} {role}"] = res["settings"]
         for k, (system, parameter, _, value, is_default, role) in enumerate(per_engine[engine]):
             if is_default:
-                system_settings.setdefault(system, results[scene_tag(scenes[0]), engine,
-                                                            "setting", k]["settings"])
+                system_settings.setdefault(
+                    system, results[scene_tag(scenes[0]), engine, "setting", k]["settings"]
+                )
             elif role == "solver":
                 system_settings[f"{system} {parameter}={int(value)}"] = results[
-                    scene_tag(scenes[0]), engine, "setting", k]["settings"]
+                    scene_tag(scenes[0]), engine, "setting", k
+                ]["settings"]
     parameters = {
-        "dt": DT, "slop": SLOP, "duration_s": config["duration_s"], "steps": steps,
-        "reference_dt": DT / fine, "resolution_dt": DT / (fine // 2),
-        "reference_iterations": {e: reference_settings(e, config, "reference")["iterations"]
-                                 for e in ENGINES},
-        "resolution_iterations": {e: reference_settings(e, config, "resolution")["iterations"]
-                                  for e in ENGINES},
+        "dt": DT,
+        "slop": SLOP,
+        "duration_s": config["duration_s"],
+        "steps": steps,
+        "reference_dt": DT / fine,
+        "resolution_dt": DT / (fine // 2),
+        "reference_iterations": {
+            e: reference_settings(e, config, "reference")["iterations"] for e in ENGINES
+        },
+        "resolution_iterations": {
+            e: reference_settings(e, config, "resolution")["iterations"] for e in ENGINES
+        },
         "iterations_unit": dict(ITERATIONS_UNIT),
-        "iterations": dict(DEFAULT_ITERATIONS), "error_floor": ERROR_FLOOR,
-        "sim_defaults": {"substeps": SIM_SUBSTEPS, "iterations": SIM_ITERATIONS,
-                         "relax_iterations": inspect.signature(sim.World).parameters[
-                             "relax_iterations"].default},
-        "sweeps": [{"system": s, "parameter": p, "unit": u, "default": d, "grid_log10_step": st,
-                    "exponents": list(ex)} for s, p, u, d, st, ex in SWEEPS],
-        "solver_sweeps": [{"system": s, "parameter": p, "unit": u, "default": d,
-                           "grid": "default * 2^k", "exponents": list(ex),
-                           "values": solver_grid(d, _grid_points(ex, config))}
-                          for s, p, u, d, ex in SOLVER_SWEEPS],
+        "iterations": dict(DEFAULT_ITERATIONS),
+        "error_floor": ERROR_FLOOR,
+        "sim_defaults": {
+            "substeps": SIM_SUBSTEPS,
+            "iterations": SIM_ITERATIONS,
+            "relax_iterations": inspect.signature(sim.World).parameters["relax_iterations"].default,
+        },
+        "sweeps": [
+            {
+                "system": s,
+                "parameter": p,
+                "unit": u,
+                "default": d,
+                "grid_log10_step": st,
+                "exponents": list(ex),
+            }
+            for s, p, u, d, st, ex in SWEEPS
+        ],
+        "solver_sweeps": [
+            {
+                "system": s,
+                "parameter": p,
+                "unit": u,
+                "default": d,
+                "grid": "default * 2^k",
+                "exponents": list(ex),
+                "values": solver_grid(d, _grid_points(ex, config)),
+            }
+            for s, p, u, d, ex in SOLVER_SWEEPS
+        ],
         "unset_at_default": sorted(f"{s}:{p}" for s, p in UNSET_AT_DEFAULT),
         "timing": "build excluded, first step excluded, steps 2..N in one call with GC paused; "
-                  "settings of one engine round-robin, order reversed every other repeat; "
-                  "speedup = median(off) / median(setting)",
+        "settings of one engine round-robin, order reversed every other repeat; "
+        "speedup = median(off) / median(setting)",
         "penetration": "deepest_overlap: SAT on the scene's polygons at every sampled pose",
         "system_settings": system_settings,
     }
@@ -564,32 +714,72 @@ def run(config, args):
 #: what an engine's iteration count counts
 ITERATIONS_UNIT = {"sim": "per substep", "pymunk": "per step", "pybullet": "per step"}
 
-COLUMNS = ["scene", "bodies", "system", "engine", "role", "parameter", "value", "unit",
-           "is_default", "dt_s", "steps", "repeats", "wall_s_median", "wall_s_min",
-           "wall_s_all", "off_wall_s_median", "speedup", "speedup_min", "n_awake_final",
-           "awake_fraction",
-           "all_asleep_at_s", "pose_error_max_m", "pose_error_mean_m", "angle_error_max_rad",
-           "exact_error_max_m", "exact_angle_error_max_rad",
-           "penetration_max_m", "penetration_final_m", "replay_difference_m"]
+COLUMNS = [
+    "scene",
+    "bodies",
+    "system",
+    "engine",
+    "role",
+    "parameter",
+    "value",
+    "unit",
+    "is_default",
+    "dt_s",
+    "steps",
+    "repeats",
+    "wall_s_median",
+    "wall_s_min",
+    "wall_s_all",
+    "off_wall_s_median",
+    "speedup",
+    "speedup_min",
+    "n_awake_final",
+    "awake_fraction",
+    "all_asleep_at_s",
+    "pose_error_max_m",
+    "pose_error_mean_m",
+    "angle_error_max_rad",
+    "exact_error_max_m",
+    "exact_angle_error_max_rad",
+    "penetration_max_m",
+    "penetration_final_m",
+    "replay_difference_m",
+]
 
 
-def _row(tag, scene, system, engine, role, parameter, unit, value, is_default, dt, steps, res,
-         ref, exact):
+def _row(
+    tag, scene, system, engine, role, parameter, unit, value, is_default, dt, steps, res, ref, exact
+):
     if role == "reference":
-        d_max = d_mean = a_max = math.nan             # the reference itself: no error to speak of
+        d_max = d_mean = a_max = math.nan  # the reference itself: no error to speak of
     else:
-        d_max, a_max = pose_error(res["positions"], res["angles"], ref["positions"],
-                                  ref["angles"])
+        d_max, a_max = pose_error(res["positions"], res["angles"], ref["positions"], ref["angles"])
         d_mean = float(np.hypot(*(res["positions"] - ref["positions"]).T).mean())
     e_max, e_angle = pose_error(res["positions"], res["angles"], *exact)
     row = dict.fromkeys(COLUMNS, math.nan)
-    row.update(exact_error_max_m=e_max, exact_angle_error_max_rad=e_angle, scene=tag, bodies=len(scene.bodies), system=system, engine=engine, role=role,
-               parameter=parameter, value=value, unit=unit, is_default=bool(is_default), dt_s=dt,
-               steps=steps, n_awake_final=res["n_awake_final"],
-               awake_fraction=res["awake_fraction"], all_asleep_at_s=res["all_asleep_at_s"],
-               pose_error_max_m=d_max, pose_error_mean_m=d_mean, angle_error_max_rad=a_max,
-               penetration_max_m=res["penetration_max_m"],
-               penetration_final_m=res["penetration_final_m"])
+    row.update(
+        exact_error_max_m=e_max,
+        exact_angle_error_max_rad=e_angle,
+        scene=tag,
+        bodies=len(scene.bodies),
+        system=system,
+        engine=engine,
+        role=role,
+        parameter=parameter,
+        value=value,
+        unit=unit,
+        is_default=bool(is_default),
+        dt_s=dt,
+        steps=steps,
+        n_awake_final=res["n_awake_final"],
+        awake_fraction=res["awake_fraction"],
+        all_asleep_at_s=res["all_asleep_at_s"],
+        pose_error_max_m=d_max,
+        pose_error_mean_m=d_mean,
+        angle_error_max_rad=a_max,
+        penetration_max_m=res["penetration_max_m"],
+        penetration_final_m=res["penetration_final_m"],
+    )
     return row
 
 

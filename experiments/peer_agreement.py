@@ -34,6 +34,7 @@ measurements that have no tolerance).
     python -m experiments.peer_agreement [--quick] [--repeats R] [--steps K]
 writes results/data/peer_agreement.csv and peer_agreement.json.
 """
+
 import argparse
 import math
 import statistics
@@ -55,10 +56,24 @@ REFERENCE = "sim-off"
 WARMUP_STEPS = 10
 TIP_OFFSET_DEG = 2.0
 
-FULL = {"stack_seconds": 10.0, "pyramid": 10, "drop": (20, (0, 1, 2)), "drop_seconds": 8.0,
-        "cost_pyramid": 20, "repeats": 7, "steps": 20}
-QUICK = {"stack_seconds": 10.0, "pyramid": 5, "drop": (8, (0,)), "drop_seconds": 4.0,
-         "cost_pyramid": 6, "repeats": 3, "steps": 5}
+FULL = {
+    "stack_seconds": 10.0,
+    "pyramid": 10,
+    "drop": (20, (0, 1, 2)),
+    "drop_seconds": 8.0,
+    "cost_pyramid": 20,
+    "repeats": 7,
+    "steps": 20,
+}
+QUICK = {
+    "stack_seconds": 10.0,
+    "pyramid": 5,
+    "drop": (8, (0,)),
+    "drop_seconds": 4.0,
+    "cost_pyramid": 6,
+    "repeats": 3,
+    "steps": 5,
+}
 
 
 # ---- scenes ------------------------------------------------------------------------------------
@@ -66,8 +81,11 @@ def bounce_scene(e, height=2.0, size=0.5):
     """A box of restitution ``e`` whose bottom face starts ``height`` m above a floor of
     restitution 0 (max mixing makes the pair bounce with e)."""
     body = sim.Body.box(size, size, position=(0.0, height + size / 2), restitution=e)
-    return sim.Scene(bodies=[body], name=f"bounce_e{e:g}",
-                     params={"restitution": e, "height": height, "size": size})
+    return sim.Scene(
+        bodies=[body],
+        name=f"bounce_e{e:g}",
+        params={"restitution": e, "height": height, "size": size},
+    )
 
 
 def tipping_scene(offset_deg, width=0.5, height=2.0, friction=0.6):
@@ -77,8 +95,11 @@ def tipping_scene(offset_deg, width=0.5, height=2.0, friction=0.6):
     lowest = -0.5 * width * math.sin(angle) - 0.5 * height * math.cos(angle)
     body = sim.Body.box(width, height, position=(0.0, -lowest), angle=angle, friction=friction)
     label = "past" if offset_deg > 0 else "short"
-    return sim.Scene(bodies=[body], name=f"tipping_{label}",
-                     params={"offset_deg": offset_deg, "width": width, "height": height})
+    return sim.Scene(
+        bodies=[body],
+        name=f"tipping_{label}",
+        params={"offset_deg": offset_deg, "width": width, "height": height},
+    )
 
 
 def world_vertices(scene, i, position, angle):
@@ -107,8 +128,8 @@ def _slide(t):
 
 def _apex(t):
     bottom = np.asarray(t["heights"])
-    first = int(np.argmin(bottom[:int(round(1.0 / DT))]))        # falls 2 m in 0.64 s
-    return float(bottom[first:first + int(round(1.5 / DT))].max())
+    first = int(np.argmin(bottom[: int(round(1.0 / DT))]))  # falls 2 m in 0.64 s
+    return float(bottom[first : first + int(round(1.5 / DT))].max())
 
 
 def _tipped(t):
@@ -131,37 +152,67 @@ def _inside_bin(t):
 
 def _pile_height(t):
     scene = t["scene"]
-    return float(max(world_vertices(scene, i, t["end_pos"][i], t["end_angle"][i])[:, 1].max()
-                     for i in range(len(scene.bodies))))
+    return float(
+        max(
+            world_vertices(scene, i, t["end_pos"][i], t["end_angle"][i])[:, 1].max()
+            for i in range(len(scene.bodies))
+        )
+    )
 
 
 def cases(sizes):
     """Every case of the table for the given sizes (FULL or QUICK)."""
     slide = sim.scenes.sliding_box()
     v0, mu = slide.params["speed"], slide.params["friction"]
-    out = [("single_box", sim.scenes.single_box(), 5.0,
-            [("rest_drift_m", _max_drift, 0.0, 0.005)]),
-           ("sliding_box", slide, 2.0,
-            [("slide_distance_m", _slide, v0 ** 2 / (2 * mu * G), 0.03 * v0 ** 2 / (2 * mu * G))])]
+    out = [
+        ("single_box", sim.scenes.single_box(), 5.0, [("rest_drift_m", _max_drift, 0.0, 0.005)]),
+        (
+            "sliding_box",
+            slide,
+            2.0,
+            [("slide_distance_m", _slide, v0**2 / (2 * mu * G), 0.03 * v0**2 / (2 * mu * G))],
+        ),
+    ]
     for e in (0.5, 0.7, 0.9):
         h = 2.0
-        out.append((f"bounce_e{e:g}", bounce_scene(e, h), 3.0,
-                    [("bounce_apex_m", _apex, e * e * h, 0.10 * e * e * h)]))
-    out += [("tipping_past", tipping_scene(TIP_OFFSET_DEG), 5.0,
-             [("tipped", _tipped, 1.0, 0.0)]),
-            ("tipping_short", tipping_scene(-TIP_OFFSET_DEG), 5.0,
-             [("tipped", _tipped, 0.0, 0.0)]),
-            ("stack5", sim.scenes.stack(5), sizes["stack_seconds"],
-             [("top_box_drift_m", _top_drift, 0.0, 0.01)]),
-            (f"pyramid{sizes['pyramid']}", sim.scenes.pyramid(sizes["pyramid"]), 5.0,
-             [("max_drift_m", _max_drift, 0.0, 0.02)]),
-            ("seed_fig3", sim.scenes.seed_fig3(), 4.0,
-             [("fell_off", _fell_off, 1.0, 0.0)])]
+        out.append(
+            (
+                f"bounce_e{e:g}",
+                bounce_scene(e, h),
+                3.0,
+                [("bounce_apex_m", _apex, e * e * h, 0.10 * e * e * h)],
+            )
+        )
+    out += [
+        ("tipping_past", tipping_scene(TIP_OFFSET_DEG), 5.0, [("tipped", _tipped, 1.0, 0.0)]),
+        ("tipping_short", tipping_scene(-TIP_OFFSET_DEG), 5.0, [("tipped", _tipped, 0.0, 0.0)]),
+        (
+            "stack5",
+            sim.scenes.stack(5),
+            sizes["stack_seconds"],
+            [("top_box_drift_m", _top_drift, 0.0, 0.01)],
+        ),
+        (
+            f"pyramid{sizes['pyramid']}",
+            sim.scenes.pyramid(sizes["pyramid"]),
+            5.0,
+            [("max_drift_m", _max_drift, 0.0, 0.02)],
+        ),
+        ("seed_fig3", sim.scenes.seed_fig3(), 4.0, [("fell_off", _fell_off, 1.0, 0.0)]),
+    ]
     n, seeds = sizes["drop"]
     for seed in seeds:
-        out.append((f"drop{n}_seed{seed}", sim.scenes.drop(n, seed=seed), sizes["drop_seconds"],
-                    [("bodies_in_bin", _inside_bin, float(n), 0.0),
-                     ("pile_height_m", _pile_height, None, 0.25)]))   # relative to sim-off's
+        out.append(
+            (
+                f"drop{n}_seed{seed}",
+                sim.scenes.drop(n, seed=seed),
+                sizes["drop_seconds"],
+                [
+                    ("bodies_in_bin", _inside_bin, float(n), 0.0),
+                    ("pile_height_m", _pile_height, None, 0.25),
+                ],
+            )
+        )  # relative to sim-off's
     return out
 
 
@@ -170,8 +221,7 @@ def cases(sizes):
 #: discrete slide stops about v0 h / 2 short of v0^2 / (2 mu g) for a step h, so Bullet (h = dt)
 #: stops v0 (dt - dt/4) / 2 = 0.019 m before sim (4 substeps), and Chipmunk, which moves
 #: positions before velocities, runs v0 dt further than Bullet: 0.031 m past sim.
-POSE_TOLERANCE = {"single_box": 0.005, "sliding_box": 0.06, "stack5": 0.01,
-                  "tipping_short": 0.01}
+POSE_TOLERANCE = {"single_box": 0.005, "sliding_box": 0.06, "stack5": 0.01, "tipping_short": 0.01}
 
 
 def run_case(system, scene, seconds, record_heights=False):
@@ -218,27 +268,54 @@ def agreement_rows(sizes, progress=None):
                     tol_abs = tol * abs(reference)
                 else:
                     reference, kind, tol_abs = analytic, "analytic", tol
-                rows.append({**base, "system": system, "metric": name, "value": value,
-                             "reference": reference, "reference_kind": kind,
-                             "tolerance": tol_abs,
-                             "agree": bool(abs(value - reference) <= tol_abs + 1e-12)})
+                rows.append(
+                    {
+                        **base,
+                        "system": system,
+                        "metric": name,
+                        "value": value,
+                        "reference": reference,
+                        "reference_kind": kind,
+                        "tolerance": tol_abs,
+                        "agree": bool(abs(value - reference) <= tol_abs + 1e-12),
+                    }
+                )
             if system != REFERENCE:
                 d_pos = float(np.hypot(*(t["end_pos"] - ref["end_pos"]).T).max())
                 d_ang = float(np.abs(t["end_angle"] - ref["end_angle"]).max())
                 tol = POSE_TOLERANCE.get(label)
-                for name, value in (("final_pose_diff_m", d_pos),
-                                    ("final_angle_diff_rad", d_ang)):
-                    rows.append({**base, "system": system, "metric": name, "value": value,
-                                 "reference": 0.0, "reference_kind": REFERENCE,
-                                 "tolerance": tol if name.endswith("_m") else None,
-                                 "agree": (bool(value <= tol) if tol is not None
-                                           and name.endswith("_m") else None)})
+                for name, value in (("final_pose_diff_m", d_pos), ("final_angle_diff_rad", d_ang)):
+                    rows.append(
+                        {
+                            **base,
+                            "system": system,
+                            "metric": name,
+                            "value": value,
+                            "reference": 0.0,
+                            "reference_kind": REFERENCE,
+                            "tolerance": tol if name.endswith("_m") else None,
+                            "agree": (
+                                bool(value <= tol)
+                                if tol is not None and name.endswith("_m")
+                                else None
+                            ),
+                        }
+                    )
             if "out_of_plane" in t:
                 o = t["out_of_plane"]
                 value = max(o["max_abs_y_m"], o["max_tilt_rad"], o["max_base_drift_m"])
-                rows.append({**base, "system": system, "metric": "out_of_plane_drift",
-                             "value": value, "reference": 0.0, "reference_kind": "zero",
-                             "tolerance": 0.0, "agree": bool(value == 0.0)})
+                rows.append(
+                    {
+                        **base,
+                        "system": system,
+                        "metric": "out_of_plane_drift",
+                        "value": value,
+                        "reference": 0.0,
+                        "reference_kind": "zero",
+                        "tolerance": 0.0,
+                        "agree": bool(value == 0.0),
+                    }
+                )
     return rows
 
 
@@ -249,15 +326,14 @@ def cost_rows(base, repeats, steps, progress=None):
     runners = [make_runner(system, scene, dt=DT) for system in SYSTEMS]
     try:
         for r in runners:
-            r.step(WARMUP_STEPS)                   # first steps excluded (contacts, caches)
+            r.step(WARMUP_STEPS)  # first steps excluded (contacts, caches)
         times = [[] for _ in runners]
         for _ in range(repeats):
             for k, r in enumerate(runners):
                 times[k].append(1e3 * timed(r, steps) / steps)
                 if progress is not None:
                     progress.update()
-        moved = [float(np.hypot(*(r.positions - runners[0].positions).T).max())
-                 for r in runners]
+        moved = [float(np.hypot(*(r.positions - runners[0].positions).T).max()) for r in runners]
     finally:
         for r in runners:
             r.close()
@@ -265,26 +341,52 @@ def cost_rows(base, repeats, steps, progress=None):
     rows = []
     label = f"pyramid{base}"
     for k, system in enumerate(SYSTEMS):
-        common = {"scene": label, "bodies": len(scene.bodies),
-                  "seconds": (WARMUP_STEPS + repeats * steps) * DT, "system": system,
-                  "tolerance": None, "agree": None}
-        rows += [{**common, "metric": "ms_per_step_median", "value": medians[k],
-                  "reference": medians[0], "reference_kind": REFERENCE},
-                 {**common, "metric": "ms_per_step_min", "value": min(times[k]),
-                  "reference": min(times[0]), "reference_kind": REFERENCE},
-                 {**common, "metric": "cost_vs_sim_off", "value": medians[k] / medians[0],
-                  "reference": 1.0, "reference_kind": REFERENCE},
-                 {**common, "metric": "final_pose_diff_m", "value": moved[k],
-                  "reference": 0.0, "reference_kind": REFERENCE}]
+        common = {
+            "scene": label,
+            "bodies": len(scene.bodies),
+            "seconds": (WARMUP_STEPS + repeats * steps) * DT,
+            "system": system,
+            "tolerance": None,
+            "agree": None,
+        }
+        rows += [
+            {
+                **common,
+                "metric": "ms_per_step_median",
+                "value": medians[k],
+                "reference": medians[0],
+                "reference_kind": REFERENCE,
+            },
+            {
+                **common,
+                "metric": "ms_per_step_min",
+                "value": min(times[k]),
+                "reference": min(times[0]),
+                "reference_kind": REFERENCE,
+            },
+            {
+                **common,
+                "metric": "cost_vs_sim_off",
+                "value": medians[k] / medians[0],
+                "reference": 1.0,
+                "reference_kind": REFERENCE,
+            },
+            {
+                **common,
+                "metric": "final_pose_diff_m",
+                "value": moved[k],
+                "reference": 0.0,
+                "reference_kind": REFERENCE,
+            },
+        ]
     return rows
 
 
 def run(sizes, repeats, steps):
     """The whole table: agreement rows, then cost rows."""
-    sim.World(sim.scenes.stack(2), dt=DT).step(2)          # compile Numba kernels first
+    sim.World(sim.scenes.stack(2), dt=DT).step(2)  # compile Numba kernels first
     n_cases = len(cases(sizes))
-    with tqdm(total=n_cases * len(SYSTEMS) + repeats * len(SYSTEMS), desc=NAME,
-              unit="run") as bar:
+    with tqdm(total=n_cases * len(SYSTEMS) + repeats * len(SYSTEMS), desc=NAME, unit="run") as bar:
         rows = agreement_rows(sizes, bar)
         rows += cost_rows(sizes["cost_pyramid"], repeats, steps, bar)
     return pd.DataFrame(rows)
@@ -292,13 +394,16 @@ def run(sizes, repeats, steps):
 
 def main(argv=None, data_dir=None):
     """Command line entry; ``data_dir`` overrides results/data (tests)."""
-    parser = argparse.ArgumentParser(prog=f"python -m experiments.{NAME}",
-                                     description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog=f"python -m experiments.{NAME}", description=__doc__.splitlines()[0]
+    )
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
-    parser.add_argument("--repeats", type=int, default=None,
-                        help="timed repeats (default 7, quick 3)")
-    parser.add_argument("--steps", type=int, default=None,
-                        help="steps per timed repeat (default 20, quick 5)")
+    parser.add_argument(
+        "--repeats", type=int, default=None, help="timed repeats (default 7, quick 3)"
+    )
+    parser.add_argument(
+        "--steps", type=int, default=None, help="steps per timed repeat (default 20, quick 5)"
+    )
     args = parser.parse_args(argv)
     sizes = QUICK if args.quick else FULL
     repeats = args.repeats or sizes["repeats"]
@@ -308,25 +413,37 @@ def main(argv=None, data_dir=None):
 
     table = run(sizes, repeats, steps)
     scenes = [scene for _, scene, _, _ in cases(sizes)] + [
-        sim.scenes.pyramid(sizes["cost_pyramid"])]
+        sim.scenes.pyramid(sizes["cost_pyramid"])
+    ]
     probe = sim.scenes.single_box()
     settings = {}
     for system in SYSTEMS:
         with make_runner(system, probe, dt=DT) as r:
             settings[system] = r.settings
-    parameters = {"dt": DT, "systems": list(SYSTEMS), "reference": REFERENCE,
-                  "solver_summary": {system: solver_summary(settings[system])
-                                     for system in SYSTEMS},
-                  "quick": args.quick, "sizes": sizes, "repeats": repeats,
-                  "steps_per_repeat": steps, "warmup_steps": WARMUP_STEPS,
-                  "tip_offset_deg": TIP_OFFSET_DEG, "pose_tolerance": POSE_TOLERANCE,
-                  "system_settings": settings}
+    parameters = {
+        "dt": DT,
+        "systems": list(SYSTEMS),
+        "reference": REFERENCE,
+        "solver_summary": {system: solver_summary(settings[system]) for system in SYSTEMS},
+        "quick": args.quick,
+        "sizes": sizes,
+        "repeats": repeats,
+        "steps_per_repeat": steps,
+        "warmup_steps": WARMUP_STEPS,
+        "tip_offset_deg": TIP_OFFSET_DEG,
+        "pose_tolerance": POSE_TOLERANCE,
+        "system_settings": settings,
+    }
     metadata = collect(scenes, parameters, script=NAME)
     csv_path, _ = write_results(NAME, table, metadata, folder=data_dir)
-    with pd.option_context("display.width", 200, "display.max_columns", 20,
-                           "display.max_rows", 500):
-        print(table.drop(columns=["reference_kind"]).to_string(
-            index=False, float_format=lambda x: f"{x:.4g}"))
+    with pd.option_context(
+        "display.width", 200, "display.max_columns", 20, "display.max_rows", 500
+    ):
+        print(
+            table.drop(columns=["reference_kind"]).to_string(
+                index=False, float_format=lambda x: f"{x:.4g}"
+            )
+        )
     print(f"wrote {csv_path}")
     return table
 

@@ -189,6 +189,7 @@ writes results/data/table_extremes.csv and table_extremes.json. --quick: one or 
 axis (the extreme ones), short runs (1 s; the projectiles 3 s, the knife edge 4 s), small sizes,
 coarser references (fine 4, projectiles 8).
 """
+
 import json
 import math
 from dataclasses import asdict, replace
@@ -199,14 +200,35 @@ from study import common
 from study.common import DT, SYSTEMS
 from study.executor import run_tasks
 from study.extremes import rules
-from study.extremes.axes import (AXES, ALL_SYSTEMS, NO_PRESOLVE_SETTINGS,
-                                       NO_PRESOLVE_SYSTEMS, PLACED_AXES, SIM_ONLY_AXES, applies)
+from study.extremes.axes import (
+    AXES,
+    ALL_SYSTEMS,
+    NO_PRESOLVE_SETTINGS,
+    NO_PRESOLVE_SYSTEMS,
+    PLACED_AXES,
+    SIM_ONLY_AXES,
+    applies,
+)
 from study.extremes.judge import KNIFE_TURN, STAND_MOVE, STAND_TURN
 from study.extremes.record import Measurement, Row
-from study.extremes.runs import (REF_ITERATIONS, REF_MAX_SUBSTEPS, REF_SUBSTEPS,
-                                       reference_task, run_task, simulate_stored, task_key)
-from study.extremes.scenes import (ARRIVAL_S, HAMMER, HAMMER_DENSITY, HAMMER_GAP,
-                                         PROJECTILE_SIZE, WALL, scene_of)
+from study.extremes.runs import (
+    REF_ITERATIONS,
+    REF_MAX_SUBSTEPS,
+    REF_SUBSTEPS,
+    reference_task,
+    run_task,
+    simulate_stored,
+    task_key,
+)
+from study.extremes.scenes import (
+    ARRIVAL_S,
+    HAMMER,
+    HAMMER_DENSITY,
+    HAMMER_GAP,
+    PROJECTILE_SIZE,
+    WALL,
+    scene_of,
+)
 from study.extremes.threshold import find_threshold
 from study.peers import engine_of
 
@@ -215,15 +237,25 @@ NAME = "table_extremes"
 FULL = {
     "axes": {name: list(axis.values) for name, axis in AXES.items()},
     "duration_s": {name: axis.duration_s for name, axis in AXES.items()},
-    "fine": 8, "fine_projectile": 32, "long_run_reference_s": 60.0,
-    "samples": 200, "sample_budget": 20000, "budget_s": 120.0, "pybullet_max_bodies": 250,
+    "fine": 8,
+    "fine_projectile": 32,
+    "long_run_reference_s": 60.0,
+    "samples": 200,
+    "sample_budget": 20000,
+    "budget_s": 120.0,
+    "pybullet_max_bodies": 250,
     "bisection_steps": 45,
 }
 QUICK = {
     "axes": {name: list(axis.quick) for name, axis in AXES.items()},
     "duration_s": {name: axis.quick_duration_s for name, axis in AXES.items()},
-    "fine": 4, "fine_projectile": 8, "long_run_reference_s": 5.0,
-    "samples": 50, "sample_budget": 20000, "budget_s": 20.0, "pybullet_max_bodies": 250,
+    "fine": 4,
+    "fine_projectile": 8,
+    "long_run_reference_s": 5.0,
+    "samples": 50,
+    "sample_budget": 20000,
+    "budget_s": 20.0,
+    "pybullet_max_bodies": 250,
     "bisection_steps": 45,
 }
 
@@ -235,10 +267,23 @@ def thresholds_of(config, store, header):
     if not axes:
         return {}
     steps = int(round(config["duration_s"][axes[0]] / DT))
-    tasks = [{"role": "threshold", "policy": p, "steps": steps,
-              "bisection_steps": config["bisection_steps"]} for p in ("paper", "extended")]
-    found = run_tasks(find_threshold, tasks, desc=f"{NAME} thresholds", store=store,
-                      header=header, key=lambda t: f"threshold|{t['policy']}")
+    tasks = [
+        {
+            "role": "threshold",
+            "policy": p,
+            "steps": steps,
+            "bisection_steps": config["bisection_steps"],
+        }
+        for p in ("paper", "extended")
+    ]
+    found = run_tasks(
+        find_threshold,
+        tasks,
+        desc=f"{NAME} thresholds",
+        store=store,
+        header=header,
+        key=lambda t: f"threshold|{t['policy']}",
+    )
     return {t["policy"]: res for t, res in zip(tasks, found)}
 
 
@@ -255,15 +300,27 @@ def sweep_tasks(config, thresholds):
                     policy = "extended" if system == "sim-extended" else "paper"
                     v_star = thresholds[policy]["v_star"]
                     if not math.isfinite(v_star):
-                        not_run.append((axis, value, system, "no threshold crossing found: "
-                                        + thresholds[policy]["note"]))
+                        not_run.append(
+                            (
+                                axis,
+                                value,
+                                system,
+                                "no threshold crossing found: " + thresholds[policy]["note"],
+                            )
+                        )
                         continue
                 task = run_task(axis, value, system, config, v_star)
                 n = task["bodies"]
                 if engine_of(task["runner"]) == "pybullet" and n > config["pybullet_max_bodies"]:
-                    not_run.append((axis, value, system,
-                                    f"cost: pybullet not run above {config['pybullet_max_bodies']}"
-                                    f" bodies ({n}; pyramid(40) costs ~0.7 s per step)"))
+                    not_run.append(
+                        (
+                            axis,
+                            value,
+                            system,
+                            f"cost: pybullet not run above {config['pybullet_max_bodies']}"
+                            f" bodies ({n}; pyramid(40) costs ~0.7 s per step)",
+                        )
+                    )
                     continue
                 runs.append(task)
     return runs, not_run
@@ -282,8 +339,16 @@ def table_of(runs, not_run, results, config):
             reason = (reason + "; " if reason else "") + "reference not valid: outcome not compared"
         rows.append(Row.of_run(task, res, status, reason, ref))
     for axis, value, system, reason in not_run:
-        rows.append(Row(axis=axis, value=value, unit=AXES[axis].unit, system=system,
-                        status="not run", reason=reason))
+        rows.append(
+            Row(
+                axis=axis,
+                value=value,
+                unit=AXES[axis].unit,
+                system=system,
+                status="not run",
+                reason=reason,
+            )
+        )
     table = pd.DataFrame([asdict(row) for row in rows])
     # temporary sort keys (dropped): AXES's order, the config's order of values, ALL_SYSTEMS's
     order = {a: k for k, a in enumerate(AXES)}
@@ -297,7 +362,7 @@ def table_of(runs, not_run, results, config):
 def run(config, args):
     common.compile_kernels()
     quick = bool(args.quick)
-    store, header = common.sweep_store(NAME, quick, config)   # entry removes it once written
+    store, header = common.sweep_store(NAME, quick, config)  # entry removes it once written
 
     # 1. the impulse thresholds (two bisections, through the executor)
     thresholds = thresholds_of(config, store, header)
@@ -309,40 +374,70 @@ def run(config, args):
         ref = reference_task(task, config)
         refs.setdefault(task_key(ref), ref)
     tasks = list(refs.values()) + runs
-    stored = run_tasks(simulate_stored, tasks, desc=f"{NAME} runs", store=store, header=header,
-                       key=task_key)
+    stored = run_tasks(
+        simulate_stored, tasks, desc=f"{NAME} runs", store=store, header=header, key=task_key
+    )
     results = {task_key(t): Measurement(**res) for t, res in zip(tasks, stored)}
 
     # 3. the table
     table = table_of(runs, not_run, results, config)
 
-    references = [{"key": k, "scene": t["scene"], "dt_s": t["dt"], "iterations": t["iterations"],
-                   "substeps": results[k].substeps,
-                   "steps": t["steps"], "outcome": results[k].outcome,
-                   "valid": rules.ref_valid(results[k]), "error": results[k].error,
-                   "tunnelled": results[k].tunnelled,
-                   "penetration_rel": results[k].penetration_rel,
-                   "wall_s": results[k].wall_s} for k, t in refs.items()]
-    scenes = [scene_of(spec) for spec in
-              {json.dumps(t["scene"], sort_keys=True): t["scene"] for t in runs
-               if t["kind"] != "rejected"}.values()]
+    references = [
+        {
+            "key": k,
+            "scene": t["scene"],
+            "dt_s": t["dt"],
+            "iterations": t["iterations"],
+            "substeps": results[k].substeps,
+            "steps": t["steps"],
+            "outcome": results[k].outcome,
+            "valid": rules.ref_valid(results[k]),
+            "error": results[k].error,
+            "tunnelled": results[k].tunnelled,
+            "penetration_rel": results[k].penetration_rel,
+            "wall_s": results[k].wall_s,
+        }
+        for k, t in refs.items()
+    ]
+    scenes = [
+        scene_of(spec)
+        for spec in {
+            json.dumps(t["scene"], sort_keys=True): t["scene"]
+            for t in runs
+            if t["kind"] != "rejected"
+        }.values()
+    ]
     parameters = {
-        "dt": DT, "systems": list(SYSTEMS),
-        "no_presolve": {"systems": list(NO_PRESOLVE_SYSTEMS), "settings": NO_PRESOLVE_SETTINGS,
-                        "axes": [a for a in PLACED_AXES if a in config["axes"]]},
+        "dt": DT,
+        "systems": list(SYSTEMS),
+        "no_presolve": {
+            "systems": list(NO_PRESOLVE_SYSTEMS),
+            "settings": NO_PRESOLVE_SETTINGS,
+            "axes": [a for a in PLACED_AXES if a in config["axes"]],
+        },
         "sim_only_axes": [a for a in SIM_ONLY_AXES if a in config["axes"]],
-        "reference": {"system": "sim-off", "fine": config["fine"],
-                      "fine_projectile": config["fine_projectile"], "substeps": REF_SUBSTEPS,
-                      "iterations_per_substep": REF_ITERATIONS,
-                      "substeps_doubled_up_to": REF_MAX_SUBSTEPS},
-        "rules": {"explosion_factor": rules.EXPLOSION_FACTOR,
-                  "penetration_rel": rules.PENETRATION_REL, "drift_rel": rules.DRIFT_REL,
-                  "energy_growth": rules.ENERGY_GROWTH, "max_wakes": rules.MAX_WAKES,
-                  "max_state_changes": rules.MAX_STATE_CHANGES,
-                  "stand_move": STAND_MOVE, "stand_turn_rad": STAND_TURN,
-                  "knife_turn_rad": KNIFE_TURN},
+        "reference": {
+            "system": "sim-off",
+            "fine": config["fine"],
+            "fine_projectile": config["fine_projectile"],
+            "substeps": REF_SUBSTEPS,
+            "iterations_per_substep": REF_ITERATIONS,
+            "substeps_doubled_up_to": REF_MAX_SUBSTEPS,
+        },
+        "rules": {
+            "explosion_factor": rules.EXPLOSION_FACTOR,
+            "penetration_rel": rules.PENETRATION_REL,
+            "drift_rel": rules.DRIFT_REL,
+            "energy_growth": rules.ENERGY_GROWTH,
+            "max_wakes": rules.MAX_WAKES,
+            "max_state_changes": rules.MAX_STATE_CHANGES,
+            "stand_move": STAND_MOVE,
+            "stand_turn_rad": STAND_TURN,
+            "knife_turn_rad": KNIFE_TURN,
+        },
         "axes": {a: {"unit": AXES[a].unit, "values": config["axes"][a]} for a in AXES},
-        "thresholds": thresholds, "references": references,
+        "thresholds": thresholds,
+        "references": references,
         "projectile": {"size_m": PROJECTILE_SIZE, "arrival_s": ARRIVAL_S, "wall_m": list(WALL)},
         "impact": {"hammer_m": HAMMER, "hammer_density": HAMMER_DENSITY, "gap_m": HAMMER_GAP},
         "store": str(store),

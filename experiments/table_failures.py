@@ -28,7 +28,8 @@ scenario, sim-off at dt/4 and dt/8 with 1, 2 and 4 sweeps per substep and at dt/
 the same label each time (solver v2, quick and full truth alike); the measures of the
 non-chaotic scenarios agree to a few mm (what follows an impact is chaotic: poses, not labels,
 differ there). The truth's label is checked against what physics says (the scenario's
-``expected``; column ``truth_is_expected``, and tests/unit/test_scenarios.py); a mismatch would be the
+``expected``; column ``truth_is_expected``, and tests/unit/test_scenarios.py); a mismatch would be
+the
 scenario's fault and is reported, not hidden.
 
 Per scenario x system (one row each):
@@ -50,7 +51,8 @@ Per scenario x system (one row each):
 - timing: ``wall_ms_median`` / ``wall_ms_min``: wall time of one whole run after its first step
   (median and min over ``repeats``, default 7), ``ms_per_step``, ``speedup`` = the reference's
   median / this system's median (1 for the references), and ``speedup_min``, the same ratio of
-  minima (a check: when the two disagree, the machine was busy). Method (docs/ARCHITECTURE.md §5): Numba
+  minima (a check: when the two disagree, the machine was busy). Method (docs/ARCHITECTURE.md §5):
+  Numba
   kernels compiled first (common.compile_kernels); one untimed trial run per system sizes K, the
   runs per repeat, so that a repeat lasts about ``repeat_s`` (50 ms; K = 1 for most Bullet runs,
   ~20-150 for sim and pymunk; column ``runs_per_repeat``); each repeat builds K runners
@@ -74,6 +76,7 @@ runs_per_repeat, timed_pose_diff_m.
     python -m experiments.table_failures [--quick] [--repeats R] [--only NAME[,NAME...]]
 writes results/data/table_failures.csv and table_failures.json.
 """
+
 import math
 import statistics
 
@@ -82,26 +85,35 @@ import pandas as pd
 from tqdm import tqdm
 
 from study import common, scenarios
-from study.common import (DT, REFERENCE, SYSTEMS, build, compile_kernels, pose_error,
-                                sweep_store)
+from study.common import DT, REFERENCE, SYSTEMS, build, compile_kernels, pose_error, sweep_store
 from study.executor import run_tasks
 from study.timing import timed
 
 NAME = "table_failures"
 TRUTH_SYSTEM = "sim-off"
-EVENT_LEAD_S = 0.1          # s before a scheduled arrival at which "asleep at event" is read
+EVENT_LEAD_S = 0.1  # s before a scheduled arrival at which "asleep at event" is read
 
 #: repeat_s: a sim or pymunk run of these scenes lasts 0.3-10 ms; timed alone, on the shared
 #: 2-core machine (load 3-5) half the repeats of a 1 ms run came out 2-5 times slower (the process
 #: preempted for a time slice) and medians were noise. A repeat therefore times K whole runs back
 #: to back, K chosen so that it lasts about repeat_s; a busy machine then stretches every system's
 #: repeat alike instead of hitting a few at random.
-FULL = {"scenarios": tuple(scenarios.SCENARIOS), "repeats": 7, "repeat_s": 0.05,
-        "truth_divisor": 8, "truth_iterations": 4}
+FULL = {
+    "scenarios": tuple(scenarios.SCENARIOS),
+    "repeats": 7,
+    "repeat_s": 0.05,
+    "truth_divisor": 8,
+    "truth_iterations": 4,
+}
 #: quick: the same scenarios (each is small; the tests check every truth label), one repeat of
 #: one run (timings are only smoke-tested) and a coarser truth (dt/4)
-QUICK = {"scenarios": tuple(scenarios.SCENARIOS), "repeats": 1, "repeat_s": 0.0,
-         "truth_divisor": 4, "truth_iterations": 4}
+QUICK = {
+    "scenarios": tuple(scenarios.SCENARIOS),
+    "repeats": 1,
+    "repeat_s": 0.0,
+    "truth_divisor": 4,
+    "truth_iterations": 4,
+}
 
 
 def _steps(seconds, dt):
@@ -123,7 +135,7 @@ def observe(task):
     settings = {} if iterations is None else {"iterations": iterations}
     runner = build(system, scene, dt=dt, **settings)
     try:
-        frozen_steps = 0                        # body-steps frozen
+        frozen_steps = 0  # body-steps frozen
         ever = np.zeros(len(scene.bodies), dtype=bool)
         at_event = math.nan
         for k in range(1, steps + 1):
@@ -134,12 +146,17 @@ def observe(task):
             if k == event_step:
                 at_event = float(asleep[key].mean())
         positions, angles = runner.positions, runner.angles
-        return {"positions": positions, "angles": angles,
-                "outcome": scenario.classify(scene, positions, angles),
-                "measure": scenario.measure(scene, positions, angles),
-                "frozen_fraction": frozen_steps / (steps * len(scene.bodies)),
-                "key_ever_frozen": float(ever[key].mean()), "asleep_at_event": at_event,
-                "steps": steps, "settings": runner.settings}
+        return {
+            "positions": positions,
+            "angles": angles,
+            "outcome": scenario.classify(scene, positions, angles),
+            "measure": scenario.measure(scene, positions, angles),
+            "frozen_fraction": frozen_steps / (steps * len(scene.bodies)),
+            "key_ever_frozen": float(ever[key].mean()),
+            "asleep_at_event": at_event,
+            "steps": steps,
+            "settings": runner.settings,
+        }
     finally:
         runner.close()
 
@@ -183,11 +200,11 @@ def time_scenario(name, systems, repeats, target_s, progress):
     walls = {s: [] for s in systems}
     poses = {s: [] for s in systems}
     for r in range(repeats):
-        for system in (systems if r % 2 == 0 else systems[::-1]):
+        for system in systems if r % 2 == 0 else systems[::-1]:
             progress.set_postfix_str(f"{name} {system} x{k_runs[system]}")
             batch = _Batch([build(system, scene) for _ in range(k_runs[system])])
             try:
-                batch.step(1)                   # excluded: the first step creates the contacts
+                batch.step(1)  # excluded: the first step creates the contacts
                 walls[system].append(timed(batch, steps - 1) / k_runs[system])
                 poses[system] += [(x.positions, x.angles) for x in batch.runners]
             finally:
@@ -202,7 +219,7 @@ def run(config, args):
     if args.only:
         wanted = [s.strip() for s in args.only.split(",") if s.strip()]
         for s in wanted:
-            scenarios.get(s)                    # a clear error for an unknown name
+            scenarios.get(s)  # a clear error for an unknown name
         names = tuple(s for s in names if s in wanted)
     repeats = args.repeats or config["repeats"]
     if repeats < 1:
@@ -214,14 +231,18 @@ def run(config, args):
     tasks = [(n, TRUTH_SYSTEM, truth_dt, config["truth_iterations"]) for n in names]
     tasks += [(n, s, DT, None) for n in names for s in SYSTEMS]
     store, header = sweep_store(NAME, args.quick, config)
-    results = dict(zip([(t[0], t[1] if t[2] == DT else "truth") for t in tasks],
-                       run_tasks(observe, tasks, desc=f"{NAME} untimed runs",
-                                 store=store, header=header)))
+    results = dict(
+        zip(
+            [(t[0], t[1] if t[2] == DT else "truth") for t in tasks],
+            run_tasks(observe, tasks, desc=f"{NAME} untimed runs", store=store, header=header),
+        )
+    )
 
     # timed: serial, interleaved
     timings = {}
-    with tqdm(total=len(names) * len(SYSTEMS) * repeats, desc=f"{NAME} timed runs",
-              unit="run") as bar:
+    with tqdm(
+        total=len(names) * len(SYSTEMS) * repeats, desc=f"{NAME} timed runs", unit="run"
+    ) as bar:
         for n in names:
             timings[n] = time_scenario(n, SYSTEMS, repeats, config["repeat_s"], bar)
 
@@ -235,66 +256,99 @@ def run(config, args):
         medians = {s: statistics.median(walls[s]) for s in SYSTEMS}
         for system in SYSTEMS:
             obs, ref = results[(n, system)], results[(n, REFERENCE[system])]
-            err_m, err_rad = pose_error(obs["positions"][key], obs["angles"][key],
-                                        ref["positions"][key], ref["angles"][key])
-            err_all, _ = pose_error(obs["positions"], obs["angles"], ref["positions"],
-                                    ref["angles"])
-            truth_err, _ = pose_error(obs["positions"][key], obs["angles"][key],
-                                      truth["positions"][key], truth["angles"][key])
-            timed_diff = max(pose_error(p, a, obs["positions"], obs["angles"])[0]
-                             for p, a in poses[system])
-            rows.append({
-                "scenario": n, "system": system, "reference": REFERENCE[system],
-                "bodies": len(scene.bodies), "seconds": scenario.duration(scene),
-                "steps": obs["steps"], "event_s": scenario.event_time(scene),
-                "expected": scenario.expected, "truth": truth["outcome"],
-                "truth_is_expected": truth["outcome"] == scenario.expected,
-                "outcome": obs["outcome"], "right": obs["outcome"] == truth["outcome"],
-                "changed": obs["outcome"] != ref["outcome"],
-                "engine_right": ref["outcome"] == truth["outcome"],
-                "measure_name": scenario.measure_name, "measure": obs["measure"],
-                "truth_measure": truth["measure"],
-                "pose_error_m": err_m, "pose_error_rad": err_rad, "pose_error_all_m": err_all,
-                "truth_error_m": truth_err,
-                "frozen_fraction": obs["frozen_fraction"],
-                "key_ever_frozen": obs["key_ever_frozen"],
-                "asleep_at_event": obs["asleep_at_event"],
-                "wall_ms_median": 1e3 * medians[system], "wall_ms_min": 1e3 * min(walls[system]),
-                "ms_per_step": 1e3 * medians[system] / (obs["steps"] - 1),
-                "speedup": medians[REFERENCE[system]] / medians[system],
-                "speedup_min": min(walls[REFERENCE[system]]) / min(walls[system]),
-                "repeats": repeats, "runs_per_repeat": k_runs[system],
-                "timed_pose_diff_m": timed_diff,
-            })
+            err_m, err_rad = pose_error(
+                obs["positions"][key], obs["angles"][key], ref["positions"][key], ref["angles"][key]
+            )
+            err_all, _ = pose_error(
+                obs["positions"], obs["angles"], ref["positions"], ref["angles"]
+            )
+            truth_err, _ = pose_error(
+                obs["positions"][key],
+                obs["angles"][key],
+                truth["positions"][key],
+                truth["angles"][key],
+            )
+            timed_diff = max(
+                pose_error(p, a, obs["positions"], obs["angles"])[0] for p, a in poses[system]
+            )
+            rows.append(
+                {
+                    "scenario": n,
+                    "system": system,
+                    "reference": REFERENCE[system],
+                    "bodies": len(scene.bodies),
+                    "seconds": scenario.duration(scene),
+                    "steps": obs["steps"],
+                    "event_s": scenario.event_time(scene),
+                    "expected": scenario.expected,
+                    "truth": truth["outcome"],
+                    "truth_is_expected": truth["outcome"] == scenario.expected,
+                    "outcome": obs["outcome"],
+                    "right": obs["outcome"] == truth["outcome"],
+                    "changed": obs["outcome"] != ref["outcome"],
+                    "engine_right": ref["outcome"] == truth["outcome"],
+                    "measure_name": scenario.measure_name,
+                    "measure": obs["measure"],
+                    "truth_measure": truth["measure"],
+                    "pose_error_m": err_m,
+                    "pose_error_rad": err_rad,
+                    "pose_error_all_m": err_all,
+                    "truth_error_m": truth_err,
+                    "frozen_fraction": obs["frozen_fraction"],
+                    "key_ever_frozen": obs["key_ever_frozen"],
+                    "asleep_at_event": obs["asleep_at_event"],
+                    "wall_ms_median": 1e3 * medians[system],
+                    "wall_ms_min": 1e3 * min(walls[system]),
+                    "ms_per_step": 1e3 * medians[system] / (obs["steps"] - 1),
+                    "speedup": medians[REFERENCE[system]] / medians[system],
+                    "speedup_min": min(walls[REFERENCE[system]]) / min(walls[system]),
+                    "repeats": repeats,
+                    "runs_per_repeat": k_runs[system],
+                    "timed_pose_diff_m": timed_diff,
+                }
+            )
     table = pd.DataFrame(rows)
     scenes = [scenarios.get(n).build() for n in names]
     parameters = {
-        "dt": DT, "systems": list(SYSTEMS), "reference": dict(REFERENCE), "repeats": repeats,
-        "scenarios": {n: {"question": scenarios.get(n).question,
-                          "expected": scenarios.get(n).expected,
-                          "labels": list(scenarios.get(n).labels),
-                          "seconds": scenarios.get(n).seconds,
-                          "event_s": scenarios.get(n).event_s,
-                          "params": scenarios.get(n).params,
-                          "measure": scenarios.get(n).measure_name} for n in names},
-        "truth": {"system": TRUTH_SYSTEM, "dt": truth_dt,
-                  "iterations": config["truth_iterations"],
-                  "iterations_are": "biased sweeps per substep (sim solver v2)",
-                  "substeps": results[(names[0], "truth")]["settings"].get("substeps"),
-                  "settings": results[(names[0], "truth")]["settings"]},
+        "dt": DT,
+        "systems": list(SYSTEMS),
+        "reference": dict(REFERENCE),
+        "repeats": repeats,
+        "scenarios": {
+            n: {
+                "question": scenarios.get(n).question,
+                "expected": scenarios.get(n).expected,
+                "labels": list(scenarios.get(n).labels),
+                "seconds": scenarios.get(n).seconds,
+                "event_s": scenarios.get(n).event_s,
+                "params": scenarios.get(n).params,
+                "measure": scenarios.get(n).measure_name,
+            }
+            for n in names
+        },
+        "truth": {
+            "system": TRUTH_SYSTEM,
+            "dt": truth_dt,
+            "iterations": config["truth_iterations"],
+            "iterations_are": "biased sweeps per substep (sim solver v2)",
+            "substeps": results[(names[0], "truth")]["settings"].get("substeps"),
+            "settings": results[(names[0], "truth")]["settings"],
+        },
         "event_lead_s": EVENT_LEAD_S,
         "system_settings": {s: results[(names[0], s)]["settings"] for s in SYSTEMS},
         "frozen_means": "the runner's asleep: sim World.frozen (out of the awake list); "
-                        "pymunk body.is_sleeping; pybullet velocities exactly 0 and pose unchanged",
+        "pymunk body.is_sleeping; pybullet velocities exactly 0 and pose unchanged",
     }
     return table, scenes, parameters
 
 
 def _extra_args(parser):
-    parser.add_argument("--repeats", type=int, default=None,
-                        help="timed repeats per system (default 7, quick 1)")
-    parser.add_argument("--only", default=None,
-                        help="comma-separated scenario names (default: all of them)")
+    parser.add_argument(
+        "--repeats", type=int, default=None, help="timed repeats per system (default 7, quick 1)"
+    )
+    parser.add_argument(
+        "--only", default=None, help="comma-separated scenario names (default: all of them)"
+    )
 
 
 main = common.entry(NAME, __doc__, FULL, QUICK, run, extra_args=_extra_args)

@@ -1,10 +1,11 @@
 """freeze2d's 2D rigid-body solver for convex polygons, with switchable freezing of resting bodies.
 
-    import sim
-    world = sim.World(sim.scenes.pyramid(20), dt=1/60, iterations=10, freeze="off")
-    world.step(600)
-    world.positions, world.angles, world.states, world.events
+import sim
+world = sim.World(sim.scenes.pyramid(20), dt=1/60, iterations=10, freeze="off")
+world.step(600)
+world.positions, world.angles, world.states, world.events
 """
+
 import hashlib as _hashlib
 import os as _os
 import pathlib as _pathlib
@@ -27,7 +28,7 @@ def _use_source_keyed_cache():
         digest.update(f.read_bytes())
     key = digest.hexdigest()[:16]
     root = _pathlib.Path(_os.environ.get("NUMBA_CACHE_DIR") or here / "__pycache__" / "numba")
-    for old in root.glob("*"):               # caches of earlier sources are dead weight
+    for old in root.glob("*"):  # caches of earlier sources are dead weight
         if old.is_dir() and old.name != key and len(old.name) == 16:
             _shutil.rmtree(old, ignore_errors=True)
     _numba.config.CACHE_DIR = str(root / key)
@@ -43,5 +44,13 @@ from .state import State  # noqa: E402
 from .world import SimulationError, World  # noqa: E402
 from . import scenes  # noqa: E402
 
-__all__ = ["Body", "Scene", "World", "State", "scenes", "PolygonError", "SimulationError",
-           "POLICY_NAMES"]
+__all__ = [
+    "Body",
+    "Scene",
+    "World",
+    "State",
+    "scenes",
+    "PolygonError",
+    "SimulationError",
+    "POLICY_NAMES",
+]

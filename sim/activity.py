@@ -10,6 +10,7 @@ in a step in which the frozen set changed, never per step otherwise. Waking reve
 Arrays: see ``data.Activity``. Events are rows (step, body, from_state, to_state, cause) of
 ``activity.events``, counters[N_EVENTS] of them used.
 """
+
 import numpy as np
 
 from .contacts import sleep_contacts_of, wake_contacts_of
@@ -21,9 +22,23 @@ from .state import State
 EVENT_STEP, EVENT_BODY, EVENT_FROM, EVENT_TO, EVENT_CAUSE = range(5)
 
 #: cause codes of events; the names are what ``World.events`` reports
-CAUSES = ("rested", "touched", "woken_by_island", "impact", "support_lost", "pushed", "tipping",
-          "one_vertex_on_floor", "two_vertices_on_floor", "com_outside_support", "held_by_contact",
-          "stopped_sliding", "bounced", "lifted_off", "timer")
+CAUSES = (
+    "rested",
+    "touched",
+    "woken_by_island",
+    "impact",
+    "support_lost",
+    "pushed",
+    "tipping",
+    "one_vertex_on_floor",
+    "two_vertices_on_floor",
+    "com_outside_support",
+    "held_by_contact",
+    "stopped_sliding",
+    "bounced",
+    "lifted_off",
+    "timer",
+)
 CAUSE = {name: code for code, name in enumerate(CAUSES)}
 
 
@@ -106,7 +121,8 @@ def initial_activity(n_dynamic, n_bodies, inv_mass, inv_inertia, policy):
         body_real=np.zeros((n_dynamic, policy.REAL_COLUMNS)),
         body_int=np.zeros((n_dynamic, policy.INT_COLUMNS), np.int64),
         links=np.zeros((max(16, 4 * n_dynamic), 2), np.int64),
-        link_load=np.zeros((max(16, 4 * n_dynamic), 3)))
+        link_load=np.zeros((max(16, 4 * n_dynamic), 3)),
+    )
     initial = getattr(policy, "initial", None)
     if initial is not None:
         initial(act.body_int)

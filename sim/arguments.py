@@ -4,6 +4,7 @@ normalised or raises ValueError naming the argument.
 One rule for every engine: a number is a number, not text (``float("0.01")`` would take
 ``dt="0.01"``, and ``"12"`` unpacks to a pair), and a switch is a bool (``bool("no")`` is True).
 Body and Scene fields have their own checks (``sim.body``), which also name the body."""
+
 import math
 import numbers
 
@@ -24,20 +25,25 @@ def positive(value, what, allow_zero=False):
     """A finite float > 0 (or >= 0 with ``allow_zero``)."""
     x = number(value, what)
     if not math.isfinite(x) or x < 0.0 or (x == 0.0 and not allow_zero):
-        raise ValueError(f"{what} must be {'>= 0' if allow_zero else '> 0'} and finite, "
-                         f"got {value!r}")
+        raise ValueError(
+            f"{what} must be {'>= 0' if allow_zero else '> 0'} and finite, got {value!r}"
+        )
     return x
 
 
 def count(value, what, minimum, maximum=None, why=""):
     """An int >= ``minimum`` (and <= ``maximum``, refused with ``why``): a float such as 2.0 is
     refused too, since a count given as a float is usually a formula gone wrong."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral) \
-            or value < minimum:
+    if (
+        isinstance(value, (bool, np.bool_))
+        or not isinstance(value, numbers.Integral)
+        or value < minimum
+    ):
         raise ValueError(f"{what} must be an integer >= {minimum}, got {value!r}")
     if maximum is not None and value > maximum:
-        raise ValueError(f"{what} must be at most {maximum:,}, got {value!r}"
-                         + (f": {why}" if why else ""))
+        raise ValueError(
+            f"{what} must be at most {maximum:,}, got {value!r}" + (f": {why}" if why else "")
+        )
     return int(value)
 
 

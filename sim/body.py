@@ -3,14 +3,21 @@
 The rules for a body's fields live here once, in two forms that agree: ``check_fields`` for one
 body (it raises the message) and ``failing_fields`` for arrays of many bodies (it finds which fail,
 so that ``Scene.from_arrays`` can ask ``check_fields`` for the first one's message)."""
+
 from dataclasses import dataclass, field
 import math
 import numbers
 
 import numpy as np
 
-from .geometry import (MAX_COORDINATE, MAX_SPEED, MAX_VERTICES, PolygonError, mass_properties,
-                       validate_polygon)
+from .geometry import (
+    MAX_COORDINATE,
+    MAX_SPEED,
+    MAX_VERTICES,
+    PolygonError,
+    mass_properties,
+    validate_polygon,
+)
 
 #: Polygons (shape, bytes of the float64 vertex array) that passed ``validate_polygon``: a scene of
 #: 10^5 equal boxes checks its one polygon once instead of 10^5 times (~70 us each). The check is
@@ -27,7 +34,7 @@ def _validated_polygon(vertices, name):
     try:
         v = np.asarray(vertices, dtype=np.float64)
     except (TypeError, ValueError):
-        return validate_polygon(vertices, name)             # raises the reference's message
+        return validate_polygon(vertices, name)  # raises the reference's message
     if v.size > 2 * _REMEMBERED_VERTICES:
         return validate_polygon(v, name)
     key = (v.shape, v.tobytes())
@@ -61,7 +68,7 @@ def _numeric(seq):
 
 def finite_pair(value, what, name):
     """(x, y) as a tuple of finite floats, or ValueError naming ``name`` and ``what``."""
-    if isinstance(value, (str, bytes)):          # "12" would unpack to (1.0, 2.0)
+    if isinstance(value, (str, bytes)):  # "12" would unpack to (1.0, 2.0)
         raise ValueError(f"{name}: {what} must be a pair of numbers, got {value!r}")
     try:
         x, y = (float(c) for c in value)
@@ -74,7 +81,7 @@ def finite_pair(value, what, name):
 
 def finite_number(value, what, name):
     """``value`` as a finite float, or ValueError naming ``name`` and ``what``."""
-    if isinstance(value, (str, bytes)):          # a number given as text is a mistake
+    if isinstance(value, (str, bytes)):  # a number given as text is a mistake
         raise ValueError(f"{name}: {what} must be a number, got {value!r}")
     try:
         x = float(value)
@@ -85,24 +92,31 @@ def finite_number(value, what, name):
     return x
 
 
-def check_fields(name, position, velocity, angle, angular_velocity, density, friction, restitution,
-                 bullet):
+def check_fields(
+    name, position, velocity, angle, angular_velocity, density, friction, restitution, bullet
+):
     """Every field of a body but its vertices, checked in a fixed order; returns them normalised
     (position and velocity as (x, y) tuples of floats, floats, a bool) or raises ValueError naming
     ``name`` and the first problem."""
     position = finite_pair(position, "position", name)
     if max(abs(position[0]), abs(position[1])) > MAX_COORDINATE:
-        raise ValueError(f"{name}: position {position} is beyond {MAX_COORDINATE:g} m, "
-                         f"where the solver stops as diverged")
+        raise ValueError(
+            f"{name}: position {position} is beyond {MAX_COORDINATE:g} m, "
+            f"where the solver stops as diverged"
+        )
     velocity = finite_pair(velocity, "velocity", name)
     if max(abs(velocity[0]), abs(velocity[1])) > MAX_SPEED:
-        raise ValueError(f"{name}: velocity {velocity} is beyond {MAX_SPEED:g} m/s, faster than "
-                         f"the solver can follow (sim.geometry.MAX_SPEED)")
+        raise ValueError(
+            f"{name}: velocity {velocity} is beyond {MAX_SPEED:g} m/s, faster than "
+            f"the solver can follow (sim.geometry.MAX_SPEED)"
+        )
     angle = finite_number(angle, "angle", name)
     angular_velocity = finite_number(angular_velocity, "angular_velocity", name)
     if abs(angular_velocity) > MAX_SPEED:
-        raise ValueError(f"{name}: angular_velocity {angular_velocity} is beyond {MAX_SPEED:g} "
-                         f"rad/s, faster than the solver can follow (sim.geometry.MAX_SPEED)")
+        raise ValueError(
+            f"{name}: angular_velocity {angular_velocity} is beyond {MAX_SPEED:g} "
+            f"rad/s, faster than the solver can follow (sim.geometry.MAX_SPEED)"
+        )
     density = finite_number(density, "density", name)
     if density <= 0.0:
         raise ValueError(f"{name}: density must be > 0, got {density}")
@@ -114,23 +128,37 @@ def check_fields(name, position, velocity, angle, angular_velocity, density, fri
         raise ValueError(f"{name}: restitution must be in [0, 1], got {restitution}")
     if not isinstance(bullet, (bool, np.bool_)):
         raise ValueError(f"{name}: bullet must be True or False, got {bullet!r}")
-    return (position, velocity, angle, angular_velocity, density, friction, restitution,
-            bool(bullet))
+    return (
+        position,
+        velocity,
+        angle,
+        angular_velocity,
+        density,
+        friction,
+        restitution,
+        bool(bullet),
+    )
 
 
 def failing_fields(position, velocity, angle, angular_velocity, density, friction, restitution):
     """(N,) bool: the bodies whose fields ``check_fields`` rejects, given float64 arrays of N bodies
     (position, velocity (N,2); the others (N,)). Bullet flags are checked by their dtype instead."""
     with np.errstate(invalid="ignore"):
-        fine = (np.isfinite(position).all(axis=1)
-                & (np.abs(position).max(axis=1) <= MAX_COORDINATE)
-                & (np.abs(velocity).max(axis=1) <= MAX_SPEED)
-                & (np.abs(angular_velocity) <= MAX_SPEED)
-                & np.isfinite(velocity).all(axis=1)
-                & np.isfinite(angle) & np.isfinite(angular_velocity)
-                & np.isfinite(density) & (density > 0.0)
-                & np.isfinite(friction) & (friction >= 0.0)
-                & (restitution >= 0.0) & (restitution <= 1.0))
+        fine = (
+            np.isfinite(position).all(axis=1)
+            & (np.abs(position).max(axis=1) <= MAX_COORDINATE)
+            & (np.abs(velocity).max(axis=1) <= MAX_SPEED)
+            & (np.abs(angular_velocity) <= MAX_SPEED)
+            & np.isfinite(velocity).all(axis=1)
+            & np.isfinite(angle)
+            & np.isfinite(angular_velocity)
+            & np.isfinite(density)
+            & (density > 0.0)
+            & np.isfinite(friction)
+            & (friction >= 0.0)
+            & (restitution >= 0.0)
+            & (restitution <= 1.0)
+        )
     return ~fine
 
 
@@ -142,13 +170,15 @@ class Body:
               ``position`` and rotated by ``angle``. The solver tracks the centre of mass: a World
               reports ``positions`` of centres of mass (equal to ``position`` when the vertices are
               centred on their centroid, as every builder in ``sim.scenes`` does).
-    position  (2,) m; angle rad (CCW); velocity (2,) m/s of the centre of mass; angular_velocity rad/s.
+    position  (2,) m; angle rad (CCW); velocity (2,) m/s of the centre of mass; angular_velocity
+    rad/s.
     density   kg/m^2 (> 0). friction >= 0 (Coulomb mu, pairs mix by geometric mean);
               restitution in [0, 1] (pairs mix by max).
     name      used in error messages; defaults to "body <index>" once placed in a Scene.
     bullet    True for a fast body that the solver sweeps (continuous collision) against dynamic
               bodies too, not only against static ones and the floor.
     """
+
     vertices: object
     position: tuple = (0.0, 0.0)
     angle: float = 0.0
@@ -172,21 +202,50 @@ class Body:
         full check (~0.2 ms) made building a 10^4-body World cost seconds."""
         if self.name is None:
             self.name = ""
-        if not isinstance(self.name, str):       # messages and results files print it
-            raise ValueError(f"{name if isinstance(name, str) else 'body'}: name must be a "
-                             f"string, got {self.name!r}")
+        if not isinstance(self.name, str):  # messages and results files print it
+            raise ValueError(
+                f"{name if isinstance(name, str) else 'body'}: name must be a "
+                f"string, got {self.name!r}"
+            )
         if self._validated is not None and self._validated == self._fingerprint():
             return
         self.vertices = _validated_polygon(self.vertices, name)
-        (self.position, self.velocity, self.angle, self.angular_velocity, self.density,
-         self.friction, self.restitution, self.bullet) = check_fields(
-            name, self.position, self.velocity, self.angle, self.angular_velocity, self.density,
-            self.friction, self.restitution, self.bullet)
+        (
+            self.position,
+            self.velocity,
+            self.angle,
+            self.angular_velocity,
+            self.density,
+            self.friction,
+            self.restitution,
+            self.bullet,
+        ) = check_fields(
+            name,
+            self.position,
+            self.velocity,
+            self.angle,
+            self.angular_velocity,
+            self.density,
+            self.friction,
+            self.restitution,
+            self.bullet,
+        )
         self._validated = self._fingerprint()
 
     @classmethod
-    def prevalidated(cls, vertices, position, angle, velocity, angular_velocity, density,
-                     friction, restitution, name="", bullet=False):
+    def prevalidated(
+        cls,
+        vertices,
+        position,
+        angle,
+        velocity,
+        angular_velocity,
+        density,
+        friction,
+        restitution,
+        name="",
+        bullet=False,
+    ):
         """A Body from fields that already passed every check, without checking them again.
 
         For ``Scene.from_arrays``, whose bodies are validated as arrays: materialising 10^6 of
@@ -195,7 +254,12 @@ class Body:
         velocity tuples of two floats, floats, a str and a bool. Later changes are still caught:
         the fingerprint is taken here, so the next ``validate`` checks a changed body in full."""
         body = object.__new__(cls)
-        body.vertices, body.position, body.angle, body.velocity = vertices, position, angle, velocity
+        body.vertices, body.position, body.angle, body.velocity = (
+            vertices,
+            position,
+            angle,
+            velocity,
+        )
         body.angular_velocity, body.density, body.friction = angular_velocity, density, friction
         body.restitution, body.name, body.bullet = restitution, name, bullet
         body._validated = body._fingerprint()
@@ -206,17 +270,42 @@ class Body:
         included) forces a full check. Arrays by dtype, shape and bytes: ``==`` on an array is
         elementwise (``body.position = world.positions[i]`` made the comparison raise)."""
         v = self.vertices
-        return (_canonical(v) if isinstance(v, np.ndarray) else repr(v),
-                *map(_canonical, (self.position, self.angle, self.velocity, self.angular_velocity,
-                                  self.density, self.friction, self.restitution, self.bullet)))
+        return (
+            _canonical(v) if isinstance(v, np.ndarray) else repr(v),
+            *map(
+                _canonical,
+                (
+                    self.position,
+                    self.angle,
+                    self.velocity,
+                    self.angular_velocity,
+                    self.density,
+                    self.friction,
+                    self.restitution,
+                    self.bullet,
+                ),
+            ),
+        )
 
     def __eq__(self, other):
         """Same fields (arrays compared whole, not elementwise), name included."""
         if not isinstance(other, Body):
             return NotImplemented
-        return all(_canonical(getattr(self, f)) == _canonical(getattr(other, f))
-                   for f in ("vertices", "position", "angle", "velocity", "angular_velocity",
-                             "density", "friction", "restitution", "name", "bullet"))
+        return all(
+            _canonical(getattr(self, f)) == _canonical(getattr(other, f))
+            for f in (
+                "vertices",
+                "position",
+                "angle",
+                "velocity",
+                "angular_velocity",
+                "density",
+                "friction",
+                "restitution",
+                "name",
+                "bullet",
+            )
+        )
 
     @classmethod
     def box(cls, width, height, **kwargs):
@@ -234,13 +323,19 @@ class Body:
         name = kwargs.get("name") or "regular polygon"
         if isinstance(n, bool) or not isinstance(n, numbers.Integral) or not 3 <= n <= MAX_VERTICES:
             # checked before the vertices are made: n = 10**30 filled the memory
-            raise PolygonError(f"{name}: the vertex count must be an integer from 3 to "
-                               f"{MAX_VERTICES}, got {n!r}")
+            raise PolygonError(
+                f"{name}: the vertex count must be an integer from 3 to {MAX_VERTICES}, got {n!r}"
+            )
         if not (isinstance(radius, numbers.Real) and math.isfinite(radius) and radius > 0):
             raise PolygonError(f"{name}: radius must be > 0 and finite, got {radius!r}")
         phase = -math.pi / 2 - math.pi / n
-        verts = [(radius * math.cos(phase + 2 * math.pi * i / n), radius * math.sin(phase + 2 * math.pi * i / n))
-                 for i in range(n)]
+        verts = [
+            (
+                radius * math.cos(phase + 2 * math.pi * i / n),
+                radius * math.sin(phase + 2 * math.pi * i / n),
+            )
+            for i in range(n)
+        ]
         return cls(vertices=verts, **kwargs)
 
     @property
@@ -258,8 +353,15 @@ class Body:
         return mass_properties(self.vertices, self.density)[1]
 
     def to_dict(self):
-        return {"vertices": self.vertices.tolist(), "position": list(self.position), "angle": self.angle,
-                "velocity": list(self.velocity), "angular_velocity": self.angular_velocity,
-                "density": self.density, "friction": self.friction, "restitution": self.restitution,
-                **({"name": self.name} if self.name else {}),
-                **({"bullet": True} if self.bullet else {})}     # absent = False: older files stay valid
+        return {
+            "vertices": self.vertices.tolist(),
+            "position": list(self.position),
+            "angle": self.angle,
+            "velocity": list(self.velocity),
+            "angular_velocity": self.angular_velocity,
+            "density": self.density,
+            "friction": self.friction,
+            "restitution": self.restitution,
+            **({"name": self.name} if self.name else {}),
+            **({"bullet": True} if self.bullet else {}),
+        }  # absent = False: older files stay valid

@@ -7,16 +7,38 @@ new partners or loses old ones. A resting pile refits nothing and costs one box 
 
 Bodies are indexed 0..M-1, the N dynamic ones first. Awake bodies are found through a grid of their
 fat boxes, rebuilt in a step in which any of them moved; static and frozen bodies through the
-*resting grid*, rebuilt only when the frozen set changes (ARCHITECTURE §3: frozen bodies cost nothing per
+*resting grid*, rebuilt only when the frozen set changes (ARCHITECTURE §3: frozen bodies cost
+nothing per
 step). Grids live in preallocated buffers (``data.Grid``): a build that does not fit reports the
 sizes it needs, and the step returns GROW before anything else has changed.
 """
+
 import numpy as np
 
 from .contacts import create, destroy, find
-from .data import (Grid, BODY_A, BODY_B, DENSE, GRID_INFO, HEIGHT, NEXT_A, NEXT_B, LO_CX, LO_CY,
-                   MASK, MAX_X, MAX_Y, MIN_X, MIN_Y, N_BUCKETS, N_ENTRIES, N_MOVED,
-                   NEEDED_BUCKETS, NEEDED_ENTRIES, WIDTH)
+from .data import (
+    Grid,
+    BODY_A,
+    BODY_B,
+    DENSE,
+    GRID_INFO,
+    HEIGHT,
+    NEXT_A,
+    NEXT_B,
+    LO_CX,
+    LO_CY,
+    MASK,
+    MAX_X,
+    MAX_Y,
+    MIN_X,
+    MIN_Y,
+    N_BUCKETS,
+    N_ENTRIES,
+    N_MOVED,
+    NEEDED_BUCKETS,
+    NEEDED_ENTRIES,
+    WIDTH,
+)
 from .jit import inline_kernel, lean_kernel
 
 #: a box covering more grid cells than this is a *large* box: entered once, in a list every query
@@ -28,12 +50,13 @@ LARGE_CELLS = 256
 #: grid and looks for new pairs)
 LOOKAHEAD_STEPS = 3.0
 #: cells beyond this index (either sign) are clamped (see ``_cell``)
-CELL_LIMIT = 2.0 ** 40
+CELL_LIMIT = 2.0**40
 
 
 @inline_kernel
-def _transform(i, position, angle, vert_start, local_verts, local_normals, rotation, world_verts,
-               world_normals):
+def _transform(
+    i, position, angle, vert_start, local_verts, local_normals, rotation, world_verts, world_normals
+):
     """World vertices and normals of body i; returns its tight box (lo_x, lo_y, hi_x, hi_y)."""
     c = np.cos(angle[i])
     s = np.sin(angle[i])
@@ -76,10 +99,17 @@ def update_geometry(which, count, dt, bodies, geometry, counters):
     n_moved = counters[N_MOVED]
     for k in range(count):
         i = which[k]
-        lo_x, lo_y, hi_x, hi_y = _transform(i, bodies.position, bodies.angle, bodies.vert_start,
-                                            bodies.local_verts, bodies.local_normals,
-                                            geometry.rotation, geometry.world_verts,
-                                            geometry.world_normals)
+        lo_x, lo_y, hi_x, hi_y = _transform(
+            i,
+            bodies.position,
+            bodies.angle,
+            bodies.vert_start,
+            bodies.local_verts,
+            bodies.local_normals,
+            geometry.rotation,
+            geometry.world_verts,
+            geometry.world_normals,
+        )
         grow = bodies.speculative[i] + abs(bodies.angular_velocity[i]) * bodies.extent[i] * dt
         sweep_x = bodies.velocity[i, 0] * dt
         sweep_y = bodies.velocity[i, 1] * dt
@@ -87,8 +117,12 @@ def update_geometry(which, count, dt, bodies, geometry, counters):
         aabb[i, MIN_Y] = lo_y - grow + min(sweep_y, 0.0)
         aabb[i, MAX_X] = hi_x + grow + max(sweep_x, 0.0)
         aabb[i, MAX_Y] = hi_y + grow + max(sweep_y, 0.0)
-        if (aabb[i, MIN_X] < fat[i, MIN_X] or aabb[i, MIN_Y] < fat[i, MIN_Y]
-                or aabb[i, MAX_X] > fat[i, MAX_X] or aabb[i, MAX_Y] > fat[i, MAX_Y]):
+        if (
+            aabb[i, MIN_X] < fat[i, MIN_X]
+            or aabb[i, MIN_Y] < fat[i, MIN_Y]
+            or aabb[i, MAX_X] > fat[i, MAX_X]
+            or aabb[i, MAX_Y] > fat[i, MAX_Y]
+        ):
             m = bodies.margin[i]
             ahead_x = LOOKAHEAD_STEPS * sweep_x
             ahead_y = LOOKAHEAD_STEPS * sweep_y
@@ -113,8 +147,12 @@ def _cell(x, inv_cell):
 @inline_kernel
 def _cells(boxes, i, inv_cell):
     """The cell range (c0, c1, r0, r1) that box i covers."""
-    return (_cell(boxes[i, MIN_X], inv_cell), _cell(boxes[i, MAX_X], inv_cell),
-            _cell(boxes[i, MIN_Y], inv_cell), _cell(boxes[i, MAX_Y], inv_cell))
+    return (
+        _cell(boxes[i, MIN_X], inv_cell),
+        _cell(boxes[i, MAX_X], inv_cell),
+        _cell(boxes[i, MIN_Y], inv_cell),
+        _cell(boxes[i, MAX_Y], inv_cell),
+    )
 
 
 @inline_kernel
@@ -142,8 +180,8 @@ def build_grid(which, count, boxes, cell_size, grid):
     inv_cell = 1.0 / cell_size
     n_entries = 0
     n_large = 0
-    lo_cx = lo_cy = np.int64(2 ** 62)
-    hi_cx = hi_cy = -np.int64(2 ** 62)
+    lo_cx = lo_cy = np.int64(2**62)
+    hi_cx = hi_cy = -np.int64(2**62)
     for k in range(count):
         c0, c1, r0, r1 = _cells(boxes, which[k], inv_cell)
         if _is_large(c0, c1, r0, r1):
@@ -154,7 +192,7 @@ def build_grid(which, count, boxes, cell_size, grid):
         hi_cx = max(hi_cx, c1)
         lo_cy = min(lo_cy, r0)
         hi_cy = max(hi_cy, r1)
-    if n_entries == 0:                     # no box in cells: a one-cell table, never matched
+    if n_entries == 0:  # no box in cells: a one-cell table, never matched
         lo_cx = hi_cx = lo_cy = hi_cy = 0
     width = hi_cx - lo_cx + 1
     height = hi_cy - lo_cy + 1
@@ -215,7 +253,7 @@ def build_grid(which, count, boxes, cell_size, grid):
                 grid.entry_cx[e] = cx
                 grid.entry_cy[e] = cy
                 start[h + 1] = e
-    for h in range(size + 1):              # shift back: start[h] = start of bucket h
+    for h in range(size + 1):  # shift back: start[h] = start of bucket h
         start[h] = start[h + 1]
     start[size + 1] = total
     return True
@@ -223,8 +261,12 @@ def build_grid(which, count, boxes, cell_size, grid):
 
 @inline_kernel
 def _overlap(boxes, i, other_boxes, j):
-    return not (boxes[i, MIN_X] > other_boxes[j, MAX_X] or boxes[i, MAX_X] < other_boxes[j, MIN_X]
-                or boxes[i, MIN_Y] > other_boxes[j, MAX_Y] or boxes[i, MAX_Y] < other_boxes[j, MIN_Y])
+    return not (
+        boxes[i, MIN_X] > other_boxes[j, MAX_X]
+        or boxes[i, MAX_X] < other_boxes[j, MIN_X]
+        or boxes[i, MIN_Y] > other_boxes[j, MAX_Y]
+        or boxes[i, MAX_Y] < other_boxes[j, MIN_Y]
+    )
 
 
 @inline_kernel
@@ -241,10 +283,14 @@ def query_box(grid, boxes, lo_x, lo_y, hi_x, hi_y, cell_size, out):
     inv_cell = 1.0 / cell_size
     n_buckets = info[N_BUCKETS]
     n = 0
-    for e in range(start[n_buckets], start[n_buckets + 1]):       # the large boxes
+    for e in range(start[n_buckets], start[n_buckets + 1]):  # the large boxes
         j = grid.entry_body[e]
-        if not (lo_x > boxes[j, MAX_X] or hi_x < boxes[j, MIN_X] or lo_y > boxes[j, MAX_Y]
-                or hi_y < boxes[j, MIN_Y]):
+        if not (
+            lo_x > boxes[j, MAX_X]
+            or hi_x < boxes[j, MIN_X]
+            or lo_y > boxes[j, MAX_Y]
+            or hi_y < boxes[j, MIN_Y]
+        ):
             out[n] = j
             n += 1
     c0 = _cell(lo_x, inv_cell)
@@ -269,9 +315,10 @@ def query_box(grid, boxes, lo_x, lo_y, hi_x, hi_y, cell_size, out):
         for cy in range(r0, r1 + 1):
             h = _bucket(cx, cy, info)
             for e in range(start[h], start[h + 1]):
-                if grid.entry_cx[e] == cx and grid.entry_cy[e] == cy:   # else: a cell sharing h
-                    n = _report(grid, e, boxes, lo_x, lo_y, hi_x, hi_y, c0, c1, r0, r1, inv_cell,
-                                out, n)
+                if grid.entry_cx[e] == cx and grid.entry_cy[e] == cy:  # else: a cell sharing h
+                    n = _report(
+                        grid, e, boxes, lo_x, lo_y, hi_x, hi_y, c0, c1, r0, r1, inv_cell, out, n
+                    )
     return n
 
 
@@ -284,11 +331,17 @@ def _report(grid, e, boxes, lo_x, lo_y, hi_x, hi_y, c0, c1, r0, r1, inv_cell, ou
     if cx < c0 or cx > c1 or cy < r0 or cy > r1:
         return n
     j = grid.entry_body[e]
-    if (lo_x > boxes[j, MAX_X] or hi_x < boxes[j, MIN_X] or lo_y > boxes[j, MAX_Y]
-            or hi_y < boxes[j, MIN_Y]):
+    if (
+        lo_x > boxes[j, MAX_X]
+        or hi_x < boxes[j, MIN_X]
+        or lo_y > boxes[j, MAX_Y]
+        or hi_y < boxes[j, MIN_Y]
+    ):
         return n
-    if (_cell(max(lo_x, boxes[j, MIN_X]), inv_cell) != cx
-            or _cell(max(lo_y, boxes[j, MIN_Y]), inv_cell) != cy):
+    if (
+        _cell(max(lo_x, boxes[j, MIN_X]), inv_cell) != cx
+        or _cell(max(lo_y, boxes[j, MIN_Y]), inv_cell) != cy
+    ):
         return n
     out[n] = j
     return n + 1
@@ -298,8 +351,9 @@ def _report(grid, e, boxes, lo_x, lo_y, hi_x, hi_y, c0, c1, r0, r1, inv_cell, ou
 def _query(i, fat, grid, cell_size, n_dynamic, bodies, contacts, counters, found):
     """Make a contact for every body in ``grid`` whose fat box overlaps body i's and that has
     none yet (``found``: scratch, one slot per body). Returns False when the store is full."""
-    n = query_box(grid, fat, fat[i, MIN_X], fat[i, MIN_Y], fat[i, MAX_X], fat[i, MAX_Y],
-                  cell_size, found)
+    n = query_box(
+        grid, fat, fat[i, MIN_X], fat[i, MIN_Y], fat[i, MAX_X], fat[i, MAX_Y], cell_size, found
+    )
     for k in range(n):
         j = found[k]
         if j == i:
@@ -313,8 +367,7 @@ def _query(i, fat, grid, cell_size, n_dynamic, bodies, contacts, counters, found
 
 
 @lean_kernel
-def find_new_pairs(settings, bodies, geometry, awake_grid, resting_grid, contacts, counters,
-                   found):
+def find_new_pairs(settings, bodies, geometry, awake_grid, resting_grid, contacts, counters, found):
     """Contacts for the moved bodies' new partners: awake ones (``awake_grid``), resting ones
     (``resting_grid``) and the floor. ``found``: scratch (M,). Returns False when the contact
     store is full (the contacts made so far stay; a retry skips them)."""
@@ -326,11 +379,13 @@ def find_new_pairs(settings, bodies, geometry, awake_grid, resting_grid, contact
             if find(-1, i, n_dyn, contacts) < 0:
                 if create(-1, i, n_dyn, bodies.slop, bodies.speculative, contacts, counters) < 0:
                     return False
-        if not _query(i, fat, awake_grid, settings.cell_size, n_dyn, bodies, contacts, counters,
-                      found):
+        if not _query(
+            i, fat, awake_grid, settings.cell_size, n_dyn, bodies, contacts, counters, found
+        ):
             return False
-        if not _query(i, fat, resting_grid, settings.cell_size, n_dyn, bodies, contacts,
-                      counters, found):
+        if not _query(
+            i, fat, resting_grid, settings.cell_size, n_dyn, bodies, contacts, counters, found
+        ):
             return False
     return True
 
@@ -347,7 +402,7 @@ def drop_stale_pairs(settings, geometry, contacts, counters):
         while s >= 0:
             a = ci[s, BODY_A]
             b = ci[s, BODY_B]
-            nxt = ci[s, NEXT_A] if a == i else ci[s, NEXT_B]     # read before freeing
+            nxt = ci[s, NEXT_A] if a == i else ci[s, NEXT_B]  # read before freeing
             if a < 0:
                 keep = fat[b, MIN_Y] <= settings.floor_y
             else:
@@ -361,6 +416,10 @@ def drop_stale_pairs(settings, geometry, contacts, counters):
 
 def grid_buffers(entries, buckets):
     """A ``data.Grid`` with room for ``entries`` entries and ``buckets`` buckets."""
-    return Grid(start=np.zeros(buckets + 1, np.int64), entry_body=np.zeros(entries, np.int64),
-                entry_cx=np.zeros(entries, np.int64), entry_cy=np.zeros(entries, np.int64),
-                info=np.zeros(GRID_INFO, np.int64))
+    return Grid(
+        start=np.zeros(buckets + 1, np.int64),
+        entry_body=np.zeros(entries, np.int64),
+        entry_cx=np.zeros(entries, np.int64),
+        entry_cy=np.zeros(entries, np.int64),
+        info=np.zeros(GRID_INFO, np.int64),
+    )

@@ -15,15 +15,62 @@ so both cost the body's own contact count. Contacts between resting bodies cost 
 Columns are named in ``sim.data`` (BODY_A, NORMAL_X, NORMAL_IMPULSE...). A pair (a, b) has a < b;
 a = -1 is the floor; the normal points from A to B.
 """
+
 import numpy as np
 
-from .data import (N_SKIPPED, ALIVE, FIT_C, FIT_GAP, FIT_MARGIN, FIT_S, FIT_X, FIT_Y, N_REFRESHED, ANCHOR_AX, AWAKE_UNSORTED, CARRIED, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, AWAKE_INDEX, BODY_A, BODY_B,
-                   FREE_HEAD, FRICTION, GROW_CONTACTS, GROW_NEEDED, INCIDENT, LOCAL_FACE_X,
-                   LOCAL_FACE_Y, LOCAL_NORMAL_X, LOCAL_NORMAL_Y, LOCAL_X, LOCAL_Y, MAX_DEGREE,
-                   N_ACTIVE, N_AWAKE_CONTACTS, N_LIVE, N_SLOTS, NEXT_A, NEXT_B, NORMAL_IMPULSE,
-                   NORMAL_VELOCITY, NORMAL_X, NORMAL_Y, POINT_COUNT, PREV_A, PREV_B, REFERENCE,
-                   RESTITUTION, SEPARATION, SLOP, SPECULATIVE, TANGENT_IMPULSE, WARM_NORMAL,
-                   WARM_TANGENT)
+from .data import (
+    N_SKIPPED,
+    ALIVE,
+    FIT_C,
+    FIT_GAP,
+    FIT_MARGIN,
+    FIT_S,
+    FIT_X,
+    FIT_Y,
+    N_REFRESHED,
+    ANCHOR_AX,
+    AWAKE_UNSORTED,
+    CARRIED,
+    ANCHOR_AY,
+    ANCHOR_BX,
+    ANCHOR_BY,
+    AWAKE_INDEX,
+    BODY_A,
+    BODY_B,
+    FREE_HEAD,
+    FRICTION,
+    GROW_CONTACTS,
+    GROW_NEEDED,
+    INCIDENT,
+    LOCAL_FACE_X,
+    LOCAL_FACE_Y,
+    LOCAL_NORMAL_X,
+    LOCAL_NORMAL_Y,
+    LOCAL_X,
+    LOCAL_Y,
+    MAX_DEGREE,
+    N_ACTIVE,
+    N_AWAKE_CONTACTS,
+    N_LIVE,
+    N_SLOTS,
+    NEXT_A,
+    NEXT_B,
+    NORMAL_IMPULSE,
+    NORMAL_VELOCITY,
+    NORMAL_X,
+    NORMAL_Y,
+    POINT_COUNT,
+    PREV_A,
+    PREV_B,
+    REFERENCE,
+    RESTITUTION,
+    SEPARATION,
+    SLOP,
+    SPECULATIVE,
+    TANGENT_IMPULSE,
+    WARM_NORMAL,
+    WARM_TANGENT,
+)
 from .geometry import collide_floor_rows, collide_polygon_rows
 from .jit import inline_kernel, kernel, lean_kernel
 from .tolerances import FACE_FRACTION
@@ -181,7 +228,7 @@ def sort_awake(n_bodies, contacts, counters):
         for k in range(n):
             awake[k] = tmp[order[k]]
     else:
-        for k in range(1, n):                  # insertion sort: nearly sorted already
+        for k in range(1, n):  # insertion sort: nearly sorted already
             s = awake[k]
             key = _key(s, ci, stride)
             j = k - 1
@@ -251,7 +298,7 @@ def destroy(s, n_dynamic, contacts, counters):
     counters[N_LIVE] -= 1
 
 
-# ---- narrowphase ------------------------------------------------------------------------------------
+# ---- narrowphase ---------------------------------------------------------------------------------
 @inline_kernel
 def _closing_speed(a, b, velocity, angular_velocity, extent):
     """m/s: a bound on how fast any point of a can approach any point of b (a = -1: the floor)
@@ -323,18 +370,23 @@ def update_manifolds(settings, bodies, geometry, contacts, counters):
         s = contacts.awake[k]
         a = ci[s, BODY_A]
         b = ci[s, BODY_B]
-        margin = cf[s, SPECULATIVE] + dt * _closing_speed(a, b, bodies.velocity,
-                                                           bodies.angular_velocity, bodies.extent)
+        margin = cf[s, SPECULATIVE] + dt * _closing_speed(
+            a, b, bodies.velocity, bodies.angular_velocity, bodies.extent
+        )
         x, y, c, sn = _relative_pose(a, b, bodies.position, geometry.rotation)
         tol = REFRESH_FRACTION * cf[s, SLOP]
         reach = bodies.extent[b] + (bodies.extent[a] if a >= 0 else 0.0)
-        turned = abs(sn * cf[s, FIT_C] - c * cf[s, FIT_S]) * reach       # |sin of the turn| * r
+        turned = abs(sn * cf[s, FIT_C] - c * cf[s, FIT_S]) * reach  # |sin of the turn| * r
         if ci[s, ALIVE] == 2 and ci[s, POINT_COUNT] == 0:
             if cf[s, FIT_GAP] - _moved(x, y, c, sn, s, cf, bodies.extent[b]) > margin:
                 skipped += 1
                 continue
-        if (ci[s, ALIVE] == 2 and margin <= cf[s, FIT_MARGIN] + tol and turned < tol
-                and abs(x - cf[s, FIT_X]) + abs(y - cf[s, FIT_Y]) < tol):
+        if (
+            ci[s, ALIVE] == 2
+            and margin <= cf[s, FIT_MARGIN] + tol
+            and turned < tol
+            and abs(x - cf[s, FIT_X]) + abs(y - cf[s, FIT_Y]) < tol
+        ):
             n = _refresh(s, settings, bodies, geometry, contacts)
             refreshed += 1
         else:
@@ -344,7 +396,7 @@ def update_manifolds(settings, bodies, geometry, contacts, counters):
             cf[s, FIT_C] = c
             cf[s, FIT_S] = sn
             cf[s, FIT_MARGIN] = margin
-            ci[s, ALIVE] = 2                   # has a full narrowphase to refresh from
+            ci[s, ALIVE] = 2  # has a full narrowphase to refresh from
         if n > 0:
             contacts.active[n_active] = s
             n_active += 1
@@ -383,12 +435,12 @@ def _refresh(s, settings, bodies, geometry, contacts):
         ny = sr * lnx + cr * lny
         fx = cr * lfx - sr * lfy + position[ref, 0]
         fy = sr * lfx + cr * lfy + position[ref, 1]
-    else:                                       # the floor: the world frame
+    else:  # the floor: the world frame
         nx = lnx
         ny = lny
         fx = lfx
         fy = lfy
-    cf[s, NORMAL_X] = nx if ref == a else -nx   # the normal points from A to B
+    cf[s, NORMAL_X] = nx if ref == a else -nx  # the normal points from A to B
     cf[s, NORMAL_Y] = ny if ref == a else -ny
     ci_ = rotation[inc, 0]
     si_ = rotation[inc, 1]
@@ -458,8 +510,9 @@ def _collide(s, margin, settings, bodies, geometry, contacts):
     vb0 = vert_start[b]
     vb1 = vert_start[b + 1]
     if a < 0:
-        n_points, gap = collide_floor_rows(world_verts, world_normals, vb0, vb1,
-                                           settings.floor_y, margin, points, seps, ids)
+        n_points, gap = collide_floor_rows(
+            world_verts, world_normals, vb0, vb1, settings.floor_y, margin, points, seps, ids
+        )
         flip = 0
         edge = 0
         normal[0] = 0.0
@@ -468,8 +521,19 @@ def _collide(s, margin, settings, bodies, geometry, contacts):
         e = max(settings.floor_restitution, bodies.restitution[b])
     else:
         n_points, flip, edge, gap = collide_polygon_rows(
-            world_verts, world_normals, vert_start[a], vert_start[a + 1], vb0, vb1, margin,
-            FACE_FRACTION * cf[s, SLOP], points, seps, ids, normal)
+            world_verts,
+            world_normals,
+            vert_start[a],
+            vert_start[a + 1],
+            vb0,
+            vb1,
+            margin,
+            FACE_FRACTION * cf[s, SLOP],
+            points,
+            seps,
+            ids,
+            normal,
+        )
         mu = np.sqrt(bodies.friction[a] * bodies.friction[b])
         e = max(bodies.restitution[a], bodies.restitution[b])
     # last step's points, to carry their impulses over by feature id
@@ -485,7 +549,7 @@ def _collide(s, margin, settings, bodies, geometry, contacts):
     ci[s, POINT_COUNT] = n_points
     cf[s, FIT_GAP] = gap
     if n_points == 0:
-        contacts.point_id[s, 0] = -1            # apart: nothing to warm start from
+        contacts.point_id[s, 0] = -1  # apart: nothing to warm start from
         contacts.point_id[s, 1] = -1
         return 0
     cf[s, NORMAL_X] = normal[0]
@@ -520,11 +584,10 @@ def _collide(s, margin, settings, bodies, geometry, contacts):
     ci_ = rotation[inc, 0]
     si_ = rotation[inc, 1]
     for j in range(n_points):
-        _anchor(s, j, a, b, ref, points[j, 0], points[j, 1], seps[j], ref_nx, ref_ny, position,
-                pf)
+        _anchor(s, j, a, b, ref, points[j, 0], points[j, 1], seps[j], ref_nx, ref_ny, position, pf)
         dx = points[j, 0] - position[inc, 0]
         dy = points[j, 1] - position[inc, 1]
-        pf[s, j, LOCAL_X] = ci_ * dx + si_ * dy           # R^T (p - x)
+        pf[s, j, LOCAL_X] = ci_ * dx + si_ * dy  # R^T (p - x)
         pf[s, j, LOCAL_Y] = -si_ * dx + ci_ * dy
         pf[s, j, NORMAL_IMPULSE] = 0.0
         pf[s, j, TANGENT_IMPULSE] = 0.0

@@ -35,7 +35,8 @@ bounding radius (its farthest vertex from the centre of mass) and v_A = (x1 - x0
 w_A = angle1 - angle0 (per unit t, constant under the motion model). Likewise any point of B moves
 along n at least n.v_B - |w_B| R_B. The max over A of n.p and the min over B of n.q are envelopes of
 such functions, so for tau >= t
-    gap_n(tau) >= gap_n(t) - rate_n (tau - t),  rate_n = max(n.(v_A - v_B), 0) + |w_A| R_A + |w_B| R_B.
+    gap_n(tau) >= gap_n(t) - rate_n (tau - t),  rate_n = max(n.(v_A - v_B), 0) + |w_A| R_A + |w_B|
+    R_B.
 (Only the positive part of the linear term counts: moving apart along n never closes the gap.)
 
 Why it never steps past the first contact. Let t* be the first time d(t*) = target, and suppose the
@@ -59,6 +60,7 @@ plank turning 30 rad in the step, 0.15 m short of a post: 65 iterations).
 Nothing is allocated: the world
 vertices go into a caller-owned scratch array (``toi_scratch``).
 """
+
 import math
 
 import numpy as np
@@ -94,8 +96,11 @@ def _lerp(u0, u1, t):
 def pose_at(pose0, pose1, t):
     """The pose (x m, y m, angle rad) at fraction t of the sweep, interpolated exactly as
     ``time_of_impact`` does: move a body back to its time of impact with this."""
-    return (_lerp(float(pose0[0]), float(pose1[0]), t), _lerp(float(pose0[1]), float(pose1[1]), t),
-            _lerp(float(pose0[2]), float(pose1[2]), t))
+    return (
+        _lerp(float(pose0[0]), float(pose1[0]), t),
+        _lerp(float(pose0[1]), float(pose1[1]), t),
+        _lerp(float(pose0[2]), float(pose1[2]), t),
+    )
 
 
 @inline_kernel
@@ -201,17 +206,19 @@ def _bounds(world, ka, kb, local_normals, a0, b0, angle_a, angle_b, vx, vy, spin
     """At the current t (world vertices of A in rows 0..ka-1, of B in rows ka..ka+kb-1):
     (best lower bound on the distance m, negative = SAT penetration; safe advance in t).
     (vx, vy) is A's velocity minus B's, m per unit t."""
-    gap_a, step_a = _face_axes(world, 0, ka, ka, ka + kb, local_normals, a0, angle_a, vx, vy,
-                               spin, target)
-    gap_b, step_b = _face_axes(world, ka, ka + kb, 0, ka, local_normals, b0, angle_b, -vx, -vy,
-                               spin, target)
+    gap_a, step_a = _face_axes(
+        world, 0, ka, ka, ka + kb, local_normals, a0, angle_a, vx, vy, spin, target
+    )
+    gap_b, step_b = _face_axes(
+        world, ka, ka + kb, 0, ka, local_normals, b0, angle_b, -vx, -vy, spin, target
+    )
     best = max(gap_a, gap_b)
     step = max(step_a, step_b)
     if best <= 0.0:
-        return best, 0.0          # overlapping (SAT is exact for convex polygons)
+        return best, 0.0  # overlapping (SAT is exact for convex polygons)
     # the closest-points direction, from A to B
-    da, ax, ay = _closest_offset(world, 0, ka, ka, ka + kb)       # A's vertex to B's edge
-    db, bx, by = _closest_offset(world, ka, ka + kb, 0, ka)       # B's vertex to A's edge
+    da, ax, ay = _closest_offset(world, 0, ka, ka, ka + kb)  # A's vertex to B's edge
+    db, bx, by = _closest_offset(world, ka, ka + kb, 0, ka)  # B's vertex to A's edge
     if db < da:
         da = db
         ax = -bx
@@ -227,8 +234,22 @@ def _bounds(world, ka, kb, local_normals, a0, b0, angle_a, angle_b, vx, vy, spin
 
 
 @inline_kernel
-def _sweep(local_verts, local_normals, a0, a1, b0, b1, pose_a0, pose_a1, pose_b0, pose_b1,
-           target, tolerance, max_iterations, scratch):
+def _sweep(
+    local_verts,
+    local_normals,
+    a0,
+    a1,
+    b0,
+    b1,
+    pose_a0,
+    pose_a1,
+    pose_b0,
+    pose_b1,
+    target,
+    tolerance,
+    max_iterations,
+    scratch,
+):
     """Conservative advancement; returns (t, separation m, pose evaluations)."""
     ka = a1 - a0
     kb = b1 - b0
@@ -236,8 +257,9 @@ def _sweep(local_verts, local_normals, a0, a1, b0, b1, pose_a0, pose_a1, pose_b0
         raise ValueError("time_of_impact: each polygon needs at least 3 rows")
     if scratch.shape[0] < ka + kb:
         raise ValueError("time_of_impact: scratch has fewer rows than the two polygons' vertices")
-    if not (target > 0.0 and tolerance > 0.0 and math.isfinite(target)
-            and math.isfinite(tolerance)):
+    if not (
+        target > 0.0 and tolerance > 0.0 and math.isfinite(target) and math.isfinite(tolerance)
+    ):
         raise ValueError("time_of_impact: target and tolerance must be finite and > 0")
     if max_iterations < 1:
         raise ValueError("time_of_impact: max_iterations must be >= 1")
@@ -252,8 +274,9 @@ def _sweep(local_verts, local_normals, a0, a1, b0, b1, pose_a0, pose_a1, pose_b0
     # velocities per unit t (m, rad per step) and the rotation part of every rate bound
     vx = (xa1 - xa0) - (xb1 - xb0)
     vy = (ya1 - ya0) - (yb1 - yb0)
-    spin = (abs(qa1 - qa0) * bounding_radius(local_verts, a0, a1)
-            + abs(qb1 - qb0) * bounding_radius(local_verts, b0, b1))
+    spin = abs(qa1 - qa0) * bounding_radius(local_verts, a0, a1) + abs(qb1 - qb0) * bounding_radius(
+        local_verts, b0, b1
+    )
     t = 0.0
     iteration = 0
     while True:
@@ -261,8 +284,9 @@ def _sweep(local_verts, local_normals, a0, a1, b0, b1, pose_a0, pose_a1, pose_b0
         angle_b = _lerp(qb0, qb1, t)
         _place(local_verts, a0, a1, _lerp(xa0, xa1, t), _lerp(ya0, ya1, t), angle_a, scratch, 0)
         _place(local_verts, b0, b1, _lerp(xb0, xb1, t), _lerp(yb0, yb1, t), angle_b, scratch, ka)
-        separation, step = _bounds(scratch, ka, kb, local_normals, a0, b0, angle_a, angle_b,
-                                   vx, vy, spin, target)
+        separation, step = _bounds(
+            scratch, ka, kb, local_normals, a0, b0, angle_a, angle_b, vx, vy, spin, target
+        )
         iteration += 1
         if not math.isfinite(separation):
             raise ValueError("time_of_impact: non-finite separation (degenerate polygon?)")
@@ -273,8 +297,22 @@ def _sweep(local_verts, local_normals, a0, a1, b0, b1, pose_a0, pose_a1, pose_b0
 
 
 @lean_kernel
-def time_of_impact(local_verts, local_normals, a0, a1, b0, b1, pose_a0, pose_a1, pose_b0, pose_b1,
-                   target, tolerance, max_iterations, scratch):
+def time_of_impact(
+    local_verts,
+    local_normals,
+    a0,
+    a1,
+    b0,
+    b1,
+    pose_a0,
+    pose_a1,
+    pose_b0,
+    pose_b1,
+    target,
+    tolerance,
+    max_iterations,
+    scratch,
+):
     """Earliest fraction of the step at which swept convex polygons A and B come within ``target``.
 
     local_verts, local_normals (V, 2) float64: packed body-frame vertices (m, about each body's
@@ -296,17 +334,60 @@ def time_of_impact(local_verts, local_normals, a0, a1, b0, b1, pose_a0, pose_a1,
         contact) but not converged.
     Raises ValueError on non-finite poses, target or tolerance <= 0, or too small a scratch.
     """
-    t, separation, _ = _sweep(local_verts, local_normals, a0, a1, b0, b1, pose_a0, pose_a1,
-                              pose_b0, pose_b1, target, tolerance, max_iterations, scratch)
+    t, separation, _ = _sweep(
+        local_verts,
+        local_normals,
+        a0,
+        a1,
+        b0,
+        b1,
+        pose_a0,
+        pose_a1,
+        pose_b0,
+        pose_b1,
+        target,
+        tolerance,
+        max_iterations,
+        scratch,
+    )
     return t, separation
 
 
 @lean_kernel
-def time_of_impact_counted(local_verts, local_normals, a0, a1, b0, b1, pose_a0, pose_a1, pose_b0,
-                           pose_b1, target, tolerance, max_iterations, scratch):
-    """``time_of_impact`` that also returns how many pose evaluations it used: (t, separation, n)."""
-    return _sweep(local_verts, local_normals, a0, a1, b0, b1, pose_a0, pose_a1, pose_b0, pose_b1,
-                  target, tolerance, max_iterations, scratch)
+def time_of_impact_counted(
+    local_verts,
+    local_normals,
+    a0,
+    a1,
+    b0,
+    b1,
+    pose_a0,
+    pose_a1,
+    pose_b0,
+    pose_b1,
+    target,
+    tolerance,
+    max_iterations,
+    scratch,
+):
+    """``time_of_impact`` that also returns how many pose evaluations it used: (t, separation,
+    n)."""
+    return _sweep(
+        local_verts,
+        local_normals,
+        a0,
+        a1,
+        b0,
+        b1,
+        pose_a0,
+        pose_a1,
+        pose_b0,
+        pose_b1,
+        target,
+        tolerance,
+        max_iterations,
+        scratch,
+    )
 
 
 @lean_kernel

@@ -2,6 +2,7 @@
 
 Used by ``Scene.to_file`` and by the study's results writers: a run interrupted mid-write (Ctrl-C,
 a full disk, an unwritable value found half-way) must leave the old file whole, not truncated."""
+
 import os
 import tempfile
 from pathlib import Path
@@ -18,7 +19,7 @@ def write_text_atomically(path, text):
             f.write(text)
             f.flush()
             os.fsync(f.fileno())
-        os.chmod(tmp, 0o644)                     # mkstemp makes it owner-only
+        os.chmod(tmp, 0o644)  # mkstemp makes it owner-only
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)

@@ -8,6 +8,7 @@ Conventions
   functions that tests can compare with the slow references in ``tests/naive.py``.
 - A contact normal points from body A to body B; a separation is positive when the shapes are apart.
 """
+
 import math
 
 import numpy as np
@@ -34,7 +35,8 @@ def validate_polygon(vertices, name="polygon"):
 
     Rejects: fewer than 3 vertices, more than ``MAX_VERTICES``, NaN/inf, repeated vertices, zero
     area, clockwise order, and any reflex vertex (non-convex). Collinear consecutive vertices are
-    allowed only within a relative tolerance of 1e-9 (they add a zero-angle corner, harmless to SAT).
+    allowed only within a relative tolerance of 1e-9 (they add a zero-angle corner, harmless to
+    SAT).
     """
     try:
         v = np.asarray(vertices, dtype=np.float64)
@@ -50,8 +52,10 @@ def validate_polygon(vertices, name="polygon"):
     if not np.all(np.isfinite(v)):
         raise PolygonError(f"{name}: vertices contain NaN or inf")
     if np.abs(v).max() > MAX_COORDINATE:
-        raise PolygonError(f"{name}: a vertex lies {np.abs(v).max():.4g} m from the body's origin, "
-                           f"beyond {MAX_COORDINATE:g} m (the solver's range)")
+        raise PolygonError(
+            f"{name}: a vertex lies {np.abs(v).max():.4g} m from the body's origin, "
+            f"beyond {MAX_COORDINATE:g} m (the solver's range)"
+        )
     scale = float(np.max(np.abs(v - v.mean(axis=0))))
     if scale <= 0.0:
         raise PolygonError(f"{name}: degenerate polygon (all vertices coincide)")
@@ -82,8 +86,8 @@ def validate_polygon(vertices, name="polygon"):
 def signed_area(vertices):
     """Shoelace area (m^2), positive for counter-clockwise vertices."""
     v = np.asarray(vertices, dtype=np.float64)
-    v = v - v.mean(axis=0)     # about the polygon's own centre: far from the origin, the
-    x, y = v[:, 0], v[:, 1]    # shoelace terms would cancel catastrophically
+    v = v - v.mean(axis=0)  # about the polygon's own centre: far from the origin, the
+    x, y = v[:, 0], v[:, 1]  # shoelace terms would cancel catastrophically
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
@@ -97,14 +101,23 @@ def mass_properties(vertices, density):
     p = v - origin
     a = p[1:-1]
     b = p[2:]
-    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]           # twice each triangle's area
+    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]  # twice each triangle's area
     area = 0.5 * cross.sum()
     centroid = ((a + b) * cross[:, None]).sum(axis=0) / (6.0 * area)
     # second moment of each triangle (origin, a, b) about the fan origin
-    i_origin = (cross * (a[:, 0] ** 2 + a[:, 0] * b[:, 0] + b[:, 0] ** 2
-                         + a[:, 1] ** 2 + a[:, 1] * b[:, 1] + b[:, 1] ** 2)).sum() / 12.0
+    i_origin = (
+        cross
+        * (
+            a[:, 0] ** 2
+            + a[:, 0] * b[:, 0]
+            + b[:, 0] ** 2
+            + a[:, 1] ** 2
+            + a[:, 1] * b[:, 1]
+            + b[:, 1] ** 2
+        )
+    ).sum() / 12.0
     mass = density * area
-    inertia = density * i_origin - mass * float(centroid @ centroid)   # parallel axis theorem
+    inertia = density * i_origin - mass * float(centroid @ centroid)  # parallel axis theorem
     return mass, centroid + origin, inertia
 
 
@@ -145,7 +158,7 @@ def _max_separation(verts, normals, a0, a1, b0, b1):
             if d < s:
                 s = d
                 if s <= best_sep:
-                    break          # this axis can no longer beat the best one
+                    break  # this axis can no longer beat the best one
         if s > best_sep:
             best_sep = s
             best_edge = i - a0
@@ -171,8 +184,20 @@ def _clip(p0x, p0y, p1x, p1y, d0, d1):
 
 
 @inline_kernel
-def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, face_tolerance, out_points,
-                         out_separations, out_ids, out_normal):
+def collide_polygon_rows(
+    verts,
+    normals,
+    a0,
+    a1,
+    b0,
+    b1,
+    margin,
+    face_tolerance,
+    out_points,
+    out_separations,
+    out_ids,
+    out_normal,
+):
     """SAT + reference/incident face clipping between convex polygons A and B, given as row ranges
     a0..a1-1 and b0..b1-1 of packed world-coordinate arrays verts/normals (V,2).
 
@@ -202,13 +227,39 @@ def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, face_tolerance,
     b_first = sep_b > sep_a + face_tolerance + 1e-3 * abs(sep_a)
     for attempt in range(2):
         if b_first == (attempt == 0):
-            kept = _clip_against_face(verts, normals, b0, b1, a0, a1, edge_b, 1, margin,
-                                      out_points, out_separations, out_ids, out_normal)
+            kept = _clip_against_face(
+                verts,
+                normals,
+                b0,
+                b1,
+                a0,
+                a1,
+                edge_b,
+                1,
+                margin,
+                out_points,
+                out_separations,
+                out_ids,
+                out_normal,
+            )
             if kept > 0:
                 return kept, 1, edge_b, gap
         else:
-            kept = _clip_against_face(verts, normals, a0, a1, b0, b1, edge_a, 0, margin,
-                                      out_points, out_separations, out_ids, out_normal)
+            kept = _clip_against_face(
+                verts,
+                normals,
+                a0,
+                a1,
+                b0,
+                b1,
+                edge_a,
+                0,
+                margin,
+                out_points,
+                out_separations,
+                out_ids,
+                out_normal,
+            )
             if kept > 0:
                 return kept, 0, edge_a, gap
         # The preferred face may be short, with the other polygon's incident edge entirely past
@@ -218,8 +269,21 @@ def collide_polygon_rows(verts, normals, a0, a1, b0, b1, margin, face_tolerance,
 
 
 @inline_kernel
-def _clip_against_face(verts, normals, r0, r1, i0, i1, edge, flip, margin, out_points,
-                       out_separations, out_ids, out_normal):
+def _clip_against_face(
+    verts,
+    normals,
+    r0,
+    r1,
+    i0,
+    i1,
+    edge,
+    flip,
+    margin,
+    out_points,
+    out_separations,
+    out_ids,
+    out_normal,
+):
     """Clip the incident polygon (rows i0..i1-1) against reference edge ``edge`` of the polygon in
     rows r0..r1-1; write the points within ``margin`` and return how many (0-2)."""
     nx = normals[r0 + edge, 0]
@@ -239,7 +303,7 @@ def _clip_against_face(verts, normals, r0, r1, i0, i1, edge, flip, margin, out_p
     p0y = verts[i0 + inc_edge, 1]
     p1x = verts[i0 + i2, 0]
     p1y = verts[i0 + i2, 1]
-    tx = -ny                       # reference face tangent, along the CCW edge direction
+    tx = -ny  # reference face tangent, along the CCW edge direction
     ty = nx
     v1x = verts[r0 + edge, 0]
     v1y = verts[r0 + edge, 1]
@@ -247,12 +311,14 @@ def _clip_against_face(verts, normals, r0, r1, i0, i1, edge, flip, margin, out_p
     # t.(p - v2) <= 0, moving an end that lies outside onto the plane
     lo = tx * v1x + ty * v1y
     hi = tx * verts[r0 + r2, 0] + ty * verts[r0 + r2, 1]
-    inside, p0x, p0y, p1x, p1y = _clip(p0x, p0y, p1x, p1y, lo - (tx * p0x + ty * p0y),
-                                       lo - (tx * p1x + ty * p1y))     # > 0: before the start
+    inside, p0x, p0y, p1x, p1y = _clip(
+        p0x, p0y, p1x, p1y, lo - (tx * p0x + ty * p0y), lo - (tx * p1x + ty * p1y)
+    )  # > 0: before the start
     if not inside:
         return 0
-    inside, p0x, p0y, p1x, p1y = _clip(p0x, p0y, p1x, p1y, tx * p0x + ty * p0y - hi,
-                                       tx * p1x + ty * p1y - hi)       # > 0: past the end
+    inside, p0x, p0y, p1x, p1y = _clip(
+        p0x, p0y, p1x, p1y, tx * p0x + ty * p0y - hi, tx * p1x + ty * p1y - hi
+    )  # > 0: past the end
     if not inside:
         return 0
     face = nx * v1x + ny * v1y
@@ -282,8 +348,9 @@ def _clip_against_face(verts, normals, r0, r1, i0, i1, edge, flip, margin, out_p
 
 
 @inline_kernel
-def collide_floor_rows(verts, normals, b0, b1, floor_y, margin, out_points, out_separations,
-                       out_ids):
+def collide_floor_rows(
+    verts, normals, b0, b1, floor_y, margin, out_points, out_separations, out_ids
+):
     """Contacts of a convex polygon (rows b0..b1-1 of packed world-coordinate arrays) with the
     half-plane y <= floor_y.
 
@@ -331,22 +398,45 @@ def max_separation(verts1, normals1, verts2):
 
 
 @kernel
-def collide_polygons(verts_a, normals_a, verts_b, normals_b, margin, out_points, out_separations,
-                     out_ids, out_normal, face_tolerance=1e-4):
+def collide_polygons(
+    verts_a,
+    normals_a,
+    verts_b,
+    normals_b,
+    margin,
+    out_points,
+    out_separations,
+    out_ids,
+    out_normal,
+    face_tolerance=1e-4,
+):
     """``collide_polygon_rows`` on two separate polygons (K,2) arrays; same outputs and return.
     ``face_tolerance`` defaults to the value a 1 m body gets (``sim.tolerances``)."""
     ka = verts_a.shape[0]
     verts = np.concatenate((verts_a, verts_b))
     normals = np.concatenate((normals_a, normals_b))
-    return collide_polygon_rows(verts, normals, 0, ka, ka, verts.shape[0], margin, face_tolerance,
-                                out_points, out_separations, out_ids, out_normal)
+    return collide_polygon_rows(
+        verts,
+        normals,
+        0,
+        ka,
+        ka,
+        verts.shape[0],
+        margin,
+        face_tolerance,
+        out_points,
+        out_separations,
+        out_ids,
+        out_normal,
+    )
 
 
 @kernel
 def collide_floor(verts, normals, floor_y, margin, out_points, out_separations, out_ids):
     """``collide_floor_rows`` on one polygon's (K,2) arrays; same outputs and return."""
-    return collide_floor_rows(verts, normals, 0, verts.shape[0], floor_y, margin, out_points,
-                              out_separations, out_ids)
+    return collide_floor_rows(
+        verts, normals, 0, verts.shape[0], floor_y, margin, out_points, out_separations, out_ids
+    )
 
 
 @kernel

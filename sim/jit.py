@@ -1,6 +1,7 @@
 """The decorators every kernel uses, so that compilation options are set in one place.
 
-- cache=True: compiled code is stored on disk (see ``sim/__init__``, which keys the cache folder by a
+- cache=True: compiled code is stored on disk (see ``sim/__init__``, which keys the cache folder by
+a
   hash of the sources, because Numba does not notice edits to a kernel's callees).
 - error_model="numpy": a float division by zero gives inf/nan instead of raising; the Python model
   puts a test-and-raise branch on every division, which costs ~15% of a solver sweep. Non-finite
@@ -16,6 +17,7 @@ unsigned (a signed index gets a wrap-around select per access, which breaks the 
 addresses SLP needs), and a batch lives in one flat array at compile-time offsets (two arrays, or
 one with a run-time row stride, might alias, and LLVM then keeps the scalar code).
 """
+
 import numba
 from numba import njit
 

@@ -20,6 +20,7 @@ which; nothing of the current step has changed: grow and call again); FLUSH (the
 needs emptying before the next step); NON_FINITE (a body's state is NaN/inf or beyond
 MAX_COORDINATE: the run stops, counters[BAD_BODY] names the body).
 """
+
 import numpy as np
 
 from .activity import resting_bodies
@@ -27,20 +28,62 @@ from .body import MAX_COORDINATE
 from .broadphase import build_grid, drop_stale_pairs, find_new_pairs, update_geometry
 from .clock import cycles
 from .contacts import sort_awake, update_manifolds
-from .data import (BAD_BODY, GROW_AWAKE_GRID, GROW_NEEDED, GROW_RESTING_GRID, GROW_SOLVER,
-                   MAX_DEGREE, N_AWAKE, N_BATCHES, N_COLOURS, N_EVENTS, N_HARD, N_LIVE,
-                   N_MOVED, N_REBUILDS, PRESOLVE_SWEEPS, RESTING_DIRTY, STAGE_BROADPHASE,
-                   STAGE_COLOUR, STAGE_CONTINUOUS, STAGE_FINALIZE, STAGE_FREEZE_AFTER,
-                   STAGE_FREEZE_BEFORE, STAGE_INTEGRATE, STAGE_NARROWPHASE, STAGE_PREPARE,
-                   STAGE_RELAX, STAGE_RESTITUTION, STAGE_SOLVE, STAGE_STORE, STAGE_WARM_START,
-                   STEP_COUNT)
+from .data import (
+    BAD_BODY,
+    GROW_AWAKE_GRID,
+    GROW_NEEDED,
+    GROW_RESTING_GRID,
+    GROW_SOLVER,
+    MAX_DEGREE,
+    N_AWAKE,
+    N_BATCHES,
+    N_COLOURS,
+    N_EVENTS,
+    N_HARD,
+    N_LIVE,
+    N_MOVED,
+    N_REBUILDS,
+    PRESOLVE_SWEEPS,
+    RESTING_DIRTY,
+    STAGE_BROADPHASE,
+    STAGE_COLOUR,
+    STAGE_CONTINUOUS,
+    STAGE_FINALIZE,
+    STAGE_FREEZE_AFTER,
+    STAGE_FREEZE_BEFORE,
+    STAGE_INTEGRATE,
+    STAGE_NARROWPHASE,
+    STAGE_PREPARE,
+    STAGE_RELAX,
+    STAGE_RESTITUTION,
+    STAGE_SOLVE,
+    STAGE_STORE,
+    STAGE_WARM_START,
+    STEP_COUNT,
+)
 from .freeze.dispatch import freeze_after_solve, freeze_before_solve
 from .sweep import sweep_fast_bodies
 from .jit import inline_kernel, kernel
-from .soft_step import (HARD_SWEEPS, IMPACT_SPEED, LANES, colour, deepest_separation,
-                        integrate_positions, integrate_velocities, lane_normal_impulse,
-                        load_bodies, max_colours, prepare, relax, relax_hard, restitution, solve,
-                        store, unload_bodies, warm_start)
+from .soft_step import (
+    HARD_SWEEPS,
+    IMPACT_SPEED,
+    LANES,
+    colour,
+    deepest_separation,
+    integrate_positions,
+    integrate_velocities,
+    lane_normal_impulse,
+    load_bodies,
+    max_colours,
+    prepare,
+    relax,
+    relax_hard,
+    restitution,
+    solve,
+    store,
+    unload_bodies,
+    warm_start,
+)
 
 OK, GROW, NON_FINITE, FLUSH = 0, 1, 2, 3
 
@@ -62,9 +105,14 @@ def first_diverged(counters, bodies, activity):
     velocity, angular_velocity = bodies.velocity, bodies.angular_velocity
     for k in range(counters[N_AWAKE]):
         i = activity.awake[k]
-        if not (abs(position[i, 0]) <= MAX_COORDINATE and abs(position[i, 1]) <= MAX_COORDINATE
-                and np.isfinite(angle[i]) and np.isfinite(velocity[i, 0])
-                and np.isfinite(velocity[i, 1]) and np.isfinite(angular_velocity[i])):
+        if not (
+            abs(position[i, 0]) <= MAX_COORDINATE
+            and abs(position[i, 1]) <= MAX_COORDINATE
+            and np.isfinite(angle[i])
+            and np.isfinite(velocity[i, 0])
+            and np.isfinite(velocity[i, 1])
+            and np.isfinite(angular_velocity[i])
+        ):
             return i
     return -1
 
@@ -86,30 +134,45 @@ def rebuild_resting(settings, counters, bodies, geometry, resting_grid, activity
 
 
 @kernel
-def broadphase(settings, counters, bodies, geometry, awake_grid, resting_grid, contacts, solver,
-               activity, scratch):
+def broadphase(
+    settings,
+    counters,
+    bodies,
+    geometry,
+    awake_grid,
+    resting_grid,
+    contacts,
+    solver,
+    activity,
+    scratch,
+):
     """Boxes of the awake bodies; new and stale pairs of those whose fat box moved; and room in
     the solver for every contact. Returns False (counters[GROW_NEEDED] set) when a buffer is too
     small; every part is safe to run again after growing (moved bodies stay listed until their
     pairs are done)."""
     if counters[RESTING_DIRTY] == 1:
-        if not rebuild_resting(settings, counters, bodies, geometry, resting_grid, activity,
-                               scratch):
+        if not rebuild_resting(
+            settings, counters, bodies, geometry, resting_grid, activity, scratch
+        ):
             return False
     update_geometry(activity.awake, counters[N_AWAKE], settings.dt, bodies, geometry, counters)
     if counters[N_MOVED] > 0:
-        if not build_grid(activity.awake, counters[N_AWAKE], geometry.fat, settings.cell_size,
-                          awake_grid):
+        if not build_grid(
+            activity.awake, counters[N_AWAKE], geometry.fat, settings.cell_size, awake_grid
+        ):
             counters[GROW_NEEDED] |= GROW_AWAKE_GRID
             return False
-        if not find_new_pairs(settings, bodies, geometry, awake_grid, resting_grid, contacts,
-                              counters, scratch):
+        if not find_new_pairs(
+            settings, bodies, geometry, awake_grid, resting_grid, contacts, counters, scratch
+        ):
             return False
         drop_stale_pairs(settings, geometry, contacts, counters)
     # every live contact may be active this step (waking adds contacts, never slots)
     needed = (counters[N_LIVE] + LANES - 1) // LANES + max_colours(counters[MAX_DEGREE]) + 1
-    if (needed > solver.lane_slot.shape[0] // LANES
-            or max_colours(counters[MAX_DEGREE]) > 64 * solver.colour_mask.shape[1]):
+    if (
+        needed > solver.lane_slot.shape[0] // LANES
+        or max_colours(counters[MAX_DEGREE]) > 64 * solver.colour_mask.shape[1]
+    ):
         counters[GROW_NEEDED] |= GROW_SOLVER
         return False
     return True
@@ -130,27 +193,62 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
     inv_h = 1.0 / h
     n_awake = counters[N_AWAKE]
     for _ in range(settings.substeps):
-        integrate_velocities(n_awake, solver.state, activity.awake, activity.solver_inv_mass,
-                             settings.gravity_x, settings.gravity_y, h)
+        integrate_velocities(
+            n_awake,
+            solver.state,
+            activity.awake,
+            activity.solver_inv_mass,
+            settings.gravity_x,
+            settings.gravity_y,
+            h,
+        )
         t = _lap(settings, solver, STAGE_INTEGRATE, t)
         warm_start(n_batches, solver.wide, solver.lane_row, solver.state)
         t = _lap(settings, solver, STAGE_WARM_START, t)
         for _ in range(settings.iterations):
-            solve(n_colours, solver.colour_batches, solver.wide, solver.lane_row, solver.state,
-                  inv_h, settings.push_speed)
+            solve(
+                n_colours,
+                solver.colour_batches,
+                solver.wide,
+                solver.lane_row,
+                solver.state,
+                inv_h,
+                settings.push_speed,
+            )
         t = _lap(settings, solver, STAGE_SOLVE, t)
         integrate_positions(n_awake, solver.state, h)
         t = _lap(settings, solver, STAGE_INTEGRATE, t)
         for _ in range(settings.relax_iterations):
-            relax(n_colours, solver.colour_batches, solver.wide, solver.lane_row, solver.state,
-                  inv_h, settings.fast_friction)
+            relax(
+                n_colours,
+                solver.colour_batches,
+                solver.wide,
+                solver.lane_row,
+                solver.state,
+                inv_h,
+                settings.fast_friction,
+            )
         if counters[N_HARD] > 0:
             for _ in range(HARD_SWEEPS):
-                relax_hard(n_colours, solver.colour_batches, solver.wide, solver.lane_row,
-                           solver.state, inv_h, settings.fast_friction, solver.batch_hard)
+                relax_hard(
+                    n_colours,
+                    solver.colour_batches,
+                    solver.wide,
+                    solver.lane_row,
+                    solver.state,
+                    inv_h,
+                    settings.fast_friction,
+                    solver.batch_hard,
+                )
         t = _lap(settings, solver, STAGE_RELAX, t)
-    restitution(n_colours, solver.colour_batches, solver.wide, solver.lane_row, solver.state,
-                settings.restitution_threshold)
+    restitution(
+        n_colours,
+        solver.colour_batches,
+        solver.wide,
+        solver.lane_row,
+        solver.state,
+        settings.restitution_threshold,
+    )
     t = _lap(settings, solver, STAGE_RESTITUTION, t)
     store(counters, contacts, solver, settings.load_rate, IMPACT_SPEED)
     t = _lap(settings, solver, STAGE_STORE, t)
@@ -158,8 +256,20 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
 
 
 @kernel
-def run(n_steps, settings, counters, bodies, geometry, awake_grid, resting_grid, contacts,
-        solver, activity, scratch, min_separation):
+def run(
+    n_steps,
+    settings,
+    counters,
+    bodies,
+    geometry,
+    awake_grid,
+    resting_grid,
+    contacts,
+    solver,
+    activity,
+    scratch,
+    min_separation,
+):
     """Advance up to ``n_steps`` steps. Returns (status, steps_done).
 
     ``min_separation`` (n_steps,) receives the deepest contact separation after each step, m.
@@ -169,8 +279,18 @@ def run(n_steps, settings, counters, bodies, geometry, awake_grid, resting_grid,
         if counters[N_EVENTS] + 4 * n_dyn + 16 > activity.events.shape[0]:
             return FLUSH, step
         t = cycles() if settings.profile else 0
-        if not broadphase(settings, counters, bodies, geometry, awake_grid, resting_grid,
-                          contacts, solver, activity, scratch):
+        if not broadphase(
+            settings,
+            counters,
+            bodies,
+            geometry,
+            awake_grid,
+            resting_grid,
+            contacts,
+            solver,
+            activity,
+            scratch,
+        ):
             return GROW, step
         sort_awake(bodies.position.shape[0], contacts, counters)
         t = _lap(settings, solver, STAGE_BROADPHASE, t)
@@ -185,12 +305,22 @@ def run(n_steps, settings, counters, bodies, geometry, awake_grid, resting_grid,
             sort_awake(bodies.position.shape[0], contacts, counters)
             update_manifolds(settings, bodies, geometry, contacts, counters)
         t = solve_step(settings, counters, bodies, contacts, activity, solver, t)
-        min_separation[step] = deepest_separation(counters[N_BATCHES], solver.wide,
-                                                  solver.lane_row, solver.state)
+        min_separation[step] = deepest_separation(
+            counters[N_BATCHES], solver.wide, solver.lane_row, solver.state
+        )
         t = _lap(settings, solver, STAGE_FINALIZE, t)
         if settings.continuous:
-            sweep_fast_bodies(settings, counters, bodies, geometry, awake_grid, resting_grid,
-                              activity, solver, scratch)
+            sweep_fast_bodies(
+                settings,
+                counters,
+                bodies,
+                geometry,
+                awake_grid,
+                resting_grid,
+                activity,
+                solver,
+                scratch,
+            )
         t = _lap(settings, solver, STAGE_CONTINUOUS, t)
         unload_bodies(counters, bodies, activity, solver)
         bad = first_diverged(counters, bodies, activity)
@@ -206,16 +336,38 @@ def run(n_steps, settings, counters, bodies, geometry, awake_grid, resting_grid,
 
 
 @kernel
-def presolve(n_iterations, tolerance, settings, counters, bodies, geometry, awake_grid,
-             resting_grid, contacts, solver, activity, scratch):
+def presolve(
+    n_iterations,
+    tolerance,
+    settings,
+    counters,
+    bodies,
+    geometry,
+    awake_grid,
+    resting_grid,
+    contacts,
+    solver,
+    activity,
+    scratch,
+):
     """Solve the contact impulses of the initial configuration to convergence (or
     ``n_iterations`` sweeps) without moving anything: one substep of gravity, then rigid sweeps
     until no lane's normal impulse changes by more than ``tolerance`` times the largest over 10
     sweeps. Only the impulses are kept, to warm start step 1. A scene placed at rest then starts
     in equilibrium instead of sagging while the solver builds the pressure up over the first
     steps. Returns OK or GROW."""
-    if not broadphase(settings, counters, bodies, geometry, awake_grid, resting_grid, contacts,
-                      solver, activity, scratch):
+    if not broadphase(
+        settings,
+        counters,
+        bodies,
+        geometry,
+        awake_grid,
+        resting_grid,
+        contacts,
+        solver,
+        activity,
+        scratch,
+    ):
         return GROW
     sort_awake(bodies.position.shape[0], contacts, counters)
     update_manifolds(settings, bodies, geometry, contacts, counters)
@@ -224,20 +376,34 @@ def presolve(n_iterations, tolerance, settings, counters, bodies, geometry, awak
     prepare(settings, counters, bodies, contacts, activity, solver)
     load_bodies(counters, bodies, activity, solver)
     h = settings.dt / settings.substeps
-    integrate_velocities(counters[N_AWAKE], solver.state, activity.awake,
-                         activity.solver_inv_mass, settings.gravity_x, settings.gravity_y, h)
+    integrate_velocities(
+        counters[N_AWAKE],
+        solver.state,
+        activity.awake,
+        activity.solver_inv_mass,
+        settings.gravity_x,
+        settings.gravity_y,
+        h,
+    )
     before = np.zeros(n_batches * LANES)
     done = 0
     while done < n_iterations:
         _lane_impulses(n_batches, solver.wide, before)
         for _ in range(min(10, n_iterations - done)):
-            relax(n_colours, solver.colour_batches, solver.wide, solver.lane_row, solver.state,
-                  1.0 / h, False)
+            relax(
+                n_colours,
+                solver.colour_batches,
+                solver.wide,
+                solver.lane_row,
+                solver.state,
+                1.0 / h,
+                False,
+            )
         done += 10
         change, largest = _impulse_change(n_batches, solver.wide, before)
         if change <= tolerance * largest:
             break
-    store(counters, contacts, solver, 1.0, np.inf)   # the converged load is carried from the start
+    store(counters, contacts, solver, 1.0, np.inf)  # the converged load is carried from the start
     counters[PRESOLVE_SWEEPS] = done
     return OK
 

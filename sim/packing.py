@@ -11,6 +11,7 @@ vertices are stored about it, and results are bit-for-bit those of the one-body 
 cosines come from ``math``, as there, rather than numpy's vectorised ones, which may differ in
 the last bit).
 """
+
 import math
 from typing import NamedTuple
 
@@ -21,24 +22,28 @@ from .scene import BodyArrays
 
 
 class Packed(NamedTuple):
-    """Per-body arrays of M bodies: the N dynamic ones first, then the static ones in scene order."""
-    n_dynamic: int                 # N
-    vert_start: np.ndarray         # (M+1,) int64: body i's rows of local_verts are vert_start[i]:vert_start[i+1]
-    local_verts: np.ndarray        # (V,2) m, body frame about the centre of mass
-    local_normals: np.ndarray      # (V,2) outward unit edge normals, body frame
-    position: np.ndarray           # (M,2) m, centre of mass in the world
-    angle: np.ndarray              # (M,) rad
-    velocity: np.ndarray           # (M,2) m/s of the centre of mass, zeros for static
-    angular_velocity: np.ndarray   # (M,) rad/s, zeros for static
-    inv_mass: np.ndarray           # (M,) 1/kg, 0 for static
-    inv_inertia: np.ndarray        # (M,) 1/(kg m^2), 0 for static
-    mass: np.ndarray               # (N,) kg
-    inertia: np.ndarray            # (N,) kg m^2 about the centre of mass
-    friction: np.ndarray           # (M,) Coulomb mu
-    restitution: np.ndarray        # (M,) in [0, 1]
-    extent: np.ndarray             # (M,) m, centre of mass to the farthest vertex
-    size: np.ndarray               # (M,) m, thinnest width across an edge normal
-    bullet: np.ndarray             # (M,) bool, False for static
+    """Per-body arrays of M bodies: the N dynamic ones first, then the static ones in scene
+    order."""
+
+    n_dynamic: int  # N
+    vert_start: (
+        np.ndarray
+    )  # (M+1,) int64: body i's rows of local_verts are vert_start[i]:vert_start[i+1]
+    local_verts: np.ndarray  # (V,2) m, body frame about the centre of mass
+    local_normals: np.ndarray  # (V,2) outward unit edge normals, body frame
+    position: np.ndarray  # (M,2) m, centre of mass in the world
+    angle: np.ndarray  # (M,) rad
+    velocity: np.ndarray  # (M,2) m/s of the centre of mass, zeros for static
+    angular_velocity: np.ndarray  # (M,) rad/s, zeros for static
+    inv_mass: np.ndarray  # (M,) 1/kg, 0 for static
+    inv_inertia: np.ndarray  # (M,) 1/(kg m^2), 0 for static
+    mass: np.ndarray  # (N,) kg
+    inertia: np.ndarray  # (N,) kg m^2 about the centre of mass
+    friction: np.ndarray  # (M,) Coulomb mu
+    restitution: np.ndarray  # (M,) in [0, 1]
+    extent: np.ndarray  # (M,) m, centre of mass to the farthest vertex
+    size: np.ndarray  # (M,) m, thinnest width across an edge normal
+    bullet: np.ndarray  # (M,) bool, False for static
 
 
 def pack(scene):
@@ -49,21 +54,23 @@ def pack(scene):
     static = BodyArrays.from_bodies(scene.static_bodies)
     n = len(dynamic.position)
     m = n + len(static.position)
-    vertices = np.concatenate([dynamic.vertices, static.vertices])            # (V,2) m
-    vert_start = np.concatenate([dynamic.vert_start,
-                                 static.vert_start[1:] + dynamic.vert_start[-1]])
+    vertices = np.concatenate([dynamic.vertices, static.vertices])  # (V,2) m
+    vert_start = np.concatenate(
+        [dynamic.vert_start, static.vert_start[1:] + dynamic.vert_start[-1]]
+    )
     # extreme but finite fields can overflow these: the World checks them and names the body
     # (world._check_mass_properties), so numpy need not warn as well
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         mass, centroid, inertia = mass_properties_many(
-            vertices, vert_start, np.concatenate([dynamic.density, static.density]))
+            vertices, vert_start, np.concatenate([dynamic.density, static.density])
+        )
     local = vertices - np.repeat(centroid, np.diff(vert_start), axis=0)
     normals = edge_normals_many(local, vert_start)
     angle = np.concatenate([dynamic.angle, static.angle])
     angles = angle.tolist()
     c = np.fromiter(map(math.cos, angles), np.float64, m)
     s = np.fromiter(map(math.sin, angles), np.float64, m)
-    origin = np.concatenate([dynamic.position, static.position])              # (M,2) m
+    origin = np.concatenate([dynamic.position, static.position])  # (M,2) m
     position = np.empty((m, 2))
     position[:, 0] = origin[:, 0] + c * centroid[:, 0] - s * centroid[:, 1]
     position[:, 1] = origin[:, 1] + s * centroid[:, 0] + c * centroid[:, 1]
@@ -79,11 +86,21 @@ def pack(scene):
     bullet = np.zeros(m, dtype=bool)
     bullet[:n] = dynamic.bullet
     return Packed(
-        n_dynamic=n, vert_start=vert_start, local_verts=local, local_normals=normals,
-        position=position, angle=angle, velocity=velocity, angular_velocity=angular_velocity,
-        inv_mass=inv_mass, inv_inertia=inv_inertia, mass=mass[:n].copy(),
+        n_dynamic=n,
+        vert_start=vert_start,
+        local_verts=local,
+        local_normals=normals,
+        position=position,
+        angle=angle,
+        velocity=velocity,
+        angular_velocity=angular_velocity,
+        inv_mass=inv_mass,
+        inv_inertia=inv_inertia,
+        mass=mass[:n].copy(),
         inertia=inertia[:n].copy(),
         friction=np.concatenate([dynamic.friction, static.friction]),
         restitution=np.concatenate([dynamic.restitution, static.restitution]),
         extent=extent_many(local, vert_start),
-        size=thinnest_width_many(local, vert_start, normals), bullet=bullet)
+        size=thinnest_width_many(local, vert_start, normals),
+        bullet=bullet,
+    )

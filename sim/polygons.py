@@ -11,12 +11,14 @@ Packed layout (the World's): ``vertices`` (V,2) float64, m, every polygon's vert
 Agreement with ``sim.geometry``, which stays the reference:
 - ``mass_properties_many`` and ``edge_normals_many`` apply the same operations in the same order as
   ``geometry.mass_properties`` / ``geometry.edge_normals``, and their sums reduce in the order numpy
-  reduces one polygon, so the results are equal bit for bit (tests/unit/test_packing.py checks this).
+  reduces one polygon, so the results are equal bit for bit (tests/unit/test_packing.py checks
+  this).
 - ``validate_polygons`` does not re-implement the error messages: a vectorised screen marks every
   polygon that fails, or comes within a rounding margin of failing, one of ``validate_polygon``'s
   checks, and ``validate_polygon`` itself then judges the marked ones in index order. The verdicts
   and messages are therefore exactly the reference's.
 """
+
 import math
 
 import numpy as np
@@ -27,10 +29,10 @@ from .geometry import MAX_COORDINATE, MAX_VERTICES, PolygonError, validate_polyg
 # differences between its one-polygon arithmetic and the vectorised arithmetic here (a shoelace
 # sum of <= 1024 terms is off by < 1024 * 2.2e-16 * scale^2 = 2.3e-13 scale^2). A polygon inside a
 # margin is only screened in: the reference then decides.
-_SHORT_EDGE = 1e-9 * (1.0 + 1e-6)       # relative to the polygon's scale (reference: 1e-9)
-_THIN_AREA = 2e-12                      # relative to scale^2 (reference: 1e-12)
-_REFLEX_TURN = -1e-9 * (1.0 - 1e-6)     # sine of the turn angle (reference: -1e-9)
-_WINDING = 1e-6 * (1.0 - 1e-3)          # rad off 2 pi (reference: 1e-6)
+_SHORT_EDGE = 1e-9 * (1.0 + 1e-6)  # relative to the polygon's scale (reference: 1e-9)
+_THIN_AREA = 2e-12  # relative to scale^2 (reference: 1e-12)
+_REFLEX_TURN = -1e-9 * (1.0 - 1e-6)  # sine of the turn angle (reference: -1e-9)
+_WINDING = 1e-6 * (1.0 - 1e-3)  # rad off 2 pi (reference: 1e-6)
 
 
 def check_packed(vertices, vert_start):
@@ -40,13 +42,21 @@ def check_packed(vertices, vert_start):
     if vertices.ndim != 2 or vertices.shape[1] != 2:
         raise ValueError(f"vertices must have shape (V, 2), got {vertices.shape}")
     vert_start = np.asarray(vert_start)
-    if vert_start.ndim != 1 or len(vert_start) < 1 or not np.issubdtype(vert_start.dtype, np.integer):
-        raise ValueError(f"vert_start must be a 1-D integer array of shape (M+1,), got "
-                         f"{vert_start.dtype} {vert_start.shape}")
+    if (
+        vert_start.ndim != 1
+        or len(vert_start) < 1
+        or not np.issubdtype(vert_start.dtype, np.integer)
+    ):
+        raise ValueError(
+            f"vert_start must be a 1-D integer array of shape (M+1,), got "
+            f"{vert_start.dtype} {vert_start.shape}"
+        )
     vert_start = vert_start.astype(np.int64, copy=False)
     if vert_start[0] != 0 or vert_start[-1] != len(vertices) or np.any(np.diff(vert_start) < 0):
-        raise ValueError(f"vert_start must rise from 0 to len(vertices) = {len(vertices)} without "
-                         f"decreasing, got {vert_start[0]} .. {vert_start[-1]}")
+        raise ValueError(
+            f"vert_start must rise from 0 to len(vertices) = {len(vertices)} without "
+            f"decreasing, got {vert_start[0]} .. {vert_start[-1]}"
+        )
     return vertices, vert_start
 
 
@@ -85,17 +95,18 @@ def polygon_suspects(vertices, vert_start):
         if k < 3 or k > MAX_VERTICES:
             suspect[index] = True
             continue
-        g = vertices[rows]                                   # (n,k,2) m
-        with np.errstate(all="ignore"):                      # non-finite input is marked below
+        g = vertices[rows]  # (n,k,2) m
+        with np.errstate(all="ignore"):  # non-finite input is marked below
             centred = g - g.mean(axis=1, keepdims=True)
-            scale = np.abs(centred).max(axis=(1, 2))         # (n,) m
+            scale = np.abs(centred).max(axis=(1, 2))  # (n,) m
             edges = np.roll(g, -1, axis=1) - g
             lengths = np.hypot(edges[..., 0], edges[..., 1])  # (n,k) m
             short = np.any(lengths <= _SHORT_EDGE * scale[:, None], axis=1)
             x, y = centred[..., 0], centred[..., 1]
-            area = 0.5 * ((x * np.roll(y, -1, axis=1)).sum(axis=1)
-                          - (np.roll(x, -1, axis=1) * y).sum(axis=1))   # (n,) m^2, CCW > 0
-            thin = ~(area > _THIN_AREA * scale * scale)      # NaN counts as thin
+            area = 0.5 * (
+                (x * np.roll(y, -1, axis=1)).sum(axis=1) - (np.roll(x, -1, axis=1) * y).sum(axis=1)
+            )  # (n,) m^2, CCW > 0
+            thin = ~(area > _THIN_AREA * scale * scale)  # NaN counts as thin
             nxt = np.roll(edges, -1, axis=1)
             norm = lengths * np.roll(lengths, -1, axis=1)
             sine = (edges[..., 0] * nxt[..., 1] - edges[..., 1] * nxt[..., 0]) / norm
@@ -115,7 +126,7 @@ def validate_polygons(vertices, vert_start, names):
     """
     vertices, vert_start = check_packed(vertices, vert_start)
     for i in np.flatnonzero(polygon_suspects(vertices, vert_start)).tolist():
-        validate_polygon(vertices[vert_start[i]:vert_start[i + 1]], names(i))
+        validate_polygon(vertices[vert_start[i] : vert_start[i + 1]], names(i))
 
 
 def _require_polygons(vert_start):
@@ -139,21 +150,21 @@ def mass_properties_many(vertices, vert_start, density):
     centroid = np.empty((m, 2))
     inertia = np.empty(m)
     for _, index, rows in by_vertex_count(vert_start):
-        g = vertices[rows]                                   # (n,k,2) m
+        g = vertices[rows]  # (n,k,2) m
         origin = g[:, 0]
         p = g - origin[:, None]
         a = p[:, 1:-1]
         b = p[:, 2:]
-        cross = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]   # (n,k-2) twice each triangle's area
+        cross = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]  # (n,k-2) twice each triangle's area
         area = 0.5 * cross.sum(axis=1)
         c = ((a + b) * cross[..., None]).sum(axis=1) / (6.0 * area)[:, None]
         ax, ay, bx, by = a[..., 0], a[..., 1], b[..., 0], b[..., 1]
-        i_origin = (cross * (ax ** 2 + ax * bx + bx ** 2 + ay ** 2 + ay * by + by ** 2)).sum(axis=1) / 12.0
+        i_origin = (cross * (ax**2 + ax * bx + bx**2 + ay**2 + ay * by + by**2)).sum(axis=1) / 12.0
         d = density[index]
         mk = d * area
         mass[index] = mk
         # np.vecdot reduces each row with the routine `c @ c` uses for one polygon (BLAS dot)
-        inertia[index] = d * i_origin - mk * np.vecdot(c, c)   # parallel axis theorem
+        inertia[index] = d * i_origin - mk * np.vecdot(c, c)  # parallel axis theorem
         centroid[index] = c + origin
     return mass, centroid, inertia
 
@@ -188,11 +199,11 @@ def thinnest_width_many(local_vertices, vert_start, normals=None):
     for k, index, rows in by_vertex_count(vert_start):
         # (k, n) layout: row j holds vertex j of every polygon, so each step below is a
         # contiguous operation along n, however few vertices the polygons have
-        x, y = local_vertices[rows.T, 0], local_vertices[rows.T, 1]      # (k,n) m
+        x, y = local_vertices[rows.T, 0], local_vertices[rows.T, 1]  # (k,n) m
         nx, ny = normals[rows.T, 0], normals[rows.T, 1]
         best = np.full(len(index), np.inf)
         for e in range(k):
-            depth = (x[e] - x) * nx[e] + (y[e] - y) * ny[e]            # (k,n) m
+            depth = (x[e] - x) * nx[e] + (y[e] - y) * ny[e]  # (k,n) m
             np.minimum(best, depth.max(axis=0), out=best)
         width[index] = best
     return width

@@ -6,6 +6,7 @@ create and check one by one (more for varied polygons), the same bodies as array
 a fraction of a second. An array-backed scene creates its Body objects only if ``scene.bodies``
 is read; from then on that list is the scene's truth (edits to those bodies are seen, as in any
 Body-list scene)."""
+
 import copy as _copy
 from dataclasses import dataclass, field
 import tomllib
@@ -23,17 +24,18 @@ from .polygons import check_packed, polygon_suspects
 class BodyArrays(NamedTuple):
     """The N dynamic bodies of an array-backed Scene: validated, read-only (the fields of
     ``sim.Body``, one row per body)."""
-    vertices: np.ndarray          # (V,2) m, body frame, every body's polygon concatenated
-    vert_start: np.ndarray        # (N+1,) int64: body i's vertices are rows vert_start[i]:vert_start[i+1]
-    position: np.ndarray          # (N,2) m, where each body frame's origin is placed
-    angle: np.ndarray             # (N,) rad, CCW
-    velocity: np.ndarray          # (N,2) m/s of the centre of mass
+
+    vertices: np.ndarray  # (V,2) m, body frame, every body's polygon concatenated
+    vert_start: np.ndarray  # (N+1,) int64: body i's vertices are rows vert_start[i]:vert_start[i+1]
+    position: np.ndarray  # (N,2) m, where each body frame's origin is placed
+    angle: np.ndarray  # (N,) rad, CCW
+    velocity: np.ndarray  # (N,2) m/s of the centre of mass
     angular_velocity: np.ndarray  # (N,) rad/s
-    density: np.ndarray           # (N,) kg/m^2
-    friction: np.ndarray          # (N,) Coulomb mu
-    restitution: np.ndarray       # (N,) in [0, 1]
-    bullet: np.ndarray            # (N,) bool
-    names: tuple | None           # N str ("" = unnamed: "body <i>" in messages), or None
+    density: np.ndarray  # (N,) kg/m^2
+    friction: np.ndarray  # (N,) Coulomb mu
+    restitution: np.ndarray  # (N,) in [0, 1]
+    bullet: np.ndarray  # (N,) bool
+    names: tuple | None  # N str ("" = unnamed: "body <i>" in messages), or None
 
     def body_name(self, i):
         """Name of body ``i`` for messages."""
@@ -46,17 +48,20 @@ class BodyArrays(NamedTuple):
         n = len(bodies)
         vert_start = np.zeros(n + 1, dtype=np.int64)
         np.cumsum(np.fromiter((len(b.vertices) for b in bodies), np.int64, n), out=vert_start[1:])
-        vertices = (np.concatenate([b.vertices for b in bodies]) if n else np.empty((0, 2)))
-        return cls(vertices=vertices.astype(np.float64, copy=False), vert_start=vert_start,
-                   position=np.array([b.position for b in bodies], np.float64).reshape(n, 2),
-                   angle=np.array([b.angle for b in bodies], np.float64),
-                   velocity=np.array([b.velocity for b in bodies], np.float64).reshape(n, 2),
-                   angular_velocity=np.array([b.angular_velocity for b in bodies], np.float64),
-                   density=np.array([b.density for b in bodies], np.float64),
-                   friction=np.array([b.friction for b in bodies], np.float64),
-                   restitution=np.array([b.restitution for b in bodies], np.float64),
-                   bullet=np.array([b.bullet for b in bodies], dtype=bool),
-                   names=tuple(b.name for b in bodies))
+        vertices = np.concatenate([b.vertices for b in bodies]) if n else np.empty((0, 2))
+        return cls(
+            vertices=vertices.astype(np.float64, copy=False),
+            vert_start=vert_start,
+            position=np.array([b.position for b in bodies], np.float64).reshape(n, 2),
+            angle=np.array([b.angle for b in bodies], np.float64),
+            velocity=np.array([b.velocity for b in bodies], np.float64).reshape(n, 2),
+            angular_velocity=np.array([b.angular_velocity for b in bodies], np.float64),
+            density=np.array([b.density for b in bodies], np.float64),
+            friction=np.array([b.friction for b in bodies], np.float64),
+            restitution=np.array([b.restitution for b in bodies], np.float64),
+            bullet=np.array([b.bullet for b in bodies], dtype=bool),
+            names=tuple(b.name for b in bodies),
+        )
 
 
 @dataclass
@@ -73,6 +78,7 @@ class Scene:
     ``n_bodies`` counts the dynamic bodies without creating Body objects of an array-backed
     scene, and ``body_arrays`` gives that scene's arrays (None for a Body-list scene).
     """
+
     bodies: list
     floor_y: float | None = 0.0
     gravity: tuple = (0.0, -9.81)
@@ -95,17 +101,21 @@ class Scene:
             self.bodies = list(self.bodies)
             _check_bodies(self.bodies, "body")
         if self.static_bodies is None or isinstance(self.static_bodies, (str, bytes)):
-            raise ValueError(f"static_bodies must be a list of sim.Body, got "
-                             f"{self.static_bodies!r}")
+            raise ValueError(
+                f"static_bodies must be a list of sim.Body, got {self.static_bodies!r}"
+            )
         try:
             self.static_bodies = list(self.static_bodies)
         except TypeError:
-            raise ValueError(f"static_bodies must be a list of sim.Body, got "
-                             f"{self.static_bodies!r}") from None
+            raise ValueError(
+                f"static_bodies must be a list of sim.Body, got {self.static_bodies!r}"
+            ) from None
         _check_bodies(self.static_bodies, "static body")
         for i, b in enumerate(self.static_bodies):
             if b.velocity != (0.0, 0.0) or b.angular_velocity != 0.0:
-                raise ValueError(f"static body {i}: static bodies cannot move (velocity must be zero)")
+                raise ValueError(
+                    f"static body {i}: static bodies cannot move (velocity must be zero)"
+                )
         if not isinstance(self.name, str):
             raise ValueError(f"scene: name must be a string, got {self.name!r}")
         if not isinstance(self.params, dict):
@@ -118,15 +128,34 @@ class Scene:
             raise ValueError(f"scene: floor_friction must be >= 0, got {self.floor_friction}")
         self.floor_restitution = finite_number(self.floor_restitution, "floor_restitution", "scene")
         if not 0.0 <= self.floor_restitution <= 1.0:
-            raise ValueError(f"scene: floor_restitution must be in [0, 1], got {self.floor_restitution}")
+            raise ValueError(
+                f"scene: floor_restitution must be in [0, 1], got {self.floor_restitution}"
+            )
 
     # ---- array-backed scenes ------------------------------------------------------------------
     @classmethod
-    def from_arrays(cls, vertices, position, *, vert_start=None, angle=0.0, velocity=(0.0, 0.0),
-                    angular_velocity=0.0, density=1.0, friction=0.5, restitution=0.0,
-                    bullet=False, names=None, static_bodies=(), floor_y=0.0,
-                    gravity=(0.0, -9.81), floor_friction=0.6, floor_restitution=0.0,
-                    name="custom", params=None):
+    def from_arrays(
+        cls,
+        vertices,
+        position,
+        *,
+        vert_start=None,
+        angle=0.0,
+        velocity=(0.0, 0.0),
+        angular_velocity=0.0,
+        density=1.0,
+        friction=0.5,
+        restitution=0.0,
+        bullet=False,
+        names=None,
+        static_bodies=(),
+        floor_y=0.0,
+        gravity=(0.0, -9.81),
+        floor_friction=0.6,
+        floor_restitution=0.0,
+        name="custom",
+        params=None,
+    ):
         """A scene of N dynamic bodies given as arrays, without creating Body objects.
 
         vertices   m, body frame, counter-clockwise: (K,2) one polygon shared by every body,
@@ -139,8 +168,19 @@ class Scene:
         The other arguments are the Scene fields. Bodies obey the rules of ``sim.Body`` and a
         bad one is refused with the message the same Body in a Body-list scene would get; a bad
         argument shape with a ValueError naming the argument and the expected shape."""
-        arrays = _body_arrays(vertices, vert_start, position, angle, velocity, angular_velocity,
-                              density, friction, restitution, bullet, names)
+        arrays = _body_arrays(
+            vertices,
+            vert_start,
+            position,
+            angle,
+            velocity,
+            angular_velocity,
+            density,
+            friction,
+            restitution,
+            bullet,
+            names,
+        )
         scene = object.__new__(cls)
         scene.floor_y, scene.gravity = floor_y, gravity
         scene.floor_friction, scene.floor_restitution = floor_friction, floor_restitution
@@ -161,7 +201,7 @@ class Scene:
         if arrays is None:
             arrays = BodyArrays.from_bodies(self.bodies)
             for a in arrays[:-1]:
-                a.flags.writeable = False       # as in every array-backed scene
+                a.flags.writeable = False  # as in every array-backed scene
         copy = object.__new__(type(self))
         copy.floor_y, copy.gravity = self.floor_y, tuple(self.gravity)
         copy.floor_friction, copy.floor_restitution = self.floor_friction, self.floor_restitution
@@ -181,7 +221,7 @@ class Scene:
         arrays = self.__dict__.get("_arrays")
         if attr == "bodies" and arrays is not None:
             self.bodies = _materialise(arrays)
-            self._arrays = None                 # the Body list is the truth from now on
+            self._arrays = None  # the Body list is the truth from now on
             return self.bodies
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {attr!r}")
 
@@ -201,10 +241,17 @@ class Scene:
 
     def __repr__(self):
         arrays = self.body_arrays
-        bodies = f"<{len(arrays.position)} bodies in arrays>" if arrays is not None else repr(self.bodies)
-        return (f"Scene(bodies={bodies}, floor_y={self.floor_y!r}, gravity={self.gravity!r}, "
-                f"floor_friction={self.floor_friction!r}, floor_restitution={self.floor_restitution!r}, "
-                f"static_bodies={self.static_bodies!r}, name={self.name!r}, params={self.params!r})")
+        bodies = (
+            f"<{len(arrays.position)} bodies in arrays>"
+            if arrays is not None
+            else repr(self.bodies)
+        )
+        return (
+            f"Scene(bodies={bodies}, floor_y={self.floor_y!r}, gravity={self.gravity!r}, "
+            f"floor_friction={self.floor_friction!r}, "
+            f"floor_restitution={self.floor_restitution!r}, "
+            f"static_bodies={self.static_bodies!r}, name={self.name!r}, params={self.params!r})"
+        )
 
     # ---- files -------------------------------------------------------------------------------
     @classmethod
@@ -220,7 +267,7 @@ class Scene:
             data["floor_y"] = None
         try:
             return cls(bodies=bodies, static_bodies=statics, **data)
-        except TypeError as exc:                     # unknown or missing keys
+        except TypeError as exc:  # unknown or missing keys
             raise ValueError(f"scene: {exc}") from None
 
     @classmethod
@@ -233,10 +280,12 @@ class Scene:
                 data = tomllib.load(f)
             except tomllib.TOMLDecodeError as exc:
                 raise ValueError(f"{path}: not valid TOML ({exc})") from None
-            except UnicodeDecodeError as exc:        # a binary file, or not UTF-8
+            except UnicodeDecodeError as exc:  # a binary file, or not UTF-8
                 raise ValueError(f"{path}: not valid TOML (not UTF-8 text: {exc})") from None
-            except RecursionError:                   # tomllib parses nested arrays recursively
-                raise ValueError(f"{path}: not valid TOML for a scene (nested too deeply)") from None
+            except RecursionError:  # tomllib parses nested arrays recursively
+                raise ValueError(
+                    f"{path}: not valid TOML for a scene (nested too deeply)"
+                ) from None
         data.setdefault("name", str(path))
         try:
             return cls.from_dict(data)
@@ -244,13 +293,20 @@ class Scene:
             raise ValueError(f"{path}: {exc}") from None
 
     def to_dict(self):
-        return {"name": self.name, "params": dict(self.params),
-                "floor_y": "none" if self.floor_y is None else self.floor_y,
-                "gravity": list(self.gravity), "floor_friction": self.floor_friction,
-                "floor_restitution": self.floor_restitution,
-                "bodies": (_body_dicts(self.body_arrays) if self.body_arrays is not None
-                           else [b.to_dict() for b in self.bodies]),
-                "static_bodies": [b.to_dict() for b in self.static_bodies]}
+        return {
+            "name": self.name,
+            "params": dict(self.params),
+            "floor_y": "none" if self.floor_y is None else self.floor_y,
+            "gravity": list(self.gravity),
+            "floor_friction": self.floor_friction,
+            "floor_restitution": self.floor_restitution,
+            "bodies": (
+                _body_dicts(self.body_arrays)
+                if self.body_arrays is not None
+                else [b.to_dict() for b in self.bodies]
+            ),
+            "static_bodies": [b.to_dict() for b in self.static_bodies],
+        }
 
     def to_file(self, path):
         """Write the scene as TOML that ``from_file`` reads back to an equal scene (any name,
@@ -258,7 +314,7 @@ class Scene:
         a value TOML cannot hold is a ValueError, and a failed write leaves the old file whole."""
         try:
             text = tomli_w.dumps(self.to_dict())
-        except TypeError as exc:                 # e.g. None or an object in params
+        except TypeError as exc:  # e.g. None or an object in params
             raise ValueError(f"scene {self.name!r}: cannot be written as TOML ({exc})") from None
         write_text_atomically(path, text)
 
@@ -276,7 +332,7 @@ def _from_entries(entries, kind):
         name = e.get("name")
         where = f"{kind} {i}" + (f" ({name})" if isinstance(name, str) and name else "")
         try:
-            if "box" in e:                           # shorthand: box = [width, height]
+            if "box" in e:  # shorthand: box = [width, height]
                 box = e.pop("box")
                 if not isinstance(box, (list, tuple)) or len(box) != 2:
                     raise ValueError(f"box must be [width, height], got {box!r}")
@@ -285,15 +341,15 @@ def _from_entries(entries, kind):
                 out.append(Body(**e))
             else:
                 raise ValueError("needs `vertices` or `box = [width, height]`")
-        except TypeError as exc:                     # unknown or missing fields
+        except TypeError as exc:  # unknown or missing fields
             raise ValueError(f"{where}: {exc}") from None
         except ValueError as exc:
             # Body's own messages start with its name, or "body" when unnamed: say which entry
             message = str(exc)
-            unnamed = ("body: ", "box: ")             # Body's and Body.box's default names
-            for prefix in ((f"{name}: ",) if isinstance(name, str) and name else unnamed):
+            unnamed = ("body: ", "box: ")  # Body's and Body.box's default names
+            for prefix in (f"{name}: ",) if isinstance(name, str) and name else unnamed:
                 if message.startswith(prefix):
-                    message = message[len(prefix):]
+                    message = message[len(prefix) :]
             raise ValueError(f"{where}: {message}") from None
     return out
 
@@ -320,8 +376,10 @@ def _per_body(value, n, what):
     if a.ndim == 0:
         return np.full(n, float(a))
     if a.shape != (n,):
-        raise ValueError(f"Scene.from_arrays: {what} must be a number or have shape (N,) = ({n},), "
-                         f"got shape {a.shape}")
+        raise ValueError(
+            f"Scene.from_arrays: {what} must be a number or have shape (N,) = ({n},), "
+            f"got shape {a.shape}"
+        )
     return a
 
 
@@ -331,8 +389,10 @@ def _per_body_pair(value, n, what):
     if a.shape == (2,):
         return np.tile(a, (n, 1))
     if a.shape != (n, 2):
-        raise ValueError(f"Scene.from_arrays: {what} must be a pair or have shape (N, 2) = ({n}, 2), "
-                         f"got shape {a.shape}")
+        raise ValueError(
+            f"Scene.from_arrays: {what} must be a pair or have shape (N, 2) = ({n}, 2), "
+            f"got shape {a.shape}"
+        )
     return a
 
 
@@ -346,8 +406,10 @@ def _packed_vertices(vertices, vert_start, n):
         except ValueError as exc:
             raise ValueError(f"Scene.from_arrays: {exc}") from None
         if len(starts) != n + 1:
-            raise ValueError(f"Scene.from_arrays: vert_start must have shape (N+1,) = ({n + 1},), "
-                             f"got shape {starts.shape}")
+            raise ValueError(
+                f"Scene.from_arrays: vert_start must have shape (N+1,) = ({n + 1},), "
+                f"got shape {starts.shape}"
+            )
         return v, starts.copy(), False
     if v.ndim == 2 and v.shape[1] == 2:
         k = len(v)
@@ -355,8 +417,10 @@ def _packed_vertices(vertices, vert_start, n):
     if v.ndim == 3 and v.shape[0] == n and v.shape[2] == 2:
         k = v.shape[1]
         return v.reshape(n * k, 2), np.arange(n + 1, dtype=np.int64) * k, False
-    raise ValueError(f"Scene.from_arrays: vertices must have shape (K, 2) (one polygon for every "
-                     f"body), (N, K, 2) = ({n}, K, 2), or (V, 2) with vert_start, got shape {v.shape}")
+    raise ValueError(
+        f"Scene.from_arrays: vertices must have shape (K, 2) (one polygon for every "
+        f"body), (N, K, 2) = ({n}, K, 2), or (V, 2) with vert_start, got shape {v.shape}"
+    )
 
 
 def _bullets(value, n):
@@ -366,8 +430,10 @@ def _bullets(value, n):
     if a.ndim == 0:
         a = np.full(n, a[()], dtype=a.dtype)
     if a.shape != (n,):
-        raise ValueError(f"Scene.from_arrays: bullet must be a bool or have shape (N,) = ({n},), "
-                         f"got shape {a.shape}")
+        raise ValueError(
+            f"Scene.from_arrays: bullet must be a bool or have shape (N,) = ({n},), "
+            f"got shape {a.shape}"
+        )
     if a.dtype == bool:
         return a, np.ones(n, dtype=bool)
     if a.dtype == object:
@@ -380,20 +446,32 @@ def _names(names, n):
         return None
     try:
         names = () if isinstance(names, (str, bytes)) else tuple(names)
-    except TypeError:                            # not a collection at all
+    except TypeError:  # not a collection at all
         names = ()
     if len(names) != n or not all(isinstance(s, str) for s in names):
         raise ValueError(f"Scene.from_arrays: names must be None or N = {n} strings")
     return tuple(map(str, names))
 
 
-def _body_arrays(vertices, vert_start, position, angle, velocity, angular_velocity, density,
-                 friction, restitution, bullet, names):
+def _body_arrays(
+    vertices,
+    vert_start,
+    position,
+    angle,
+    velocity,
+    angular_velocity,
+    density,
+    friction,
+    restitution,
+    bullet,
+    names,
+):
     """Validated, read-only BodyArrays from Scene.from_arrays' arguments."""
     position = _floats(position, "position")
     if position.ndim != 2 or position.shape[1] != 2:
-        raise ValueError(f"Scene.from_arrays: position must have shape (N, 2), got shape "
-                         f"{position.shape}")
+        raise ValueError(
+            f"Scene.from_arrays: position must have shape (N, 2), got shape {position.shape}"
+        )
     n = len(position)
     if n == 0:
         raise ValueError("scene: needs at least one body in `bodies`")
@@ -406,41 +484,72 @@ def _body_arrays(vertices, vert_start, position, angle, velocity, angular_veloci
     restitution = _per_body(restitution, n, "restitution")
     bullet, bullet_ok = _bullets(bullet, n)
     names = _names(names, n)
-    arrays = BodyArrays(verts, starts, position, angle, velocity, angular_velocity, density,
-                        friction, restitution, bullet, names)
+    arrays = BodyArrays(
+        verts,
+        starts,
+        position,
+        angle,
+        velocity,
+        angular_velocity,
+        density,
+        friction,
+        restitution,
+        bullet,
+        names,
+    )
     # Screen every body at once; the one-body checks then give the first failure its message.
     if shared:
-        suspect = np.repeat(polygon_suspects(verts[starts[0]:starts[1]], starts[:2]), n)
+        suspect = np.repeat(polygon_suspects(verts[starts[0] : starts[1]], starts[:2]), n)
     else:
         suspect = polygon_suspects(verts, starts)
-    suspect |= failing_fields(position, velocity, angle, angular_velocity, density, friction,
-                              restitution)
+    suspect |= failing_fields(
+        position, velocity, angle, angular_velocity, density, friction, restitution
+    )
     suspect |= ~bullet_ok
     for i in np.flatnonzero(suspect).tolist():
         name = arrays.body_name(i)
-        validate_polygon(verts[starts[i]:starts[i + 1]], name)
-        check_fields(name, position[i].tolist(), velocity[i].tolist(), float(angle[i]),
-                     float(angular_velocity[i]), float(density[i]), float(friction[i]),
-                     float(restitution[i]), bullet[i] if bullet.dtype == object else bullet[i].item())
+        validate_polygon(verts[starts[i] : starts[i + 1]], name)
+        check_fields(
+            name,
+            position[i].tolist(),
+            velocity[i].tolist(),
+            float(angle[i]),
+            float(angular_velocity[i]),
+            float(density[i]),
+            float(friction[i]),
+            float(restitution[i]),
+            bullet[i] if bullet.dtype == object else bullet[i].item(),
+        )
     arrays = arrays._replace(bullet=bullet.astype(bool))
     for a in arrays[:-1]:
-        a.flags.writeable = False               # validated once: edits must go through `bodies`
+        a.flags.writeable = False  # validated once: edits must go through `bodies`
     return arrays
 
 
 def _materialise(a):
     """Body objects of BodyArrays, without checking again (they were checked as arrays)."""
-    verts = a.vertices.copy()                   # writable; each body gets a view of its rows
+    verts = a.vertices.copy()  # writable; each body gets a view of its rows
     starts = a.vert_start.tolist()
     position, velocity = a.position.tolist(), a.velocity.tolist()
     angle, spin = a.angle.tolist(), a.angular_velocity.tolist()
     density, friction, restitution = a.density.tolist(), a.friction.tolist(), a.restitution.tolist()
     bullet = a.bullet.tolist()
     names = a.names if a.names is not None else ("",) * len(position)
-    return [Body.prevalidated(verts[starts[i]:starts[i + 1]], tuple(position[i]), angle[i],
-                              tuple(velocity[i]), spin[i], density[i], friction[i], restitution[i],
-                              names[i], bullet[i])
-            for i in range(len(position))]
+    return [
+        Body.prevalidated(
+            verts[starts[i] : starts[i + 1]],
+            tuple(position[i]),
+            angle[i],
+            tuple(velocity[i]),
+            spin[i],
+            density[i],
+            friction[i],
+            restitution[i],
+            names[i],
+            bullet[i],
+        )
+        for i in range(len(position))
+    ]
 
 
 def _body_dicts(a):
@@ -452,8 +561,18 @@ def _body_dicts(a):
     density, friction, restitution = a.density.tolist(), a.friction.tolist(), a.restitution.tolist()
     bullet = a.bullet.tolist()
     names = a.names if a.names is not None else ("",) * len(position)
-    return [{"vertices": verts[starts[i]:starts[i + 1]], "position": position[i], "angle": angle[i],
-             "velocity": velocity[i], "angular_velocity": spin[i], "density": density[i],
-             "friction": friction[i], "restitution": restitution[i],
-             **({"name": names[i]} if names[i] else {}), **({"bullet": True} if bullet[i] else {})}
-            for i in range(len(position))]
+    return [
+        {
+            "vertices": verts[starts[i] : starts[i + 1]],
+            "position": position[i],
+            "angle": angle[i],
+            "velocity": velocity[i],
+            "angular_velocity": spin[i],
+            "density": density[i],
+            "friction": friction[i],
+            "restitution": restitution[i],
+            **({"name": names[i]} if names[i] else {}),
+            **({"bullet": True} if bullet[i] else {}),
+        }
+        for i in range(len(position))
+    ]

@@ -4,6 +4,7 @@ Every builder returns a ``sim.Scene`` whose ``name`` and ``params`` record how i
 places bodies exactly touching (never overlapping) so runs start without a correction kick.
 Units: metres, kilograms per square metre, seconds.
 """
+
 import math
 
 import numpy as np
@@ -18,22 +19,28 @@ def _scene(name, bodies, params, **kwargs):
 
 def single_box(size=1.0, friction=0.6, density=1.0):
     """One square box resting on the floor."""
-    return _scene("single_box", [Body.box(size, size, position=(0.0, size / 2), friction=friction,
-                                          density=density)], {"size": size, "friction": friction})
+    return _scene(
+        "single_box",
+        [Body.box(size, size, position=(0.0, size / 2), friction=friction, density=density)],
+        {"size": size, "friction": friction},
+    )
 
 
 def rest_row(n=10, size=1.0, gap=0.5, friction=0.6):
     """``n`` square boxes resting on the floor in a row, ``gap`` apart (no box touches another)."""
     pitch = size + gap
-    bodies = [Body.box(size, size, position=(i * pitch, size / 2), friction=friction)
-              for i in range(n)]
+    bodies = [
+        Body.box(size, size, position=(i * pitch, size / 2), friction=friction) for i in range(n)
+    ]
     return _scene("rest_row", bodies, {"n": n, "size": size, "gap": gap, "friction": friction})
 
 
 def stack(height=5, size=1.0, friction=0.6):
     """A column of ``height`` square boxes on the floor."""
-    bodies = [Body.box(size, size, position=(0.0, size / 2 + i * size), friction=friction)
-              for i in range(height)]
+    bodies = [
+        Body.box(size, size, position=(0.0, size / 2 + i * size), friction=friction)
+        for i in range(height)
+    ]
     return _scene("stack", bodies, {"height": height, "size": size, "friction": friction})
 
 
@@ -47,8 +54,9 @@ def pyramid(base=10, size=1.0, gap=0.125, friction=0.6):
     for row in range(base):
         for k in range(base - row):
             x = (k - (base - row - 1) / 2) * pitch
-            bodies.append(Body.box(size, size, position=(x, size / 2 + row * size),
-                                   friction=friction))
+            bodies.append(
+                Body.box(size, size, position=(x, size / 2 + row * size), friction=friction)
+            )
     return _scene("pyramid", bodies, {"base": base, "size": size, "gap": gap, "friction": friction})
 
 
@@ -59,7 +67,7 @@ def random_convex(rng, radius, n_min=3, n_max=8):
         k = int(rng.integers(n_min, n_max + 1))
         angles = np.sort(rng.uniform(0.0, 2 * math.pi, k))
         if np.min(np.diff(np.append(angles, angles[0] + 2 * math.pi))) < 0.3:
-            continue                 # avoid slivers: they make a needlessly stiff test
+            continue  # avoid slivers: they make a needlessly stiff test
         aspect = rng.uniform(0.6, 1.0)
         v = np.stack([radius * np.cos(angles), radius * aspect * np.sin(angles)], axis=1)
         body = Body(vertices=v)
@@ -72,7 +80,11 @@ def drop(n=30, seed=0, radius=0.4, width=None, friction=0.6):
     Walls are static polygons. Bodies start 1.2*2*radius apart in a grid ``width`` wide (default
     about sqrt(n) columns), with small random angles and no velocity."""
     rng = np.random.default_rng(seed)
-    cols = max(1, int(math.ceil(math.sqrt(n)))) if width is None else max(1, int(width / (2.4 * radius)))
+    cols = (
+        max(1, int(math.ceil(math.sqrt(n))))
+        if width is None
+        else max(1, int(width / (2.4 * radius)))
+    )
     pitch = 2.4 * radius
     bodies = []
     for i in range(n):
@@ -80,14 +92,26 @@ def drop(n=30, seed=0, radius=0.4, width=None, friction=0.6):
         v = random_convex(rng, radius)
         x = (col - (cols - 1) / 2) * pitch + rng.uniform(-0.1, 0.1) * radius
         y = 0.5 + radius + row * pitch
-        bodies.append(Body(vertices=v, position=(x, y), angle=float(rng.uniform(-math.pi, math.pi)),
-                           friction=friction))
+        bodies.append(
+            Body(
+                vertices=v,
+                position=(x, y),
+                angle=float(rng.uniform(-math.pi, math.pi)),
+                friction=friction,
+            )
+        )
     half = cols * pitch / 2 + radius
     wall_h = 1.0 + (n // cols + 1) * pitch
-    walls = [Body.box(0.5, wall_h, position=(-half - 0.25, wall_h / 2), name="left wall"),
-             Body.box(0.5, wall_h, position=(half + 0.25, wall_h / 2), name="right wall")]
-    return _scene("drop", bodies, {"n": n, "seed": seed, "radius": radius, "friction": friction},
-                  static_bodies=walls)
+    walls = [
+        Body.box(0.5, wall_h, position=(-half - 0.25, wall_h / 2), name="left wall"),
+        Body.box(0.5, wall_h, position=(half + 0.25, wall_h / 2), name="right wall"),
+    ]
+    return _scene(
+        "drop",
+        bodies,
+        {"n": n, "seed": seed, "radius": radius, "friction": friction},
+        static_bodies=walls,
+    )
 
 
 def arch(n_blocks=9, radius=2.0, thickness=0.6, friction=0.8):
@@ -106,15 +130,24 @@ def arch(n_blocks=9, radius=2.0, thickness=0.6, friction=0.8):
         a1 = math.pi * (k + 1) / n_blocks
         # CCW: inner a0 -> outer a0 -> outer a1 -> inner a1 is clockwise for increasing angle,
         # so go the other way round
-        pts = [(r_out * math.cos(a0), r_out * math.sin(a0)), (r_out * math.cos(a1), r_out * math.sin(a1)),
-               (r_in * math.cos(a1), r_in * math.sin(a1)), (r_in * math.cos(a0), r_in * math.sin(a0))]
+        pts = [
+            (r_out * math.cos(a0), r_out * math.sin(a0)),
+            (r_out * math.cos(a1), r_out * math.sin(a1)),
+            (r_in * math.cos(a1), r_in * math.sin(a1)),
+            (r_in * math.cos(a0), r_in * math.sin(a0)),
+        ]
         v = np.array(pts)
-        if (v[1, 0] - v[0, 0]) * (v[2, 1] - v[0, 1]) - (v[1, 1] - v[0, 1]) * (v[2, 0] - v[0, 0]) < 0:
+        if (v[1, 0] - v[0, 0]) * (v[2, 1] - v[0, 1]) - (v[1, 1] - v[0, 1]) * (
+            v[2, 0] - v[0, 0]
+        ) < 0:
             v = v[::-1]
         c = Body(vertices=v).centroid
         bodies.append(Body(vertices=v - c, position=tuple(c), friction=friction))
-    return _scene("arch", bodies, {"n_blocks": n_blocks, "radius": radius, "thickness": thickness,
-                                   "friction": friction})
+    return _scene(
+        "arch",
+        bodies,
+        {"n_blocks": n_blocks, "radius": radius, "thickness": thickness, "friction": friction},
+    )
 
 
 # ---- the seed paper's figures -----------------------------------------------------------------
@@ -158,12 +191,27 @@ def seed_fig3(speed=2.5, friction=0.2):
 def sliding_box(speed=3.0, friction=0.4, size=1.0):
     """A box sliding on the floor at ``speed``; friction mixes with the floor's to ``friction``
     (the floor is given the same mu, and sqrt(mu*mu) = mu). Stops after v^2 / (2 mu g)."""
-    return _scene("sliding_box",
-                  [Body.box(size, size, position=(0.0, size / 2), velocity=(speed, 0.0),
-                            friction=friction)],
-                  {"speed": speed, "friction": friction}, floor_friction=friction)
+    return _scene(
+        "sliding_box",
+        [Body.box(size, size, position=(0.0, size / 2), velocity=(speed, 0.0), friction=friction)],
+        {"speed": speed, "friction": friction},
+        floor_friction=friction,
+    )
 
 
 #: name -> builder, for command lines (`make trace SCENE=...`) and experiments
-BUILDERS = {f.__name__: f for f in (single_box, rest_row, stack, pyramid, drop, arch, seed_fig1,
-                                    seed_fig2, seed_fig3, sliding_box)}
+BUILDERS = {
+    f.__name__: f
+    for f in (
+        single_box,
+        rest_row,
+        stack,
+        pyramid,
+        drop,
+        arch,
+        seed_fig1,
+        seed_fig2,
+        seed_fig3,
+        sliding_box,
+    )
+}

@@ -20,6 +20,7 @@ frozen body, apart again, having passed through it. Passing through a body that 
 only for a *bullet* (``Body(bullet=True)``), as in Box2D: the sweep does not follow the other
 body's own path, so "apart at the end" is not proof that they crossed.
 """
+
 import numpy as np
 
 from .body import MAX_COORDINATE
@@ -53,8 +54,9 @@ def _pose(bodies, solver, i, row, end):
 
 
 @kernel
-def sweep_fast_bodies(settings, counters, bodies, geometry, awake_grid, resting_grid, activity,
-                      solver, found):
+def sweep_fast_bodies(
+    settings, counters, bodies, geometry, awake_grid, resting_grid, activity, solver, found
+):
     """Sweep every fast awake body (see the module docstring) and cut its displacement this step
     (solver row) back to its first time of impact. Returns the number of bodies cut back."""
     state = solver.state
@@ -68,12 +70,13 @@ def sweep_fast_bodies(settings, counters, bodies, geometry, awake_grid, resting_
         turn = state[r, TURN]
         travel = np.sqrt(dx * dx + dy * dy) + abs(turn) * bodies.extent[i]
         if not (FAST_FRACTION * bodies.size[i] < travel < MAX_COORDINATE):
-            continue                       # slow, or diverged (the divergence check's job)
+            continue  # slow, or diverged (the divergence check's job)
         counters[N_SWEPT] += 1
         start = _pose(bodies, solver, i, r, 0)
         end = _pose(bodies, solver, i, r, 1)
-        lo_x, lo_y, hi_x, hi_y = swept_aabb(bodies.local_verts, vs[i], vs[i + 1], start, end,
-                                            bodies.speculative[i])
+        lo_x, lo_y, hi_x, hi_y = swept_aabb(
+            bodies.local_verts, vs[i], vs[i + 1], start, end, bodies.speculative[i]
+        )
         first = 1.0
         for grid_kind in range(2):
             grid = resting_grid if grid_kind == 0 else awake_grid
@@ -86,21 +89,47 @@ def sweep_fast_bodies(settings, counters, bodies, geometry, awake_grid, resting_
                 if j < settings.n_dynamic and activity.awake_slot[j] >= 0:
                     rj = activity.awake_slot[j] + 1
                 target = min(bodies.slop[i], bodies.slop[j])
-                j_end = _pose(bodies, solver, j, rj, 1)       # where the step left it
+                j_end = _pose(bodies, solver, j, rj, 1)  # where the step left it
                 # Where the step left them first (a sweep of zero length measures it): it alone
                 # decides whether a time of impact could matter, and costs one iteration, where
                 # the sweep may take dozens. In a settling pile most fast bodies end the step
                 # near, not deep inside, the bodies around them.
-                _, apart = time_of_impact(bodies.local_verts, bodies.local_normals, vs[i],
-                                          vs[i + 1], vs[j], vs[j + 1], end, end, j_end, j_end,
-                                          target, 0.25 * target, 1, geometry.toi_scratch)
+                _, apart = time_of_impact(
+                    bodies.local_verts,
+                    bodies.local_normals,
+                    vs[i],
+                    vs[i + 1],
+                    vs[j],
+                    vs[j + 1],
+                    end,
+                    end,
+                    j_end,
+                    j_end,
+                    target,
+                    0.25 * target,
+                    1,
+                    geometry.toi_scratch,
+                )
                 deep = OVERLAP_FRACTION * min(bodies.size[i], bodies.size[j])
                 passed = apart > target and (rj == 0 or bodies.bullet[i])
                 if not (passed or apart < -deep):
                     continue
-                t, _ = time_of_impact(bodies.local_verts, bodies.local_normals, vs[i], vs[i + 1],
-                                      vs[j], vs[j + 1], start, end, j_end, j_end, target,
-                                      0.25 * target, MAX_ITERATIONS, geometry.toi_scratch)
+                t, _ = time_of_impact(
+                    bodies.local_verts,
+                    bodies.local_normals,
+                    vs[i],
+                    vs[i + 1],
+                    vs[j],
+                    vs[j + 1],
+                    start,
+                    end,
+                    j_end,
+                    j_end,
+                    target,
+                    0.25 * target,
+                    MAX_ITERATIONS,
+                    geometry.toi_scratch,
+                )
                 if 0.0 < t < first:
                     first = t
         if first < 1.0:
@@ -110,4 +139,3 @@ def sweep_fast_bodies(settings, counters, bodies, geometry, awake_grid, resting_
             counters[N_IMPACTS] += 1
             cut += 1
     return cut
-

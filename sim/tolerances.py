@@ -5,7 +5,8 @@ boxes, 50-200 times a 0.1 mm box. Each is now a fraction of the *smaller* body's
 width), with the World's setting as the cap, so a 1 m box sees exactly the old values and a 1 mm box
 a thousandth of them:
 
-  contact slop        min(slop, SLOP_FRACTION * size)         touching within this counts as touching
+  contact slop        min(slop, SLOP_FRACTION * size)         touching within this counts as
+  touching
   speculative reach   min(speculative_distance, SPECULATIVE_FRACTION * size)
                       + the distance the pair can close in one step (the sum of the bodies'
                       speeds * dt: ``contacts._closing_speed``): a
@@ -19,16 +20,17 @@ What no tolerance can fix is a body too small for the step: its contacts must be
 gravity at its size, and a contact's stiffness is bounded by the substep rate (``soft_step``).
 ``check_step`` refuses such a scene, naming the body and the substeps or dt that would resolve it.
 """
+
 import math
 
 import numpy as np
 
 from .jit import inline_kernel
 
-SLOP_FRACTION = 0.005          # of size: 5 mm at 1 m (the cap)
-SPECULATIVE_FRACTION = 0.02    # of size: 2 cm at 1 m (the cap)
-FACE_FRACTION = 0.02           # of the pair slop: 1e-4 m at 5 mm, today's value
-MARGIN_FRACTION = 0.02         # of size: 2 cm at 1 m (the cap)
+SLOP_FRACTION = 0.005  # of size: 5 mm at 1 m (the cap)
+SPECULATIVE_FRACTION = 0.02  # of size: 2 cm at 1 m (the cap)
+FACE_FRACTION = 0.02  # of the pair slop: 1e-4 m at 5 mm, today's value
+MARGIN_FRACTION = 0.02  # of size: 2 cm at 1 m (the cap)
 
 
 @inline_kernel
@@ -60,19 +62,24 @@ def check_step(sizes, names, dt, substeps, gravity):
     ``soft_step``) and no stiffer than DYNAMIC_CAP of the substep rate. ``names(i)`` names body
     i; the message says which substeps (or dt) would resolve it."""
     from .soft_step import DYNAMIC_CAP, STIFFNESS_RATIO
+
     if len(sizes) == 0 or gravity == 0.0:
         return
     i = int(np.argmin(sizes))
-    need = math.sqrt(STIFFNESS_RATIO * gravity / sizes[i]) / (2.0 * math.pi)      # Hz
-    rate = substeps / dt                                                           # Hz
+    need = math.sqrt(STIFFNESS_RATIO * gravity / sizes[i]) / (2.0 * math.pi)  # Hz
+    rate = substeps / dt  # Hz
     if need > DYNAMIC_CAP * rate:
         substeps_needed = need / DYNAMIC_CAP * dt
-        fix = (f"Use substeps >= {math.ceil(substeps_needed)} (or dt <= "
-               f"{substeps * DYNAMIC_CAP / need:.3g} s), or larger bodies"
-               if math.isfinite(substeps_needed) else       # gravity near float64's limit
-               f"No step can: gravity {gravity:.3g} m/s^2 is beyond what float64 can resolve")
+        fix = (
+            f"Use substeps >= {math.ceil(substeps_needed)} (or dt <= "
+            f"{substeps * DYNAMIC_CAP / need:.3g} s), or larger bodies"
+            if math.isfinite(substeps_needed)
+            # gravity near float64's limit
+            else f"No step can: gravity {gravity:.3g} m/s^2 is beyond what float64 can resolve"
+        )
         raise ValueError(
             f"{names(i)} is {sizes[i]:.3g} m thick: its contacts would need {need:.3g} Hz "
             f"of stiffness to hold it up without rocking, and at dt={dt:.4g} s with {substeps} "
             f"substeps a contact can be at most {DYNAMIC_CAP * rate:.3g} Hz stiff (1/"
-            f"{1 / DYNAMIC_CAP:.0f} of the substep rate). {fix}")
+            f"{1 / DYNAMIC_CAP:.0f} of the substep rate). {fix}"
+        )

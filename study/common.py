@@ -7,6 +7,7 @@ An experiment script (one per figure or table, docs/ARCHITECTURE.md §5) looks l
     def run(config, args) -> (pandas.DataFrame, scenes, parameters)
     main = common.entry(NAME, __doc__, FULL, QUICK, run)
 """
+
 import argparse
 import hashlib
 import math
@@ -21,20 +22,39 @@ from study.metadata import git_state, jsonable, collect, write_results
 from study.peers import engine_of, make_runner
 from study.timing import timed
 
-DT = 1 / 60                 # s, every system's step unless an experiment sweeps it
-SLOP = 0.005                # m, sim's slop and pymunk's collision_slop
+DT = 1 / 60  # s, every system's step unless an experiment sweeps it
+SLOP = 0.005  # m, sim's slop and pymunk's collision_slop
 #: settings that make the systems comparable (iterations: each engine's default, see peers)
 #: (Box2D's slop, b2_linearSlop, is compiled in: 0.005 m, the same; its runner records it)
-SYSTEM_SETTINGS = {"sim": {"slop": SLOP}, "pymunk": {"collision_slop": SLOP}, "pybullet": {},
-                   "box2d": {}}
+SYSTEM_SETTINGS = {
+    "sim": {"slop": SLOP},
+    "pymunk": {"collision_slop": SLOP},
+    "pybullet": {},
+    "box2d": {},
+}
 #: every system of the study, and each one's sleeping-off reference
-SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk", "pymunk-sleep",
-           "pybullet", "pybullet-sleep")
+SYSTEMS = (
+    "sim-off",
+    "sim-sleep",
+    "sim-paper",
+    "sim-extended",
+    "pymunk",
+    "pymunk-sleep",
+    "pybullet",
+    "pybullet-sleep",
+)
 #: what "frozen" means in every table (the metadata says so)
 FROZEN_MEANS = "sim: out of the awake list (World.frozen); pymunk/pybullet: asleep"
-REFERENCE = {"sim-off": "sim-off", "sim-sleep": "sim-off", "sim-paper": "sim-off",
-             "sim-extended": "sim-off", "pymunk": "pymunk", "pymunk-sleep": "pymunk",
-             "pybullet": "pybullet", "pybullet-sleep": "pybullet"}
+REFERENCE = {
+    "sim-off": "sim-off",
+    "sim-sleep": "sim-off",
+    "sim-paper": "sim-off",
+    "sim-extended": "sim-off",
+    "pymunk": "pymunk",
+    "pymunk-sleep": "pymunk",
+    "pybullet": "pybullet",
+    "pybullet-sleep": "pybullet",
+}
 
 
 def compile_kernels():
@@ -111,12 +131,17 @@ def sweep_store(name, quick, config):
     the commit, the configuration and a hash of the solver's and the script's sources, so a store
     left by other code (uncommitted edits included) is never resumed."""
     digest = hashlib.sha256()
-    for f in sorted(list((paths.ROOT / "sim").rglob("*.py"))
-                    + list((paths.ROOT / "study").rglob("*.py"))
-                    + list((paths.ROOT / "experiments").rglob("*.py"))):
+    for f in sorted(
+        list((paths.ROOT / "sim").rglob("*.py"))
+        + list((paths.ROOT / "study").rglob("*.py"))
+        + list((paths.ROOT / "experiments").rglob("*.py"))
+    ):
         digest.update(f.read_bytes())
-    header = {"commit": git_state()["commit"], "config": jsonable(config),
-              "source": digest.hexdigest()[:16]}
+    header = {
+        "commit": git_state()["commit"],
+        "config": jsonable(config),
+        "source": digest.hexdigest()[:16],
+    }
     return store_path(name, quick), header
 
 
@@ -126,15 +151,24 @@ def entry(name, doc, full, quick, run, extra_args=None):
     run(config, args) -> (table DataFrame, scenes, parameters dict); the returned ``main(argv=None,
     data_dir=None)`` parses, runs, writes ``<data_dir>/<name>.csv`` + ``.json`` (data_dir defaults
     to results/data) and prints the table. ``extra_args(parser)`` may add options."""
+
     def main(argv=None, data_dir=None):
-        parser = argparse.ArgumentParser(prog=f"python -m experiments.{name}",
-                                         description=doc.splitlines()[0])
-        parser.add_argument("--quick", action="store_true",
-                            help="the same code on small sizes (CI, `make reproduce QUICK=1`)")
-        parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                            help="run the sweep's untimed runs on this Dask scheduler (default: "
-                                 f"${executor.SCHEDULER_ENV}, else a local process pool); timed "
-                                 "runs always stay serial on this machine")
+        parser = argparse.ArgumentParser(
+            prog=f"python -m experiments.{name}", description=doc.splitlines()[0]
+        )
+        parser.add_argument(
+            "--quick",
+            action="store_true",
+            help="the same code on small sizes (CI, `make reproduce QUICK=1`)",
+        )
+        parser.add_argument(
+            "--scheduler",
+            default=None,
+            metavar="ADDRESS",
+            help="run the sweep's untimed runs on this Dask scheduler (default: "
+            f"${executor.SCHEDULER_ENV}, else a local process pool); timed "
+            "runs always stay serial on this machine",
+        )
         if extra_args is not None:
             extra_args(parser)
         args = parser.parse_args(argv)
@@ -144,18 +178,23 @@ def entry(name, doc, full, quick, run, extra_args=None):
         table, scenes, parameters = run(config, args)
         if not isinstance(table, pd.DataFrame) or table.empty:
             raise RuntimeError(f"{name}: the experiment produced no rows")
-        parameters = {"quick": args.quick, "config": config,
-                      "executor": os.environ.get(executor.SCHEDULER_ENV) or "local process pool",
-                      **parameters}
+        parameters = {
+            "quick": args.quick,
+            "config": config,
+            "executor": os.environ.get(executor.SCHEDULER_ENV) or "local process pool",
+            **parameters,
+        }
         metadata = collect(scenes, parameters, script=name, seed=parameters.get("seed"))
         csv_path, _ = write_results(name, table, metadata, folder=data_dir)
         # the results are written: an incremental store has nothing left to resume
         store_path(name, args.quick).unlink(missing_ok=True)
-        with pd.option_context("display.width", 200, "display.max_columns", 30,
-                               "display.max_rows", 60):
+        with pd.option_context(
+            "display.width", 200, "display.max_columns", 30, "display.max_rows", 60
+        ):
             print(table.to_string(index=False, float_format=lambda x: f"{x:.4g}"))
         print(f"wrote {csv_path}")
         return table
+
     return main
 
 

@@ -7,7 +7,8 @@ with a tqdm bar. Where the runs go:
     workers=1                    serially in this process (what timing runs need: they stay serial,
                                  on one machine, and never go through a pool)
     scheduler=ADDRESS, or the    a Dask distributed cluster (``distributed.Client(ADDRESS)``), e.g.
-    FREEZE2D_SCHEDULER env var   tcp://10.0.0.5:8786 from `dask scheduler` + `dask worker` on each host
+    FREEZE2D_SCHEDULER env var   tcp://10.0.0.5:8786 from `dask scheduler` + `dask worker` on each
+    host
 
 Incremental results: with ``store=PATH`` every finished run is appended to a JSON-lines file as
 soon as it arrives (flushed and fsynced), keyed by ``key(task)``. A sweep that is interrupted and
@@ -30,6 +31,7 @@ SIGKILL): no orphaned processes.
 ``fn`` must be a module-level function and every task picklable; each task should carry
 everything its run needs (scene parameters, system, settings), so a run is reproducible alone.
 """
+
 import base64
 import hashlib
 import json
@@ -60,7 +62,7 @@ class ResultStore:
 
     def __init__(self, path, header):
         self.path = Path(path)
-        self.header = json.loads(json.dumps(header))      # compare as JSON would store it
+        self.header = json.loads(json.dumps(header))  # compare as JSON would store it
         self.done = {}
         self.dropped = []
         if self.path.exists():
@@ -71,7 +73,7 @@ class ResultStore:
 
     def _load(self):
         lines = self.path.read_bytes().decode("utf-8", errors="replace").split("\n")
-        torn = lines[-1] != ""                            # no newline after the last line
+        torn = lines[-1] != ""  # no newline after the last line
         lines = lines[:-1] if not torn else lines
         try:
             first = json.loads(lines[0]) if lines else {}
@@ -80,8 +82,10 @@ class ResultStore:
         if not isinstance(first, dict) or first.get("header") != self.header:
             stale = self.path.with_suffix(self.path.suffix + ".stale")
             os.replace(self.path, stale)
-            print(f"{self.path}: made by a different commit or configuration; moved to {stale}, "
-                  f"starting afresh")
+            print(
+                f"{self.path}: made by a different commit or configuration; moved to {stale}, "
+                f"starting afresh"
+            )
             return
         kept = [lines[0]]
         for number, line in enumerate(lines[1:], start=2):
@@ -93,9 +97,12 @@ class ResultStore:
         if torn and self.dropped and self.dropped[-1][0] == len(lines):
             self.dropped[-1] = (len(lines), "torn (no end of line): a run killed mid-write")
         if self.dropped:
-            warnings.warn(f"{self.path}: dropped {len(self.dropped)} stored run(s), to be redone: "
-                          + "; ".join(f"line {n}: {why}" for n, why in self.dropped[:5])
-                          + (" ..." if len(self.dropped) > 5 else ""), stacklevel=3)
+            warnings.warn(
+                f"{self.path}: dropped {len(self.dropped)} stored run(s), to be redone: "
+                + "; ".join(f"line {n}: {why}" for n, why in self.dropped[:5])
+                + (" ..." if len(self.dropped) > 5 else ""),
+                stacklevel=3,
+            )
         if self.dropped or torn:
             tmp = self.path.with_suffix(self.path.suffix + ".tmp")
             tmp.write_text("".join(line + "\n" for line in kept))
@@ -107,16 +114,18 @@ class ResultStore:
             entry = json.loads(line)
         except json.JSONDecodeError:
             return "not JSON"
-        if (not isinstance(entry, dict) or set(entry) not in ({"key", "result", "sha256"},
-                                                               {"key", "pickle", "sha256"})
-                or not isinstance(entry["key"], str)):
+        if (
+            not isinstance(entry, dict)
+            or set(entry) not in ({"key", "result", "sha256"}, {"key", "pickle", "sha256"})
+            or not isinstance(entry["key"], str)
+        ):
             return "not a stored run (expected key, result or pickle, sha256)"
         if entry["sha256"] != _digest(entry):
             return "checksum mismatch: the line was changed after it was written"
         if "pickle" in entry:
             try:
                 self.done[entry["key"]] = pickle.loads(base64.b64decode(entry["pickle"]))
-            except Exception as exc:           # a valid checksum makes this a bug, not damage
+            except Exception as exc:  # a valid checksum makes this a bug, not damage
                 return f"pickle unreadable ({type(exc).__name__})"
         else:
             self.done[entry["key"]] = entry["result"]
@@ -148,15 +157,18 @@ def _digest(entry):
 def _watch_parent(parent):
     """Pool worker initializer: exit as soon as the process that started the pool is gone (a
     parent killed by SIGTERM or SIGKILL cannot shut its pool down)."""
+
     def watch():
         while os.getppid() == parent:
             time.sleep(WATCH_S)
         os._exit(1)
+
     threading.Thread(target=watch, daemon=True).start()
 
 
-def run_tasks(fn, tasks, desc="runs", workers=None, scheduler=None, store=None, header=None,
-              key=repr):
+def run_tasks(
+    fn, tasks, desc="runs", workers=None, scheduler=None, store=None, header=None, key=repr
+):
     """[fn(t) for t in tasks], in task order.
 
     workers    local processes (default one per core; 1 = serially in this process)
@@ -197,8 +209,9 @@ def run_tasks(fn, tasks, desc="runs", workers=None, scheduler=None, store=None, 
 
 
 def _run_pool(fn, tasks, todo, workers, finish):
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=_watch_parent,
-                               initargs=(os.getpid(),))
+    pool = ProcessPoolExecutor(
+        max_workers=workers, initializer=_watch_parent, initargs=(os.getpid(),)
+    )
     try:
         futures = {pool.submit(_call, fn, tasks[i]): i for i in todo}
         for future in as_completed(futures):
@@ -221,7 +234,7 @@ def _run_pool(fn, tasks, todo, workers, finish):
 def _run_dask(fn, tasks, todo, address, finish):
     try:
         from distributed import Client, as_completed as dask_completed
-    except ImportError as exc:        # pinned, so only a broken environment gets here
+    except ImportError as exc:  # pinned, so only a broken environment gets here
         raise RuntimeError("a Dask scheduler was given but `distributed` is not installed") from exc
     with Client(address) as client:
         futures = {}

@@ -15,6 +15,7 @@ Each policy runs as every experiment runs sim (study.common.build): dt 1/60 s, s
 relax sweep per substep). The metadata records each policy's full settings (``runner.settings``,
 ``system_settings``).
 """
+
 import numpy as np
 import pandas as pd
 
@@ -26,12 +27,23 @@ def _body_rows(world, policy):
     speeds = np.hypot(*world.velocities.T)
     for i in range(world.n_bodies):
         outline = " ".join(f"{c:.6g}" for c in world.vertices(i).ravel())
-        rows.append({"kind": "body", "policy": policy, "step": world.step_count,
-                     "time": world.step_count * world.dt, "body": i,
-                     "name": world.scene.body_name(i), "state": int(world.states[i]),
-                     "frozen": bool(world.frozen[i]), "x": float(world.positions[i, 0]),
-                     "y": float(world.positions[i, 1]), "angle": float(world.angles[i]),
-                     "speed": float(speeds[i]), "outline": outline})
+        rows.append(
+            {
+                "kind": "body",
+                "policy": policy,
+                "step": world.step_count,
+                "time": world.step_count * world.dt,
+                "body": i,
+                "name": world.scene.body_name(i),
+                "state": int(world.states[i]),
+                "frozen": bool(world.frozen[i]),
+                "x": float(world.positions[i, 0]),
+                "y": float(world.positions[i, 1]),
+                "angle": float(world.angles[i]),
+                "speed": float(speeds[i]),
+                "outline": outline,
+            }
+        )
     return rows
 
 
@@ -52,14 +64,25 @@ def record(scene, policies, steps, dt=DT, settings_out=None):
             world.step()
             rows += _body_rows(world, policy)
         for at, body, before, after, cause in world.events:
-            rows.append({"kind": "event", "policy": policy, "step": at, "time": at * dt,
-                         "body": body, "name": scene.body_name(body), "from_state": int(before),
-                         "state": int(after), "cause": cause})
+            rows.append(
+                {
+                    "kind": "event",
+                    "policy": policy,
+                    "step": at,
+                    "time": at * dt,
+                    "body": body,
+                    "name": scene.body_name(body),
+                    "from_state": int(before),
+                    "state": int(after),
+                    "cause": cause,
+                }
+            )
     return pd.DataFrame(rows)
 
 
 def experiment(name, doc, builder, policies, steps):
-    """The ``main`` of a filmstrip experiment: ``builder()`` run ``steps`` steps under ``policies``."""
+    """The ``main`` of a filmstrip experiment: ``builder()`` run ``steps`` steps under
+    ``policies``."""
     from study.common import entry
 
     def run(config, args):
@@ -67,6 +90,7 @@ def experiment(name, doc, builder, policies, steps):
         settings = {}
         table = record(scene, config["policies"], config["steps"], settings_out=settings)
         return table, [scene], {"dt": DT, "system_settings": settings}
+
     config = {"policies": tuple(policies), "steps": steps}
     return entry(name, doc, config, config, run)
 

@@ -4,6 +4,7 @@
 machine, date); ``write_results`` writes ``<name>.csv`` and ``<name>.json`` atomically.
 Nothing here may crash a finished experiment: anything unknowable is recorded as "unknown".
 """
+
 import datetime
 import importlib.metadata
 import json
@@ -18,8 +19,19 @@ from sim.files import write_text_atomically
 from . import paths
 
 #: Distributions whose versions can change a result or a timing (pip names).
-PACKAGES = ("numpy", "numba", "pymunk", "pybullet", "pandas", "matplotlib", "rerun-sdk", "typst",
-            "tqdm", "dask", "distributed")
+PACKAGES = (
+    "numpy",
+    "numba",
+    "pymunk",
+    "pybullet",
+    "pandas",
+    "matplotlib",
+    "rerun-sdk",
+    "typst",
+    "tqdm",
+    "dask",
+    "distributed",
+)
 
 
 def collect(scene_or_scenes, parameters, script, seed=None):
@@ -62,15 +74,20 @@ def _describe_scenes(scene_or_scenes):
     if scene_or_scenes is None:
         return []
     scenes = [scene_or_scenes] if hasattr(scene_or_scenes, "bodies") else list(scene_or_scenes)
-    return [{"name": s.name, "params": jsonable(dict(s.params)), "bodies": len(s.bodies)}
-            for s in scenes]
+    return [
+        {"name": s.name, "params": jsonable(dict(s.params)), "bodies": len(s.bodies)}
+        for s in scenes
+    ]
 
 
 def git_state():
     """Commit hash and whether tracked or untracked files differ from it ("unknown" without git)."""
+
     def git(*args):
-        return subprocess.run(["git", *args], cwd=paths.ROOT, capture_output=True, text=True,
-                              timeout=10, check=True).stdout.strip()
+        return subprocess.run(
+            ["git", *args], cwd=paths.ROOT, capture_output=True, text=True, timeout=10, check=True
+        ).stdout.strip()
+
     try:
         commit = git("rev-parse", "HEAD")
     except (OSError, subprocess.SubprocessError):
@@ -106,12 +123,10 @@ def jsonable(value):
         return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
         return [jsonable(v) for v in value]
-    if hasattr(value, "tolist"):                 # numpy scalar or array
+    if hasattr(value, "tolist"):  # numpy scalar or array
         return jsonable(value.tolist())
     if isinstance(value, float) and not math.isfinite(value):
-        return str(value)                        # JSON has no inf/nan
+        return str(value)  # JSON has no inf/nan
     if isinstance(value, (str, int, float, bool)) or value is None:
         return value
     return str(value)
-
-

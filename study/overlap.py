@@ -1,6 +1,7 @@
 """Geometry shared by the experiments that measure overlap themselves, with one routine for every
 system (fig_tradeoff, table_extremes): padding polygons to one vertex count, world vertices of a
 body, and the separating-axis separation of many polygon pairs at once (numpy, not the solver)."""
+
 import math
 
 import numpy as np
@@ -23,12 +24,12 @@ def separation(a, b):
     """(P,) m: for each pair, the largest separation of polygon b from polygon a along a's outward
     edge normals (negative: every edge of a has some vertex of b behind it). a, b: (P,K,2) CCW.
     Two convex polygons overlap by minus the larger of separation(a, b) and separation(b, a)."""
-    edge = np.roll(a, -1, axis=1) - a                     # (P,K,2)
+    edge = np.roll(a, -1, axis=1) - a  # (P,K,2)
     length = np.hypot(edge[..., 0], edge[..., 1])
     safe = np.where(length, length, 1.0)[..., None]
     normal = np.stack([edge[..., 1], -edge[..., 0]], axis=-1) / safe
     # (P,K_edges,K_vertices): signed distance of b's vertices from a's edge lines
     dist = np.einsum("pec,pvc->pev", normal, b) - np.einsum("pec,pec->pe", normal, a)[..., None]
     sep = dist.min(axis=2)
-    sep[length < 1e-12] = -np.inf                         # padded, zero-length edges
+    sep[length < 1e-12] = -np.inf  # padded, zero-length edges
     return sep.max(axis=1)

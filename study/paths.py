@@ -8,18 +8,19 @@ temporary folders):
     FREEZE2D_PAPER_OUT  what analysis writes for the paper: figures/, generated/, paper.pdf
                         (default <root>/paper, beside paper.typ)
 """
+
 import os
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = Path(os.environ.get("FREEZE2D_RESULTS") or ROOT / "results").resolve()
-DATA = RESULTS / "data"                  # experiments -> <name>.csv + <name>.json
-RECORDINGS = RESULTS / "recordings"      # <scene>__<policy>.rrd
-BENCH = RESULTS / "bench"                # raw timing logs
-PAPER = ROOT / "paper"                   # paper.typ, the source
+DATA = RESULTS / "data"  # experiments -> <name>.csv + <name>.json
+RECORDINGS = RESULTS / "recordings"  # <scene>__<policy>.rrd
+BENCH = RESULTS / "bench"  # raw timing logs
+PAPER = ROOT / "paper"  # paper.typ, the source
 PAPER_OUT = Path(os.environ.get("FREEZE2D_PAPER_OUT") or PAPER).resolve()
-FIGURES = PAPER_OUT / "figures"          # analysis -> <name>.svg
-GENERATED = PAPER_OUT / "generated"      # analysis -> <name>.csv tables, <name>.json numbers
+FIGURES = PAPER_OUT / "figures"  # analysis -> <name>.svg
+GENERATED = PAPER_OUT / "generated"  # analysis -> <name>.csv tables, <name>.json numbers
 PDF = PAPER_OUT / "paper.pdf"
 
 

@@ -5,6 +5,7 @@ fully frozen (``freeze_run``). The method is described in experiments/bench_free
 docstring; the scripts that use a protocol describe it again where they differ.
 
 A library module: it is imported by scripts and imports none (tests/pipeline/test_makedeps.py)."""
+
 import math
 import statistics
 from typing import NamedTuple
@@ -17,10 +18,10 @@ from study.cost_fit import FIT_UNITS, fit_cost, relative_to_off
 from study.peers import engine_of
 from study.timing import interleaved
 
-WARMUP_STEPS = 10           # untimed steps after build (and after freezing) before any timing
-FALL_HEIGHT = 3000.0        # m, bottom of the falling block (mixes, fall scene)
-FLY_PITCH = 2.0             # m between falling/drifting boxes (unit boxes: never touching at rest)
-FREEZE_HOLD_S = 1.0         # s stepped after all froze, to see whether the freeze holds
+WARMUP_STEPS = 10  # untimed steps after build (and after freezing) before any timing
+FALL_HEIGHT = 3000.0  # m, bottom of the falling block (mixes, fall scene)
+FLY_PITCH = 2.0  # m between falling/drifting boxes (unit boxes: never touching at rest)
+FREEZE_HOLD_S = 1.0  # s stepped after all froze, to see whether the freeze holds
 
 #: the systems that freeze or sleep (the others are the references: nothing frozen)
 FREEZING = ("sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep", "pybullet-sleep")
@@ -39,8 +40,16 @@ def block(n, y0, velocity=None, angular_velocity=None, x0=0.0):
         row, col = divmod(i, cols)
         v = (0.0, 0.0) if velocity is None else tuple(float(x) for x in velocity[i])
         w = 0.0 if angular_velocity is None else float(angular_velocity[i])
-        bodies.append(sim.Body.box(1.0, 1.0, position=(x0 + col * FLY_PITCH, y0 + row * FLY_PITCH),
-                                   velocity=v, angular_velocity=w, friction=0.6))
+        bodies.append(
+            sim.Body.box(
+                1.0,
+                1.0,
+                position=(x0 + col * FLY_PITCH, y0 + row * FLY_PITCH),
+                velocity=v,
+                angular_velocity=w,
+                friction=0.6,
+            )
+        )
     return bodies
 
 
@@ -48,15 +57,24 @@ def mix_scene(n_frozen, n_awake, height=FALL_HEIGHT):
     """rest_row(n_frozen) (bodies 0..n_frozen-1) plus n_awake boxes falling from ``height`` m."""
     bodies = list(sim.scenes.rest_row(n_frozen).bodies) if n_frozen else []
     bodies += block(n_awake, height)
-    return sim.Scene(bodies=bodies, name="mix",
-                     params={"n_frozen": n_frozen, "n_awake": n_awake, "height": height,
-                             "pitch": FLY_PITCH, "row": "rest_row(n_frozen)"})
+    return sim.Scene(
+        bodies=bodies,
+        name="mix",
+        params={
+            "n_frozen": n_frozen,
+            "n_awake": n_awake,
+            "height": height,
+            "pitch": FLY_PITCH,
+            "row": "rest_row(n_frozen)",
+        },
+    )
 
 
 def fall_scene(n, height=FALL_HEIGHT):
     """n boxes falling from ``height`` m, never touching each other before the floor."""
-    return sim.Scene(bodies=block(n, height), name="fall",
-                     params={"n": n, "height": height, "pitch": FLY_PITCH})
+    return sim.Scene(
+        bodies=block(n, height), name="fall", params={"n": n, "height": height, "pitch": FLY_PITCH}
+    )
 
 
 def flight_budget(height=FALL_HEIGHT, clearance=10.0):
@@ -73,20 +91,31 @@ def flight_budget(height=FALL_HEIGHT, clearance=10.0):
 def long_row(part, scene, system, bodies, n_aw, n_fr, metric, value, unit, flag=""):
     """One row of the study's long-form tables (columns: part, scene, system, bodies, n_awake,
     n_frozen, metric, value, unit, flag)."""
-    return {"part": part, "scene": scene, "system": system, "bodies": bodies, "n_awake": n_aw,
-            "n_frozen": n_fr, "metric": metric, "value": value, "unit": unit, "flag": flag}
+    return {
+        "part": part,
+        "scene": scene,
+        "system": system,
+        "bodies": bodies,
+        "n_awake": n_aw,
+        "n_frozen": n_fr,
+        "metric": metric,
+        "value": value,
+        "unit": unit,
+        "flag": flag,
+    }
 
 
 def timing_rows(common, times, before, after, steps, repeats):
     """The rows every timed run reports: median and min ms/step, awake counts around the timing,
     and how it was timed."""
-    return [long_row(**common, metric="ms_per_step_median", value=statistics.median(times),
-                     unit="ms"),
-            long_row(**common, metric="ms_per_step_min", value=min(times), unit="ms"),
-            long_row(**common, metric="n_awake_before", value=before, unit="bodies"),
-            long_row(**common, metric="n_awake_after", value=after, unit="bodies"),
-            long_row(**common, metric="steps_per_repeat", value=steps, unit="steps"),
-            long_row(**common, metric="repeats", value=repeats, unit="count")]
+    return [
+        long_row(**common, metric="ms_per_step_median", value=statistics.median(times), unit="ms"),
+        long_row(**common, metric="ms_per_step_min", value=min(times), unit="ms"),
+        long_row(**common, metric="n_awake_before", value=before, unit="bodies"),
+        long_row(**common, metric="n_awake_after", value=after, unit="bodies"),
+        long_row(**common, metric="steps_per_repeat", value=steps, unit="steps"),
+        long_row(**common, metric="repeats", value=repeats, unit="count"),
+    ]
 
 
 def largest_move(runner, start):
@@ -125,9 +154,18 @@ def settle_and_time(scene, systems, cap_steps, repeat_s, repeats, progress, age_
         progress.set_postfix_str(f"{tag}: timing")
         times = interleaved(runners, steps, repeats, progress)
         after = [n_awake(r) for r in runners]
-        return [{"froze_at": froze_at[k], "before": before[k], "after": after[k],
-                 "times": times[k], "steps": steps[k], "age": ages[k],
-                 "moved": largest_move(runners[k], starts[k])} for k in range(len(systems))]
+        return [
+            {
+                "froze_at": froze_at[k],
+                "before": before[k],
+                "after": after[k],
+                "times": times[k],
+                "steps": steps[k],
+                "age": ages[k],
+                "moved": largest_move(runners[k], starts[k]),
+            }
+            for k in range(len(systems))
+        ]
     finally:
         for r in runners:
             r.close()
@@ -142,14 +180,16 @@ def expected_awake(system, n_frozen, n_awake):
 
 class Mix(NamedTuple):
     """One timed world of per_body_cost: its mix and system."""
-    tag: str                    # the mix scene's label
+
+    tag: str  # the mix scene's label
     system: str
-    n_frozen: int               # bodies in the resting row
-    n_awake: int                # flyers
+    n_frozen: int  # bodies in the resting row
+    n_awake: int  # flyers
 
 
-def per_body_cost(config, repeats, progress, systems=MIX_SYSTEMS, extra_units=None,
-                  scenes_out=None):
+def per_body_cost(
+    config, repeats, progress, systems=MIX_SYSTEMS, extra_units=None, scenes_out=None
+):
     """bench_freeze part 2 on ``config``'s mixes for ``systems``: (rows, fits). A system that
     sleeps the row only after a timer (sim-sleep, pymunk-sleep: 0.5 s) is stepped, after the
     warm-up, until only the flyers are solved, for at most ``config["mix_settle_s"]`` s (default
@@ -169,8 +209,9 @@ def per_body_cost(config, repeats, progress, systems=MIX_SYSTEMS, extra_units=No
                 runner = build(system, scene)
                 runners.append(runner)
                 runner.step(WARMUP_STEPS)
-                while (runner.step_count < settle_cap
-                       and n_awake(runner) != expected_awake(system, nf, na)):
+                while runner.step_count < settle_cap and n_awake(runner) != expected_awake(
+                    system, nf, na
+                ):
                     runner.step(1)
                 keys.append(Mix(label(scene), system, nf, na))
         # the flyers must still be in flight at the end of the timing
@@ -180,8 +221,10 @@ def per_body_cost(config, repeats, progress, systems=MIX_SYSTEMS, extra_units=No
         progress.set_postfix_str(f"{len(runners)} worlds: timing")
         times = interleaved(runners, [steps] * len(runners), repeats, progress)
         after = [n_awake(r) for r in runners]
-        lowest = [float(r.positions[key.n_frozen:, 1].min()) if key.n_awake else math.nan
-                  for r, key in zip(runners, keys)]                       # m
+        lowest = [
+            float(r.positions[key.n_frozen :, 1].min()) if key.n_awake else math.nan
+            for r, key in zip(runners, keys)
+        ]  # m
     finally:
         for r in runners:
             r.close()
@@ -190,22 +233,43 @@ def per_body_cost(config, repeats, progress, systems=MIX_SYSTEMS, extra_units=No
         nf, na = key.n_frozen, key.n_awake
         expected = expected_awake(key.system, nf, na)
         ok = before[k] == expected and after[k] == expected and (not na or lowest[k] > 5.0)
-        common = dict(part="per_body_cost", scene=key.tag, system=key.system, bodies=nf + na,
-                      n_aw=na, n_fr=nf, flag="" if ok else "awake count or flight check failed")
+        common = dict(
+            part="per_body_cost",
+            scene=key.tag,
+            system=key.system,
+            bodies=nf + na,
+            n_aw=na,
+            n_fr=nf,
+            flag="" if ok else "awake count or flight check failed",
+        )
         rows += timing_rows(common, times[k], before[k], after[k], steps, repeats)
         rows.append(long_row(**common, metric="lowest_flying_y", value=lowest[k], unit="m"))
     for system in systems:
         ks = [k for k, key in enumerate(keys) if key.system == system]
-        fit = fit_cost([keys[k].n_awake for k in ks], [keys[k].n_frozen for k in ks],
-                       [statistics.median(times[k]) for k in ks])
+        fit = fit_cost(
+            [keys[k].n_awake for k in ks],
+            [keys[k].n_frozen for k in ks],
+            [statistics.median(times[k]) for k in ks],
+        )
         fits[system] = fit
     relative_to_off(fits)
     units = {**FIT_UNITS, "b_over_b_off": "ratio", "a_over_a_off": "ratio", **(extra_units or {})}
     for system, fit in fits.items():
         for key, value in fit.items():
             if key in units:
-                rows.append(long_row("per_body_cost", "fit", system, math.nan, math.nan,
-                                     math.nan, f"fit_{key}", value, units[key]))
+                rows.append(
+                    long_row(
+                        "per_body_cost",
+                        "fit",
+                        system,
+                        math.nan,
+                        math.nan,
+                        math.nan,
+                        f"fit_{key}",
+                        value,
+                        units[key],
+                    )
+                )
     return rows, fits
 
 
@@ -213,10 +277,11 @@ def per_body_cost(config, repeats, progress, systems=MIX_SYSTEMS, extra_units=No
 class FreezeTask(NamedTuple):
     """One freeze run: the scene (a sim.scenes builder and its keyword arguments), the system, and
     the most simulated time to wait for the freeze."""
+
     builder: str
     params: dict
     system: str
-    cap_s: float                # s
+    cap_s: float  # s
 
 
 def freeze_run(task):
@@ -236,15 +301,13 @@ def freeze_run(task):
         frozen_at = observable_at = None
         while runner.step_count < cap:
             runner.step(1)
-            if is_sim and observable_at is None and \
-                    (runner.world.states != sim.State.FREE).all():
+            if is_sim and observable_at is None and (runner.world.states != sim.State.FREE).all():
                 observable_at = runner.step_count
             if not awake_mask(runner).any():
                 frozen_at = runner.step_count
                 break
         end_awake = n_awake(runner)
-        end_not_free = (int((runner.world.states != sim.State.FREE).sum()) if is_sim
-                        else math.nan)
+        end_not_free = int((runner.world.states != sim.State.FREE).sum()) if is_sim else math.nan
         moved = largest_move(runner, start)
         held = math.nan
         if frozen_at is not None:
@@ -252,13 +315,28 @@ def freeze_run(task):
             held = n_awake(runner)
     never = frozen_at is None
     flag = "never" if never else ""
-    common = dict(part="time_to_freeze", scene=tag, system=system, bodies=n,
-                  n_aw=end_awake, n_fr=n - end_awake, flag=flag)
+    common = dict(
+        part="time_to_freeze",
+        scene=tag,
+        system=system,
+        bodies=n,
+        n_aw=end_awake,
+        n_fr=n - end_awake,
+        flag=flag,
+    )
     rows = [
-        long_row(**common, metric="steps_to_all_frozen",
-                 value=math.nan if never else frozen_at, unit="steps"),
-        long_row(**common, metric="time_to_all_frozen",
-                 value=math.nan if never else frozen_at * DT, unit="s"),
+        long_row(
+            **common,
+            metric="steps_to_all_frozen",
+            value=math.nan if never else frozen_at,
+            unit="steps",
+        ),
+        long_row(
+            **common,
+            metric="time_to_all_frozen",
+            value=math.nan if never else frozen_at * DT,
+            unit="s",
+        ),
         long_row(**common, metric="n_awake_at_end", value=end_awake, unit="bodies"),
         long_row(**common, metric="n_awake_1s_after", value=held, unit="bodies"),
         long_row(**common, metric="max_displacement", value=moved, unit="m"),
@@ -266,8 +344,12 @@ def freeze_run(task):
     ]
     if is_sim:
         rows += [
-            long_row(**common, metric="steps_to_all_not_free",
-                     value=math.nan if observable_at is None else observable_at, unit="steps"),
+            long_row(
+                **common,
+                metric="steps_to_all_not_free",
+                value=math.nan if observable_at is None else observable_at,
+                unit="steps",
+            ),
             long_row(**common, metric="n_not_free_at_end", value=end_not_free, unit="bodies"),
         ]
     return rows
@@ -275,5 +357,8 @@ def freeze_run(task):
 
 def freeze_tasks(scenes, cap_s, systems=FREEZING):
     """The tasks of part 3 for ``scenes`` ((builder name, params) pairs), scene-major."""
-    return [FreezeTask(name, dict(params), system, cap_s) for name, params in scenes
-            for system in systems]
+    return [
+        FreezeTask(name, dict(params), system, cap_s)
+        for name, params in scenes
+        for system in systems
+    ]

@@ -47,6 +47,7 @@ tied to one scene.
 
 Units: metres, seconds, kilograms (per square metre for densities), radians.
 """
+
 from dataclasses import dataclass
 import inspect
 import math
@@ -56,25 +57,26 @@ import numpy as np
 
 import sim
 
-G = 9.81                    # m/s^2, every scene's gravity (sim.Scene's default)
-ARRIVE_S = 3.5              # s, when a scheduled projectile reaches its target (see above)
-SHELF_THICKNESS = 0.2       # m, static shelves a projectile slides along
-SHELF_GAP = 0.05            # m, between a shelf's end and the body it leads to
+G = 9.81  # m/s^2, every scene's gravity (sim.Scene's default)
+ARRIVE_S = 3.5  # s, when a scheduled projectile reaches its target (see above)
+SHELF_THICKNESS = 0.2  # m, static shelves a projectile slides along
+SHELF_GAP = 0.05  # m, between a shelf's end and the body it leads to
 
 
 @dataclass(frozen=True)
 class Scenario:
     """One entry of the catalogue (see the module docstring)."""
+
     name: str
-    question: str                      # what can go wrong, and whose limit it is
-    builder: Callable                  # builder(**params) -> sim.Scene
-    seconds: float                     # s simulated
-    expected: str                      # the outcome physics says
-    labels: tuple                      # every label classify can return
-    classifier: Callable               # classifier(scene, positions, angles) -> label
-    measurer: Callable                 # measurer(scene, positions, angles) -> float
-    measure_name: str                  # what measure() returns, with its unit in the name
-    event_s: float | None = None       # s, when the danger arrives (None: from the start)
+    question: str  # what can go wrong, and whose limit it is
+    builder: Callable  # builder(**params) -> sim.Scene
+    seconds: float  # s simulated
+    expected: str  # the outcome physics says
+    labels: tuple  # every label classify can return
+    classifier: Callable  # classifier(scene, positions, angles) -> label
+    measurer: Callable  # measurer(scene, positions, angles) -> float
+    measure_name: str  # what measure() returns, with its unit in the name
+    event_s: float | None = None  # s, when the danger arrives (None: from the start)
 
     @property
     def params(self):
@@ -85,8 +87,10 @@ class Scenario:
         """The scene, with parameters overridden by keyword (unknown names are an error)."""
         unknown = sorted(set(overrides) - set(self.params))
         if unknown:
-            raise ValueError(f"scenario {self.name}: unknown parameter(s) {', '.join(unknown)}; "
-                             f"it takes {', '.join(sorted(self.params)) or 'none'}")
+            raise ValueError(
+                f"scenario {self.name}: unknown parameter(s) {', '.join(unknown)}; "
+                f"it takes {', '.join(sorted(self.params)) or 'none'}"
+            )
         return self.builder(**{**self.params, **overrides})
 
     def classify(self, scene, positions, angles):
@@ -94,8 +98,9 @@ class Scenario:
         positions, angles = _pose(scene, positions, angles)
         label = self.classifier(scene, positions, angles)
         if label not in self.labels:
-            raise RuntimeError(f"scenario {self.name}: classifier returned {label!r}, not one of "
-                               f"{self.labels}")
+            raise RuntimeError(
+                f"scenario {self.name}: classifier returned {label!r}, not one of {self.labels}"
+            )
         return label
 
     def measure(self, scene, positions, angles):
@@ -122,8 +127,10 @@ def _pose(scene, positions, angles):
     angles = np.asarray(angles, dtype=float)
     n = len(scene.bodies)
     if positions.shape != (n, 2) or angles.shape != (n,):
-        raise ValueError(f"scene {scene.name}: expected positions ({n}, 2) and angles ({n},), "
-                         f"got {positions.shape} and {angles.shape}")
+        raise ValueError(
+            f"scene {scene.name}: expected positions ({n}, 2) and angles ({n},), "
+            f"got {positions.shape} and {angles.shape}"
+        )
     if not (np.isfinite(positions).all() and np.isfinite(angles).all()):
         raise ValueError(f"scene {scene.name}: the pose is not finite")
     return positions, angles
@@ -164,9 +171,13 @@ def key_bodies(scene):
 
 def _shelf(x_from, x_to, top):
     """A static, frictionless shelf from x_from to x_to (m) whose top face is at ``top``."""
-    return sim.Body.box(x_to - x_from, SHELF_THICKNESS,
-                        position=(0.5 * (x_from + x_to), top - 0.5 * SHELF_THICKNESS),
-                        friction=0.0, name="shelf")
+    return sim.Body.box(
+        x_to - x_from,
+        SHELF_THICKNESS,
+        position=(0.5 * (x_from + x_to), top - 0.5 * SHELF_THICKNESS),
+        friction=0.0,
+        name="shelf",
+    )
 
 
 # ---- 1. support removed ------------------------------------------------------------------------
@@ -190,13 +201,24 @@ def support_removed(speed=4.0, arrive_s=ARRIVE_S, load_friction=0.05):
     Danger: nothing touches the load; only its support moves (the seed's second limit: nothing
     wakes a body whose support is knocked away, it floats)."""
     gap = speed * arrive_s
-    bodies = [sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=0.6, name="support"),
-              sim.Body.box(0.8, 0.4, position=(0.0, 1.2), friction=load_friction, name="load"),
-              sim.Body.box(1.0, 0.3, position=(-0.5 - gap - 0.5, 0.15), velocity=(speed, 0.0),
-                           friction=0.0, density=10.0, name="projectile")]
-    return sim.Scene(bodies=bodies, name="support_removed",
-                     params={"speed": speed, "arrive_s": arrive_s,
-                             "load_friction": load_friction})
+    bodies = [
+        sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=0.6, name="support"),
+        sim.Body.box(0.8, 0.4, position=(0.0, 1.2), friction=load_friction, name="load"),
+        sim.Body.box(
+            1.0,
+            0.3,
+            position=(-0.5 - gap - 0.5, 0.15),
+            velocity=(speed, 0.0),
+            friction=0.0,
+            density=10.0,
+            name="projectile",
+        ),
+    ]
+    return sim.Scene(
+        bodies=bodies,
+        name="support_removed",
+        params={"speed": speed, "arrive_s": arrive_s, "load_friction": load_friction},
+    )
 
 
 def _support_removed_outcome(scene, p, a):
@@ -226,7 +248,7 @@ def _overhang_measure(scene, p, a):
 
 
 def _overhang_outcome(scene, p, a):
-    return "fell off" if _overhang_measure(scene, p, a) < 1.0 else "stayed on"   # B's top: 1 m
+    return "fell off" if _overhang_measure(scene, p, a) < 1.0 else "stayed on"  # B's top: 1 m
 
 
 # ---- 3. tipping ---------------------------------------------------------------------------------
@@ -238,11 +260,14 @@ def tipping(width=0.5, height=2.0, past_deg=5.0, friction=0.6):
     Danger: it starts at rest, slow at first (seed limit 1, no general rest test)."""
     angle = math.atan(width / height) + math.radians(past_deg)
     lowest = -0.5 * width * math.sin(angle) - 0.5 * height * math.cos(angle)
-    body = sim.Body.box(width, height, position=(0.0, -lowest), angle=angle, friction=friction,
-                        name="box")
-    return sim.Scene(bodies=[body], name="tipping",
-                     params={"width": width, "height": height, "past_deg": past_deg,
-                             "friction": friction})
+    body = sim.Body.box(
+        width, height, position=(0.0, -lowest), angle=angle, friction=friction, name="box"
+    )
+    return sim.Scene(
+        bodies=[body],
+        name="tipping",
+        params={"width": width, "height": height, "past_deg": past_deg, "friction": friction},
+    )
 
 
 def _tipping_measure(scene, p, a):
@@ -266,11 +291,18 @@ def unstable_equilibrium(past=0.002, length=2.0, thickness=0.2, friction=0.6):
     Danger: for the first second it moves less than every sleep threshold (engines' known limit,
     seed limit 1)."""
     support = sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=friction, name="support")
-    plank = sim.Body.box(length, thickness, position=(0.5 + past, 1.0 + 0.5 * thickness),
-                         friction=friction, name="plank")
-    return sim.Scene(bodies=[support, plank], name="unstable_equilibrium",
-                     params={"past": past, "length": length, "thickness": thickness,
-                             "friction": friction})
+    plank = sim.Body.box(
+        length,
+        thickness,
+        position=(0.5 + past, 1.0 + 0.5 * thickness),
+        friction=friction,
+        name="plank",
+    )
+    return sim.Scene(
+        bodies=[support, plank],
+        name="unstable_equilibrium",
+        params={"past": past, "length": length, "thickness": thickness, "friction": friction},
+    )
 
 
 def unstable_ledge(past=0.001, length=1.5, thickness=0.3, friction=0.6):
@@ -282,11 +314,19 @@ def unstable_ledge(past=0.001, length=1.5, thickness=0.3, friction=0.6):
     Danger: as unstable_equilibrium's, on an immovable support: the block is slow for a second
     or more, and rests on two points (a whole face), not one."""
     ledge = sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=friction, name="ledge")
-    block = sim.Body.box(length, thickness, position=(0.5 + past, 1.0 + 0.5 * thickness),
-                         friction=friction, name="plank")
-    return sim.Scene(bodies=[block], static_bodies=[ledge], name="unstable_ledge",
-                     params={"past": past, "length": length, "thickness": thickness,
-                             "friction": friction})
+    block = sim.Body.box(
+        length,
+        thickness,
+        position=(0.5 + past, 1.0 + 0.5 * thickness),
+        friction=friction,
+        name="plank",
+    )
+    return sim.Scene(
+        bodies=[block],
+        static_bodies=[ledge],
+        name="unstable_ledge",
+        params={"past": past, "length": length, "thickness": thickness, "friction": friction},
+    )
 
 
 def _unstable_measure(scene, p, a):
@@ -296,7 +336,7 @@ def _unstable_measure(scene, p, a):
 
 
 def _unstable_outcome(scene, p, a):
-    """"tipped off": the plank came down to the floor (one end, or all of it, on it); "balanced":
+    """ "tipped off": the plank came down to the floor (one end, or all of it, on it); "balanced":
     still flat on the box; "stuck tilted": tilted yet touching nothing but the box's corner,
     which cannot be a resting pose (it was frozen mid-tip)."""
     plank = index(scene, "plank")
@@ -330,8 +370,12 @@ def slow_glide(speed=0.05, friction=0.002, radius=0.4):
     inertia of its own."""
     body = sim.Body.regular(6, radius, velocity=(speed, 0.0), friction=friction, name="box")
     body.position = (0.0, radius * math.cos(math.pi / 6))
-    return sim.Scene(bodies=[body], floor_friction=friction, name="slow_glide",
-                     params={"speed": speed, "friction": friction, "radius": radius})
+    return sim.Scene(
+        bodies=[body],
+        floor_friction=friction,
+        name="slow_glide",
+        params={"speed": speed, "friction": friction, "radius": radius},
+    )
 
 
 def _slide_expected(scene):
@@ -361,9 +405,14 @@ def slope_creep(acceleration=0.05, friction=0.3, size=0.5, seconds=6.0):
 
     Danger: it accelerates slower than extended's rest_acceleration (0.1 m/s^2) and stays under
     every sleep speed for seconds (engines' known limit: sleeping on a slope)."""
-    return _on_ramp("slope_creep", acceleration, friction, size, size,
-                    {"acceleration": acceleration, "friction": friction, "size": size,
-                     "seconds": seconds})
+    return _on_ramp(
+        "slope_creep",
+        acceleration,
+        friction,
+        size,
+        size,
+        {"acceleration": acceleration, "friction": friction, "size": size, "seconds": seconds},
+    )
 
 
 def _on_ramp(name, acceleration, friction, width, height, params):
@@ -373,20 +422,24 @@ def _on_ramp(name, acceleration, friction, width, height, params):
     # solve sin(t) - mu cos(t) = a / g for t by Newton's method (a few steps from atan(mu))
     theta = math.atan(friction)
     for _ in range(20):
-        theta -= ((math.sin(theta) - friction * math.cos(theta) - acceleration / G)
-                  / (math.cos(theta) + friction * math.sin(theta)))
+        theta -= (math.sin(theta) - friction * math.cos(theta) - acceleration / G) / (
+            math.cos(theta) + friction * math.sin(theta)
+        )
     length = 10.0
     top = length * math.tan(theta)
-    ramp = sim.Body(vertices=[(0.0, 0.0), (length, 0.0), (0.0, top)], friction=friction,
-                    name="ramp")
-    along = 2.0                                       # m from the ramp's top corner, down the slope
+    ramp = sim.Body(
+        vertices=[(0.0, 0.0), (length, 0.0), (0.0, top)], friction=friction, name="ramp"
+    )
+    along = 2.0  # m from the ramp's top corner, down the slope
     surface = np.array([along * math.cos(theta), top - along * math.sin(theta)])
     normal = np.array([math.sin(theta), math.cos(theta)])
     centre = surface + 0.5 * height * normal
-    box = sim.Body.box(width, height, position=tuple(centre), angle=-theta, friction=friction,
-                       name="box")
-    return sim.Scene(bodies=[box], static_bodies=[ramp], name=name,
-                     params={**params, "theta_rad": theta})
+    box = sim.Body.box(
+        width, height, position=tuple(centre), angle=-theta, friction=friction, name="box"
+    )
+    return sim.Scene(
+        bodies=[box], static_bodies=[ramp], name=name, params={**params, "theta_rad": theta}
+    )
 
 
 def slope_creep_plank(acceleration=0.03, friction=0.5, width=1.2, height=0.25, seconds=6.0):
@@ -396,9 +449,20 @@ def slope_creep_plank(acceleration=0.03, friction=0.5, width=1.2, height=0.25, s
 
     Danger: as slope_creep's, for a body whose supports are far apart (a wide contact holds no
     better against sliding)."""
-    return _on_ramp("slope_creep_plank", acceleration, friction, width, height,
-                    {"acceleration": acceleration, "friction": friction, "width": width,
-                     "height": height, "seconds": seconds})
+    return _on_ramp(
+        "slope_creep_plank",
+        acceleration,
+        friction,
+        width,
+        height,
+        {
+            "acceleration": acceleration,
+            "friction": friction,
+            "width": width,
+            "height": height,
+            "seconds": seconds,
+        },
+    )
 
 
 def _slope_measure(scene, p, a):
@@ -421,18 +485,36 @@ def impact_on_stack(height=4, speed=4.0, arrive_s=ARRIVE_S, projectile_density=1
     Danger: a hit on one frozen body must wake it and pass its momentum down through bodies that
     are not hit (seed section 3: a rotation-stable body is special only until a collision; its
     second limit: nothing else wakes a body)."""
-    top = float(height - 1)                           # m, the top box's base
+    top = float(height - 1)  # m, the top box's base
     gap = speed * arrive_s
-    bodies = [sim.Body.box(1.0, 1.0, position=(0.0, 0.5 + k), friction=0.6, name=f"box {k}")
-              for k in range(height)]
-    x_face = -0.5 - gap                               # the projectile's front face at t = 0
-    bodies.append(sim.Body.box(0.5, 0.5, position=(x_face - 0.25, top + 0.25),
-                               velocity=(speed, 0.0), friction=0.6,
-                               density=projectile_density, name="projectile"))
+    bodies = [
+        sim.Body.box(1.0, 1.0, position=(0.0, 0.5 + k), friction=0.6, name=f"box {k}")
+        for k in range(height)
+    ]
+    x_face = -0.5 - gap  # the projectile's front face at t = 0
+    bodies.append(
+        sim.Body.box(
+            0.5,
+            0.5,
+            position=(x_face - 0.25, top + 0.25),
+            velocity=(speed, 0.0),
+            friction=0.6,
+            density=projectile_density,
+            name="projectile",
+        )
+    )
     shelf = _shelf(x_face - 1.0, -0.5 - SHELF_GAP, top)
-    return sim.Scene(bodies=bodies, static_bodies=[shelf], name="impact_on_stack",
-                     params={"height": height, "speed": speed, "arrive_s": arrive_s,
-                             "projectile_density": projectile_density})
+    return sim.Scene(
+        bodies=bodies,
+        static_bodies=[shelf],
+        name="impact_on_stack",
+        params={
+            "height": height,
+            "speed": speed,
+            "arrive_s": arrive_s,
+            "projectile_density": projectile_density,
+        },
+    )
 
 
 def _moved(scene, p, a, i):
@@ -471,22 +553,32 @@ def load_on_overhang(speed=2.0, arrive_s=ARRIVE_S, length=3.0, com_inside=0.2):
     Danger: the seed treats a rotation-stable body's floor-parallel top edge "exactly like the
     floor" (section 5.2), so a body landing on it never loads it; and a load on an overhang is a
     three-body problem (plank, column, load)."""
-    top = 2.2                                         # m, the plank's top face
-    plank_x = 0.5 - com_inside                        # the column's right edge is at x = 0.5
-    x_end = plank_x + 0.5 * length                    # the plank's overhanging end
+    top = 2.2  # m, the plank's top face
+    plank_x = 0.5 - com_inside  # the column's right edge is at x = 0.5
+    x_end = plank_x + 0.5 * length  # the plank's overhanging end
     gap = speed * arrive_s
     shelf_from = x_end + SHELF_GAP
-    bodies = [sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=0.6, name="box 0"),
-              sim.Body.box(1.0, 1.0, position=(0.0, 1.5), friction=0.6, name="box 1"),
-              sim.Body.box(length, 0.2, position=(plank_x, top - 0.1), friction=0.6,
-                           name="plank"),
-              sim.Body.box(0.5, 0.5, position=(x_end + gap + 0.25, top + 0.01 + 0.25),
-                           velocity=(-speed, 0.0), friction=0.6, density=4.0,
-                           name="projectile load")]
+    bodies = [
+        sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=0.6, name="box 0"),
+        sim.Body.box(1.0, 1.0, position=(0.0, 1.5), friction=0.6, name="box 1"),
+        sim.Body.box(length, 0.2, position=(plank_x, top - 0.1), friction=0.6, name="plank"),
+        sim.Body.box(
+            0.5,
+            0.5,
+            position=(x_end + gap + 0.25, top + 0.01 + 0.25),
+            velocity=(-speed, 0.0),
+            friction=0.6,
+            density=4.0,
+            name="projectile load",
+        ),
+    ]
     shelf = _shelf(shelf_from, x_end + gap + 1.5, top + 0.01)
-    return sim.Scene(bodies=bodies, static_bodies=[shelf], name="load_on_overhang",
-                     params={"speed": speed, "arrive_s": arrive_s, "length": length,
-                             "com_inside": com_inside})
+    return sim.Scene(
+        bodies=bodies,
+        static_bodies=[shelf],
+        name="load_on_overhang",
+        params={"speed": speed, "arrive_s": arrive_s, "length": length, "com_inside": com_inside},
+    )
 
 
 def _plank_tilt(scene, p, a):
@@ -494,15 +586,16 @@ def _plank_tilt(scene, p, a):
 
 
 def _load_outcome(scene, p, a):
-    """"tipped": the plank's centre dropped 0.2 m or it turned 0.2 rad; else "held"."""
+    """ "tipped": the plank's centre dropped 0.2 m or it turned 0.2 rad; else "held"."""
     plank = index(scene, "plank")
     dropped = scene.bodies[plank].position[1] - p[plank, 1]
     return "tipped" if dropped > 0.2 or _plank_tilt(scene, p, a) > 0.2 else "held"
 
 
 # ---- 9. wake cascade ---------------------------------------------------------------------------
-def wake_cascade(n=8, pitch=0.6, width=0.15, height=1.0, speed=2.0, arrive_s=ARRIVE_S,
-                 projectile_density=12.0):
+def wake_cascade(
+    n=8, pitch=0.6, width=0.15, height=1.0, speed=2.0, arrive_s=ARRIVE_S, projectile_density=12.0
+):
     """A row of ``n`` dominoes (``width`` x ``height``, mu 0.6, ``pitch`` apart); a small, dense
     projectile (0.25 x 0.25 m, 0.75 kg at the defaults: 1.5 N s at 2 m/s, above both policies'
     impulse thresholds, so the first domino is woken by every policy) slides along a frictionless
@@ -514,17 +607,39 @@ def wake_cascade(n=8, pitch=0.6, width=0.15, height=1.0, speed=2.0, arrive_s=ARR
     domino carries ~0.1 N s, under both impulse thresholds), through the whole row."""
     gap = speed * arrive_s
     shelf_top = 0.7 * height
-    bodies = [sim.Body.box(width, height, position=(k * pitch, 0.5 * height), friction=0.6,
-                           name=f"domino {k}") for k in range(n)]
+    bodies = [
+        sim.Body.box(
+            width, height, position=(k * pitch, 0.5 * height), friction=0.6, name=f"domino {k}"
+        )
+        for k in range(n)
+    ]
     x_face = -0.5 * width - gap
-    bodies.append(sim.Body.box(0.25, 0.25, position=(x_face - 0.125, shelf_top + 0.125),
-                               velocity=(speed, 0.0), friction=0.6, density=projectile_density,
-                               name="projectile"))
+    bodies.append(
+        sim.Body.box(
+            0.25,
+            0.25,
+            position=(x_face - 0.125, shelf_top + 0.125),
+            velocity=(speed, 0.0),
+            friction=0.6,
+            density=projectile_density,
+            name="projectile",
+        )
+    )
     shelf = _shelf(x_face - 1.0, -0.5 * width - SHELF_GAP, shelf_top)
-    return sim.Scene(bodies=bodies, static_bodies=[shelf], name="wake_cascade",
-                     params={"n": n, "pitch": pitch, "width": width, "height": height,
-                             "speed": speed, "arrive_s": arrive_s,
-                             "projectile_density": projectile_density})
+    return sim.Scene(
+        bodies=bodies,
+        static_bodies=[shelf],
+        name="wake_cascade",
+        params={
+            "n": n,
+            "pitch": pitch,
+            "width": width,
+            "height": height,
+            "speed": speed,
+            "arrive_s": arrive_s,
+            "projectile_density": projectile_density,
+        },
+    )
 
 
 def _dominoes_fallen(scene, p, a):
@@ -550,10 +665,21 @@ def three_bodies(offset=0.4, width=1.0, thickness=0.5):
     ``offset`` = 0.6 m, beyond the bottom box's edge at 0.5 m, so the top two must topple off.
 
     Danger: the seed's third limit, collisions among three or more bodies are not handled."""
-    bodies = [sim.Body.box(width, thickness, position=(k * offset, (k + 0.5) * thickness),
-                           friction=0.6, name=f"box {k}") for k in range(3)]
-    return sim.Scene(bodies=bodies, name="three_bodies",
-                     params={"offset": offset, "width": width, "thickness": thickness})
+    bodies = [
+        sim.Body.box(
+            width,
+            thickness,
+            position=(k * offset, (k + 0.5) * thickness),
+            friction=0.6,
+            name=f"box {k}",
+        )
+        for k in range(3)
+    ]
+    return sim.Scene(
+        bodies=bodies,
+        name="three_bodies",
+        params={"offset": offset, "width": width, "thickness": thickness},
+    )
 
 
 def _three_measure(scene, p, a):
@@ -568,58 +694,155 @@ def _three_outcome(scene, p, a):
 # ---- the catalogue -----------------------------------------------------------------------------
 def _catalogue():
     s = [
-        Scenario("support_removed", "a support knocked away from under a frozen load (seed limit "
-                 "2: no way back to motion)", support_removed, 6.0, "fell",
-                 ("fell", "stayed", "floating"), _support_removed_outcome,
-                 lambda sc, p, a: bottom(sc, p, a, index(sc, "load")), "load_bottom_m",
-                 event_s=ARRIVE_S),
-        Scenario("overhang", "seed figure 3: a body sliding off its support's edge",
-                 overhang, 4.0, "fell off", ("fell off", "stayed on"), _overhang_outcome,
-                 _overhang_measure, "A_height_m"),
-        Scenario("tipping", "a body at rest on a corner, centre of mass outside (seed limit 1)",
-                 tipping, 4.0, "toppled", ("toppled", "upright", "stuck leaning"),
-                 _tipping_outcome, _tipping_measure, "tilt_rad"),
-        Scenario("unstable_equilibrium", "a plank 2 mm past its support's edge tips slowly at "
-                 "first (engines' sleep; seed limit 1)", unstable_equilibrium, 6.0, "tipped off",
-                 ("tipped off", "balanced", "stuck tilted"), _unstable_outcome,
-                 _unstable_measure, "plank_drop_m"),
-        Scenario("slow_sliding", "a body sliding slower than the sleep thresholds (engines' "
-                 "sleep; seed limit 1)", slow_sliding, 6.0, "slid",
-                 ("stuck", "stopped short", "slid", "slid too far"),
-                 lambda sc, p, a: _fraction_outcome(_slide_measure(sc, p, a)), _slide_measure,
-                 "slide_fraction"),
-        Scenario("slope_creep", "a body creeping down a slope just past its friction angle "
-                 "(engines' sleep)", slope_creep, 6.0, "slid",
-                 ("stuck", "stopped short", "slid", "slid too far"),
-                 lambda sc, p, a: _fraction_outcome(_slope_measure(sc, p, a)), _slope_measure,
-                 "slide_fraction"),
-        Scenario("unstable_ledge", "unstable_equilibrium on an immovable ledge: a block 1 mm "
-                 "past its edge", unstable_ledge, 6.0, "tipped off",
-                 ("tipped off", "balanced", "stuck tilted"), _unstable_outcome,
-                 _unstable_measure, "plank_drop_m"),
-        Scenario("slow_glide", "slow_sliding with a hexagon on near-frictionless ice",
-                 slow_glide, 4.0, "slid", ("stuck", "stopped short", "slid", "slid too far"),
-                 lambda sc, p, a: _fraction_outcome(_slide_measure(sc, p, a)), _slide_measure,
-                 "slide_fraction"),
-        Scenario("slope_creep_plank", "slope_creep with a wide plank and a higher friction",
-                 slope_creep_plank, 6.0, "slid",
-                 ("stuck", "stopped short", "slid", "slid too far"),
-                 lambda sc, p, a: _fraction_outcome(_slope_measure(sc, p, a)), _slope_measure,
-                 "slide_fraction"),
-        Scenario("impact_on_stack", "a projectile hits a frozen stack's top box (seed section 3)",
-                 impact_on_stack, 6.0, "toppled",
-                 ("toppled", "stood", "top knocked off", "base stayed"),
-                 _impact_outcome, _impact_measure, "base_moved_m", event_s=ARRIVE_S),
-        Scenario("load_on_overhang", "a load lands on a frozen plank's overhanging end (seed "
-                 "5.2: an edge treated as the floor; three bodies)", load_on_overhang, 6.0,
-                 "tipped", ("tipped", "held"), _load_outcome, _plank_tilt, "plank_tilt_rad",
-                 event_s=ARRIVE_S),
-        Scenario("wake_cascade", "a row of frozen dominoes, each woken by its neighbour's fall",
-                 wake_cascade, 7.0, "all fell", ("all fell", "some fell", "none fell"),
-                 _cascade_outcome, _dominoes_fallen, "dominoes_fallen", event_s=ARRIVE_S),
-        Scenario("three_bodies", "three bodies: the top two together past the bottom's edge "
-                 "(seed limit 3)", three_bodies, 3.0, "toppled", ("toppled", "stood"),
-                 _three_outcome, _three_measure, "top_drop_m"),
+        Scenario(
+            "support_removed",
+            "a support knocked away from under a frozen load (seed limit 2: no way back to motion)",
+            support_removed,
+            6.0,
+            "fell",
+            ("fell", "stayed", "floating"),
+            _support_removed_outcome,
+            lambda sc, p, a: bottom(sc, p, a, index(sc, "load")),
+            "load_bottom_m",
+            event_s=ARRIVE_S,
+        ),
+        Scenario(
+            "overhang",
+            "seed figure 3: a body sliding off its support's edge",
+            overhang,
+            4.0,
+            "fell off",
+            ("fell off", "stayed on"),
+            _overhang_outcome,
+            _overhang_measure,
+            "A_height_m",
+        ),
+        Scenario(
+            "tipping",
+            "a body at rest on a corner, centre of mass outside (seed limit 1)",
+            tipping,
+            4.0,
+            "toppled",
+            ("toppled", "upright", "stuck leaning"),
+            _tipping_outcome,
+            _tipping_measure,
+            "tilt_rad",
+        ),
+        Scenario(
+            "unstable_equilibrium",
+            "a plank 2 mm past its support's edge tips slowly at "
+            "first (engines' sleep; seed limit 1)",
+            unstable_equilibrium,
+            6.0,
+            "tipped off",
+            ("tipped off", "balanced", "stuck tilted"),
+            _unstable_outcome,
+            _unstable_measure,
+            "plank_drop_m",
+        ),
+        Scenario(
+            "slow_sliding",
+            "a body sliding slower than the sleep thresholds (engines' sleep; seed limit 1)",
+            slow_sliding,
+            6.0,
+            "slid",
+            ("stuck", "stopped short", "slid", "slid too far"),
+            lambda sc, p, a: _fraction_outcome(_slide_measure(sc, p, a)),
+            _slide_measure,
+            "slide_fraction",
+        ),
+        Scenario(
+            "slope_creep",
+            "a body creeping down a slope just past its friction angle (engines' sleep)",
+            slope_creep,
+            6.0,
+            "slid",
+            ("stuck", "stopped short", "slid", "slid too far"),
+            lambda sc, p, a: _fraction_outcome(_slope_measure(sc, p, a)),
+            _slope_measure,
+            "slide_fraction",
+        ),
+        Scenario(
+            "unstable_ledge",
+            "unstable_equilibrium on an immovable ledge: a block 1 mm past its edge",
+            unstable_ledge,
+            6.0,
+            "tipped off",
+            ("tipped off", "balanced", "stuck tilted"),
+            _unstable_outcome,
+            _unstable_measure,
+            "plank_drop_m",
+        ),
+        Scenario(
+            "slow_glide",
+            "slow_sliding with a hexagon on near-frictionless ice",
+            slow_glide,
+            4.0,
+            "slid",
+            ("stuck", "stopped short", "slid", "slid too far"),
+            lambda sc, p, a: _fraction_outcome(_slide_measure(sc, p, a)),
+            _slide_measure,
+            "slide_fraction",
+        ),
+        Scenario(
+            "slope_creep_plank",
+            "slope_creep with a wide plank and a higher friction",
+            slope_creep_plank,
+            6.0,
+            "slid",
+            ("stuck", "stopped short", "slid", "slid too far"),
+            lambda sc, p, a: _fraction_outcome(_slope_measure(sc, p, a)),
+            _slope_measure,
+            "slide_fraction",
+        ),
+        Scenario(
+            "impact_on_stack",
+            "a projectile hits a frozen stack's top box (seed section 3)",
+            impact_on_stack,
+            6.0,
+            "toppled",
+            ("toppled", "stood", "top knocked off", "base stayed"),
+            _impact_outcome,
+            _impact_measure,
+            "base_moved_m",
+            event_s=ARRIVE_S,
+        ),
+        Scenario(
+            "load_on_overhang",
+            "a load lands on a frozen plank's overhanging end (seed "
+            "5.2: an edge treated as the floor; three bodies)",
+            load_on_overhang,
+            6.0,
+            "tipped",
+            ("tipped", "held"),
+            _load_outcome,
+            _plank_tilt,
+            "plank_tilt_rad",
+            event_s=ARRIVE_S,
+        ),
+        Scenario(
+            "wake_cascade",
+            "a row of frozen dominoes, each woken by its neighbour's fall",
+            wake_cascade,
+            7.0,
+            "all fell",
+            ("all fell", "some fell", "none fell"),
+            _cascade_outcome,
+            _dominoes_fallen,
+            "dominoes_fallen",
+            event_s=ARRIVE_S,
+        ),
+        Scenario(
+            "three_bodies",
+            "three bodies: the top two together past the bottom's edge (seed limit 3)",
+            three_bodies,
+            3.0,
+            "toppled",
+            ("toppled", "stood"),
+            _three_outcome,
+            _three_measure,
+            "top_drop_m",
+        ),
     ]
     return {x.name: x for x in s}
 
@@ -633,5 +856,6 @@ def get(name):
     try:
         return SCENARIOS[name]
     except KeyError:
-        raise ValueError(f"unknown scenario {name!r}; choose one of "
-                         f"{', '.join(SCENARIOS)}") from None
+        raise ValueError(
+            f"unknown scenario {name!r}; choose one of {', '.join(SCENARIOS)}"
+        ) from None

@@ -17,6 +17,7 @@ it against the scripts). A name that is none of these is an error listing what i
 Scenes and scene files run ``DEFAULT_SYSTEMS`` at DT unless told otherwise, each system with the
 study's comparable settings (study.common.build).
 """
+
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,8 +26,14 @@ import sim
 from sim.arguments import positive
 from study import common, scenarios
 from study.common import DT
-from study.extremes.axes import (AXES, ALL_SYSTEMS, NO_PRESOLVE_SYSTEMS, applies,
-                                       runner_system, system_settings)
+from study.extremes.axes import (
+    AXES,
+    ALL_SYSTEMS,
+    NO_PRESOLVE_SYSTEMS,
+    applies,
+    runner_system,
+    system_settings,
+)
 from study.extremes.runs import run_task
 from study.extremes.scenes import scene_of
 from study.extremes.threshold import find_threshold
@@ -35,13 +42,13 @@ from study.peers import SYSTEMS, engine_of
 #: the systems a scene is recorded under when none are named: no freezing, the study's method, and
 #: the engines' sleeping (what "where does freezing change the outcome" compares)
 DEFAULT_SYSTEMS = ("sim-off", "sim-extended", "pymunk-sleep")
-DEFAULT_STEPS = 300            # steps of a builder's scene or a scene file when none are given
+DEFAULT_STEPS = 300  # steps of a builder's scene or a scene file when none are given
 TABLES = ("table_failures", "table_extremes")
 #: a cell's value matches a row's when within this relative distance (the paper prints 3-4 digits)
 VALUE_TOLERANCE = 0.01
 #: table_extremes' bisection of the impact threshold: its own settings (experiments.table_extremes)
 THRESHOLD_BISECTIONS = 45
-PYBULLET_MAX_BODIES = 250      # table_extremes does not run pybullet above this (its cost)
+PYBULLET_MAX_BODIES = 250  # table_extremes does not run pybullet above this (its cost)
 
 
 @dataclass
@@ -51,6 +58,7 @@ class System:
     the reason the table does not run it (then nothing is built). ``scene``: this system's own
     scene where the table gives it one (the impact threshold axis throws the hammer at each
     policy's own threshold), else None: the target's."""
+
     name: str
     runner: str
     settings: dict = field(default_factory=dict)
@@ -66,12 +74,13 @@ class System:
 @dataclass
 class Target:
     """A scene and the systems replayed on it, in lockstep from the same start state."""
-    label: str                 # what was asked for, e.g. "table_extremes/dt/0.0333"
-    kind: str                  # "builder", "scenario", "file", "table_failures", "table_extremes"
-    scene: object              # sim.Scene
-    dt: float                  # s per step
-    steps: int                 # steps the table (or the default) runs
-    systems: list              # [System], the first is the reference of the divergence
+
+    label: str  # what was asked for, e.g. "table_extremes/dt/0.0333"
+    kind: str  # "builder", "scenario", "file", "table_failures", "table_extremes"
+    scene: object  # sim.Scene
+    dt: float  # s per step
+    steps: int  # steps the table (or the default) runs
+    systems: list  # [System], the first is the reference of the divergence
 
     @property
     def stem(self):
@@ -85,8 +94,10 @@ class Target:
         have = {s.name: s for s in self.systems}
         unknown = [n for n in names if n not in have]
         if unknown:
-            raise ValueError(f"{self.label}: no system {', '.join(map(repr, unknown))} here; it "
-                             f"has {', '.join(have)}")
+            raise ValueError(
+                f"{self.label}: no system {', '.join(map(repr, unknown))} here; it "
+                f"has {', '.join(have)}"
+            )
         self.systems = [have[n] for n in names]
         return self
 
@@ -94,11 +105,13 @@ class Target:
 def available():
     """What can be named, as text for error messages and --help."""
     axes = ", ".join(AXES)
-    return (f"scene builders: {', '.join(sim.scenes.BUILDERS)}\n"
-            f"scenarios: {', '.join(scenarios.SCENARIOS)}\n"
-            f"scene files: a path ending in .toml\n"
-            f"table cells: table_failures/<scenario>, table_extremes/<axis>/<value> "
-            f"(axes: {axes})")
+    return (
+        f"scene builders: {', '.join(sim.scenes.BUILDERS)}\n"
+        f"scenarios: {', '.join(scenarios.SCENARIOS)}\n"
+        f"scene files: a path ending in .toml\n"
+        f"table cells: table_failures/<scenario>, table_extremes/<axis>/<value> "
+        f"(axes: {axes})"
+    )
 
 
 def resolve(name, systems=None, size=None, dt=None):
@@ -113,8 +126,9 @@ def resolve(name, systems=None, size=None, dt=None):
     head = name.split("/", 1)[0]
     if head in TABLES:
         if size is not None or dt is not None:
-            raise ValueError(f"{name}: a table cell runs as its table does; --size and --dt are "
-                             f"for scenes")
+            raise ValueError(
+                f"{name}: a table cell runs as its table does; --size and --dt are for scenes"
+            )
         target = _failure_cell(name) if head == "table_failures" else _extremes_cell(name)
         if systems:
             target.select(list(systems))
@@ -161,13 +175,14 @@ def _failure_cell(name):
     """table_failures/<scenario>: every system of the table at its dt, for the scenario's time."""
     parts = name.split("/")
     if len(parts) != 2 or parts[1] not in scenarios.SCENARIOS:
-        raise ValueError(f"{name}: name a row of table_failures as table_failures/<scenario>; "
-                         f"scenarios: {', '.join(scenarios.SCENARIOS)}")
+        raise ValueError(
+            f"{name}: name a row of table_failures as table_failures/<scenario>; "
+            f"scenarios: {', '.join(scenarios.SCENARIOS)}"
+        )
     scenario = scenarios.get(parts[1])
     scene = scenario.build()
     steps = int(round(scenario.duration(scene) / DT))
-    return Target(name, "table_failures", scene, DT, steps,
-                  [System(s, s) for s in common.SYSTEMS])
+    return Target(name, "table_failures", scene, DT, steps, [System(s, s) for s in common.SYSTEMS])
 
 
 def match_value(axis, text):
@@ -178,12 +193,16 @@ def match_value(axis, text):
     try:
         x = float(text)
     except ValueError:
-        raise ValueError(f"table_extremes/{axis}/{text}: the value must be a number; the rows "
-                         f"are {', '.join(f'{v:g}' for v in values)}") from None
+        raise ValueError(
+            f"table_extremes/{axis}/{text}: the value must be a number; the rows "
+            f"are {', '.join(f'{v:g}' for v in values)}"
+        ) from None
     best = min(values, key=lambda v: abs(v - x))
     if abs(best - x) > VALUE_TOLERANCE * max(abs(best), abs(x)) and best != x:
-        raise ValueError(f"table_extremes/{axis}/{text}: no row at {x:g} {record.unit}; the rows "
-                         f"are {', '.join(f'{v:g}' for v in values)}")
+        raise ValueError(
+            f"table_extremes/{axis}/{text}: no row at {x:g} {record.unit}; the rows "
+            f"are {', '.join(f'{v:g}' for v in values)}"
+        )
     return best
 
 
@@ -192,14 +211,20 @@ def _extremes_cell(name):
     runs it (study.extremes.runs.run_task, the full table's duration)."""
     parts = name.split("/")
     if len(parts) != 3 or parts[1] not in AXES:
-        raise ValueError(f"{name}: name a cell of table_extremes as table_extremes/<axis>/<value>;"
-                         f" axes: {', '.join(AXES)}")
+        raise ValueError(
+            f"{name}: name a cell of table_extremes as table_extremes/<axis>/<value>;"
+            f" axes: {', '.join(AXES)}"
+        )
     axis, value = parts[1], match_value(parts[1], parts[2])
     record = AXES[axis]
-    config = {"duration_s": {axis: record.duration_s}, "samples": 1, "sample_budget": 1,
-              "budget_s": math.inf}
+    config = {
+        "duration_s": {axis: record.duration_s},
+        "samples": 1,
+        "sample_budget": 1,
+        "budget_s": math.inf,
+    }
     v_star = {}
-    if record.knob == "threshold":            # the threshold search the table itself runs
+    if record.knob == "threshold":  # the threshold search the table itself runs
         v_star = {policy: threshold(policy) for policy in ("paper", "extended")}
     systems, task = [], None
     for system in ALL_SYSTEMS:
@@ -220,8 +245,9 @@ def _extremes_cell(name):
         own = None if one["scene"] == task["scene"] else _scene_of(name, one["scene"])
         systems.append(System(system, one["runner"], settings, reason, own))
     scene = _scene_of(name, task["scene"])
-    return Target(cell_label(axis, value), "table_extremes", scene, task["dt"],
-                  task["steps"], systems)
+    return Target(
+        cell_label(axis, value), "table_extremes", scene, task["dt"], task["steps"], systems
+    )
 
 
 def cell_label(axis, value):
@@ -233,8 +259,13 @@ def threshold(policy):
     """v*, m/s: the hammer's speed at which sim-``policy``'s impulse test flips in the impact
     scene, found as table_extremes finds it (the same bisection, the full table's duration)."""
     axis = next(a for a in AXES.values() if a.knob == "threshold")
-    return find_threshold({"policy": policy, "steps": int(round(axis.duration_s / DT)),
-                           "bisection_steps": THRESHOLD_BISECTIONS})["v_star"]
+    return find_threshold(
+        {
+            "policy": policy,
+            "steps": int(round(axis.duration_s / DT)),
+            "bisection_steps": THRESHOLD_BISECTIONS,
+        }
+    )["v_star"]
 
 
 def _scene_of(name, spec):
@@ -243,5 +274,6 @@ def _scene_of(name, spec):
     try:
         return scene_of(spec)
     except ValueError as exc:
-        raise ValueError(f"{name}: the table rejects this cell's scene ({exc}); there is no run "
-                         f"to record") from None
+        raise ValueError(
+            f"{name}: the table rejects this cell's scene ({exc}); there is no run to record"
+        ) from None

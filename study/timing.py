@@ -1,5 +1,6 @@
-"""Wall-clock timing shared by every benchmark (docs/ARCHITECTURE.md §5): the garbage collector paused,
-compared systems interleaved repeat by repeat so that machine noise hits them alike."""
+"""Wall-clock timing shared by every benchmark (docs/ARCHITECTURE.md §5): the garbage collector
+paused, compared systems interleaved repeat by repeat so that machine noise hits them alike."""
+
 import gc
 import time
 
@@ -24,7 +25,7 @@ def interleaved(runners, steps, repeats, progress=None):
     times = [[] for _ in runners]
     order = list(range(len(runners)))
     for r in range(repeats):
-        for k in (order if r % 2 == 0 else order[::-1]):
+        for k in order if r % 2 == 0 else order[::-1]:
             times[k].append(1e3 * timed(runners[k], steps[k]) / steps[k])
             if progress is not None:
                 progress.update()

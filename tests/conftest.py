@@ -1,17 +1,18 @@
 """Shared helpers for the tests."""
+
 import math
 import os
 
 import pytest
 from hypothesis import settings
 
+import sim
+
 # Property tests draw the same examples on every run (CI must not turn red by luck); set
 # HYPOTHESIS_PROFILE=explore to search with fresh random examples.
 settings.register_profile("repeatable", derandomize=True, deadline=None)
 settings.register_profile("explore", derandomize=False, deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
-
-import sim
 
 G = 9.81
 

@@ -5,6 +5,7 @@ disagreement with the Numba kernels points at the kernels. Where the kernels mak
 convention rather than geometry (which face is the reference face, how feature ids are packed), the
 convention is restated here from the docstrings of ``sim/geometry.py`` and named as such.
 """
+
 import math
 
 import numpy as np
@@ -26,11 +27,12 @@ def _cross(u, v):
 # side lengths (J = A (a^2 + b^2 + c^2) / 36), then the parallel-axis theorem per triangle. This
 # shares no formula with the kernel's fan-from-vertex-0 second-moment sum.
 
+
 def mass_properties(vertices, density):
     """(mass, centroid (2,), polar moment about the centroid) of a convex CCW polygon."""
     v = np.asarray(vertices, dtype=np.float64)
-    hub = v.mean(axis=0)            # inside any convex polygon, so every fan triangle is positive
-    p = v - hub                     # work near the origin: the polygon may sit far away
+    hub = v.mean(axis=0)  # inside any convex polygon, so every fan triangle is positive
+    p = v - hub  # work near the origin: the polygon may sit far away
     k = len(p)
     triangles = []
     for i in range(k):
@@ -39,14 +41,16 @@ def mass_properties(vertices, density):
         c = p[(i + 1) % k]
         area = 0.5 * _cross(b - a, c - a)
         centre = (a + b + c) / 3.0
-        sides_sq = (float(np.sum((b - a) ** 2)) + float(np.sum((c - b) ** 2))
-                    + float(np.sum((a - c) ** 2)))
+        sides_sq = (
+            float(np.sum((b - a) ** 2)) + float(np.sum((c - b) ** 2)) + float(np.sum((a - c) ** 2))
+        )
         own_polar = area * sides_sq / 36.0
         triangles.append((area, centre, own_polar))
     total_area = sum(t[0] for t in triangles)
     centroid = sum(t[0] * t[1] for t in triangles) / total_area
-    polar = sum(own + area * float(np.sum((centre - centroid) ** 2))
-                for area, centre, own in triangles)
+    polar = sum(
+        own + area * float(np.sum((centre - centroid) ** 2)) for area, centre, own in triangles
+    )
     return density * total_area, centroid + hub, density * polar
 
 
@@ -58,13 +62,14 @@ def regular_polygon(n, radius, centre=(0.0, 0.0), phase=0.0):
 
 def regular_polygon_mass_properties(n, radius, density):
     """Textbook closed form: area (n/2) R^2 sin(2 pi/n), J = m R^2 (2 + cos(2 pi/n)) / 6."""
-    area = 0.5 * n * radius ** 2 * math.sin(2.0 * math.pi / n)
+    area = 0.5 * n * radius**2 * math.sin(2.0 * math.pi / n)
     mass = density * area
-    return mass, mass * radius ** 2 * (2.0 + math.cos(2.0 * math.pi / n)) / 6.0
+    return mass, mass * radius**2 * (2.0 + math.cos(2.0 * math.pi / n)) / 6.0
 
 
 # ------------------------------------------------------------------------------------------------
 # Edges, normals, separating axes
+
 
 def edges(vertices):
     """List of (start, end) pairs, edge i from vertex i to vertex i+1."""
@@ -91,7 +96,7 @@ def axis_separations(verts1, verts2):
     v1 = np.asarray(verts1, dtype=np.float64)
     v2 = np.asarray(verts2, dtype=np.float64)
     n = normals(v1)
-    offsets = v2[None, :, :] - v1[:, None, :]             # (edge i, vertex j, xy)
+    offsets = v2[None, :, :] - v1[:, None, :]  # (edge i, vertex j, xy)
     return np.min(np.einsum("ijk,ik->ij", offsets, n), axis=1)
 
 
@@ -108,6 +113,7 @@ def sat_separation(verts_a, verts_b):
 
 # ------------------------------------------------------------------------------------------------
 # Distances and overlap, without any separating-axis reasoning
+
 
 def point_segment_distances(points, vertices):
     """Distances (P, K) from each point to each edge of a polygon, and the edge parameters t.
@@ -166,17 +172,18 @@ def polygons_intersect(verts_a, verts_b):
     if a_in_b or b_in_a:
         return True
     # sides of A's edge ends relative to B's edges, and of B's edge ends relative to A's edges
-    a_start = np.sign(_left_of(va, vb))                     # (edge/vertex of A, edge of B)
+    a_start = np.sign(_left_of(va, vb))  # (edge/vertex of A, edge of B)
     a_end = np.roll(a_start, -1, axis=0)
-    b_start = np.sign(_left_of(vb, va))                     # (vertex of B, edge of A)
+    b_start = np.sign(_left_of(vb, va))  # (vertex of B, edge of A)
     b_end = np.roll(b_start, -1, axis=0)
-    a_straddles = a_start != a_end                          # A's edge i crosses B's edge k's line
-    b_straddles = (b_start != b_end).T                      # B's edge k crosses A's edge i's line
+    a_straddles = a_start != a_end  # A's edge i crosses B's edge k's line
+    b_straddles = (b_start != b_end).T  # B's edge k crosses A's edge i's line
     return bool(np.any(a_straddles & b_straddles))
 
 
 # ------------------------------------------------------------------------------------------------
 # Contact manifolds
+
 
 def choose_reference(verts_a, verts_b):
     """Reference face as documented: A's best face unless B's separates clearly more.
@@ -187,8 +194,14 @@ def choose_reference(verts_a, verts_b):
     edge_a, sep_a = max_separation(verts_a, verts_b)
     edge_b, sep_b = max_separation(verts_b, verts_a)
     flip = int(sep_b > sep_a + REFERENCE_ABS_BIAS + REFERENCE_REL_BIAS * abs(sep_a))
-    return {"flip": flip, "edge": edge_b if flip else edge_a,
-            "edge_a": edge_a, "sep_a": sep_a, "edge_b": edge_b, "sep_b": sep_b}
+    return {
+        "flip": flip,
+        "edge": edge_b if flip else edge_a,
+        "edge_a": edge_a,
+        "sep_a": sep_a,
+        "edge_b": edge_b,
+        "sep_b": sep_b,
+    }
 
 
 def incident_edge(reference_normal, incident_vertices):
@@ -208,9 +221,9 @@ def clip_incident_edge(ref_vertices, ref_edge, inc_vertices, inc_edge):
     p0, p1 = edges(inc_vertices)[inc_edge]
     tangent = (r1 - r0) / math.hypot(*(r1 - r0))
     length = float(tangent @ (r1 - r0))
-    s0 = float(tangent @ (p0 - r0))      # position of each end along the face, 0 .. length
+    s0 = float(tangent @ (p0 - r0))  # position of each end along the face, 0 .. length
     s1 = float(tangent @ (p1 - r0))
-    lo, hi = 0.0, 1.0                    # parameter range of the incident edge kept so far
+    lo, hi = 0.0, 1.0  # parameter range of the incident edge kept so far
     # Each side is written as  lam * rate <= slack  with s(lam) = s0 + lam * (s1 - s0):
     # s >= 0 is -lam*(s1-s0) <= s0, and s <= length is lam*(s1-s0) <= length - s0.
     for rate, slack in ((-(s1 - s0), s0), (s1 - s0, length - s0)):
@@ -236,8 +249,17 @@ def collide_polygons(verts_a, verts_b, margin):
     va = np.asarray(verts_a, dtype=np.float64)
     vb = np.asarray(verts_b, dtype=np.float64)
     choice = choose_reference(va, vb)
-    empty = {"count": 0, "flip": 0, "edge": 0, "normal": None, "points": [], "separations": [],
-             "ids": [], "inc_edge": None, "choice": choice}
+    empty = {
+        "count": 0,
+        "flip": 0,
+        "edge": 0,
+        "normal": None,
+        "points": [],
+        "separations": [],
+        "ids": [],
+        "inc_edge": None,
+        "choice": choice,
+    }
     if choice["sep_a"] > margin or choice["sep_b"] > margin:
         return empty
     # The preferred face first; if clipping against it keeps no point (a short face the incident
@@ -251,15 +273,23 @@ def collide_polygons(verts_a, verts_b, margin):
         base = (flip * ID_BASE + ref_edge) * ID_BASE + inc_edge
         points, seps, ids = [], [], []
         for p, end in clip_incident_edge(ref_v, ref_edge, inc_v, inc_edge):
-            s = float(n @ (p - r0))          # signed distance to the reference face's line
+            s = float(n @ (p - r0))  # signed distance to the reference face's line
             if s <= margin:
                 points.append(p)
                 seps.append(s)
                 ids.append(base * 2 + end)
         if points:
-            return {"count": len(points), "flip": flip, "edge": ref_edge,
-                    "normal": -n if flip else n, "points": points, "separations": seps,
-                    "ids": ids, "inc_edge": inc_edge, "choice": choice}
+            return {
+                "count": len(points),
+                "flip": flip,
+                "edge": ref_edge,
+                "normal": -n if flip else n,
+                "points": points,
+                "separations": seps,
+                "ids": ids,
+                "inc_edge": inc_edge,
+                "choice": choice,
+            }
     return empty
 
 
@@ -291,9 +321,10 @@ def rotation(angle):
 # squares, min |G^T w - t| over w >= 0. The wrench t is in the cone of the rows of G exactly when
 # that residual is zero. Shares nothing with the certificate's enumeration of triples.
 
+
 def nnls(G, t, iterations=500):
     """(weights >= 0, residual norm) minimising |G^T w - t| (G: (K, n) generators as rows)."""
-    A = np.asarray(G, dtype=np.float64).T          # (n, K): generators as columns
+    A = np.asarray(G, dtype=np.float64).T  # (n, K): generators as columns
     b = np.asarray(t, dtype=np.float64)
     k = A.shape[1]
     w = np.zeros(k)

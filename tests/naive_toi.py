@@ -14,6 +14,7 @@ it, and bisection narrows that bracket to ~1e-13 in t. A dip below the threshold
 sample spacing (1 / samples of the step) can be missed; tests that compare against this reference
 keep motions where that cannot matter or check the kernel's answer with ``distance`` directly.
 """
+
 import numpy as np
 
 SAMPLES = 20000
@@ -23,7 +24,7 @@ def outward_normals(vertices):
     """Unit outward normals of a CCW polygon's edges (edge i runs from vertex i to i+1)."""
     v = np.asarray(vertices, dtype=np.float64)
     d = np.roll(v, -1, axis=0) - v
-    n = np.stack([d[:, 1], -d[:, 0]], axis=1)        # the edge direction turned clockwise
+    n = np.stack([d[:, 1], -d[:, 0]], axis=1)  # the edge direction turned clockwise
     return n / np.linalg.norm(n, axis=1)[:, None]
 
 
@@ -33,7 +34,7 @@ def centroid(vertices):
     hub = v.mean(axis=0)
     p = v - hub
     q = np.roll(p, -1, axis=0)
-    area2 = p[:, 0] * q[:, 1] - p[:, 1] * q[:, 0]      # twice each fan triangle's signed area
+    area2 = p[:, 0] * q[:, 1] - p[:, 1] * q[:, 0]  # twice each fan triangle's signed area
     return hub + ((p + q) * area2[:, None]).sum(axis=0) / (3.0 * area2.sum())
 
 
@@ -61,9 +62,9 @@ def _cross(ux, uy, vx, vy):
 
 def _point_edge_distances(points, poly):
     """(S, P, K) distance from each point to each edge of each sample's polygon."""
-    start = poly[:, None, :, :]                          # (S, 1, K, 2)
+    start = poly[:, None, :, :]  # (S, 1, K, 2)
     d = np.roll(poly, -1, axis=1)[:, None, :, :] - start
-    rel = points[:, :, None, :] - start                  # (S, P, K, 2)
+    rel = points[:, :, None, :] - start  # (S, P, K, 2)
     u = np.clip((rel * d).sum(axis=3) / (d * d).sum(axis=3), 0.0, 1.0)
     gap = rel - u[..., None] * d
     return np.sqrt((gap * gap).sum(axis=3))
@@ -100,9 +101,11 @@ def distances(local_a, local_b, pose_a0, pose_a1, pose_b0, pose_b1, ts):
     """(S,) exact distance between the polygons at each time in ts (0 where they overlap)."""
     pa = world(local_a, poses(pose_a0, pose_a1, ts))
     pb = world(local_b, poses(pose_b0, pose_b1, ts))
-    d = np.minimum(_point_edge_distances(pa, pb).min(axis=(1, 2)),
-                   _point_edge_distances(pb, pa).min(axis=(1, 2)))
-    overlap = (_inside(pa, pb).any(axis=1) | _inside(pb, pa).any(axis=1) | _edges_cross(pa, pb))
+    d = np.minimum(
+        _point_edge_distances(pa, pb).min(axis=(1, 2)),
+        _point_edge_distances(pb, pa).min(axis=(1, 2)),
+    )
+    overlap = _inside(pa, pb).any(axis=1) | _inside(pb, pa).any(axis=1) | _edges_cross(pa, pb)
     return np.where(overlap, 0.0, d)
 
 
@@ -111,22 +114,23 @@ def distance(local_a, local_b, pose_a0, pose_a1, pose_b0, pose_b1, t):
     return float(distances(local_a, local_b, pose_a0, pose_a1, pose_b0, pose_b1, [t])[0])
 
 
-def first_time(local_a, local_b, pose_a0, pose_a1, pose_b0, pose_b1, threshold,
-               samples=SAMPLES, chunk=2000):
+def first_time(
+    local_a, local_b, pose_a0, pose_a1, pose_b0, pose_b1, threshold, samples=SAMPLES, chunk=2000
+):
     """First t in [0, 1] at which the distance is <= threshold, or 1.0 if there is none.
 
     Returns (t, hit): hit is False when no sample came within threshold."""
     args = (local_a, local_b, pose_a0, pose_a1, pose_b0, pose_b1)
     ts = np.linspace(0.0, 1.0, samples + 1)
     for lo in range(0, len(ts), chunk):
-        part = ts[lo:lo + chunk]
+        part = ts[lo : lo + chunk]
         close = np.flatnonzero(distances(*args, part) <= threshold)
         if close.size == 0:
             continue
         i = lo + int(close[0])
         if i == 0:
             return 0.0, True
-        a, b = ts[i - 1], ts[i]                 # distance > threshold at a, <= threshold at b
+        a, b = ts[i - 1], ts[i]  # distance > threshold at a, <= threshold at b
         while b - a > 1e-13:
             m = 0.5 * (a + b)
             if distance(*args, m) <= threshold:

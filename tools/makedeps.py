@@ -15,6 +15,7 @@ Printed rules only add prerequisites; the recipes stay in the Makefile:
     $(GEN)/<name>.json    analysis/<name>.py and all it imports (and the .csv, in the Makefile)
     TRACE_DEPS, PAPER_DEPS, GLANCE_DEPS   what analysis.trace / .paper / .glance import
 """
+
 import ast
 import sys
 from pathlib import Path
@@ -53,9 +54,9 @@ def imported_modules(path, module):
         if isinstance(node, ast.Import):
             names = [alias.name for alias in node.names]
         elif isinstance(node, ast.ImportFrom):
-            if node.level:                               # relative: from . import x, from .a import b
+            if node.level:  # relative: from . import x, from .a import b
                 anchor = package.split(".")
-                anchor = anchor[:len(anchor) - (node.level - 1)]
+                anchor = anchor[: len(anchor) - (node.level - 1)]
                 base = ".".join(anchor + ([node.module] if node.module else []))
             else:
                 base = node.module
@@ -88,12 +89,16 @@ def rules(names):
     for name in names:
         out.append(f"$(DATA)/{name}.csv: {' '.join(dependencies(f'experiments.{name}'))}")
         out.append(f"$(GEN)/{name}.json: {' '.join(dependencies(f'analysis.{name}'))}")
-    for var, module in (("TRACE_DEPS", "analysis.trace"), ("PAPER_DEPS", "analysis.paper"),
-                        ("GLANCE_DEPS", "analysis.glance")):
+    for var, module in (
+        ("TRACE_DEPS", "analysis.trace"),
+        ("PAPER_DEPS", "analysis.paper"),
+        ("GLANCE_DEPS", "analysis.glance"),
+    ):
         out.append(f"{var} := {' '.join(dependencies(module))}")
     return "\n".join(out) + "\n"
 
 
 if __name__ == "__main__":
-    sys.stdout.write("# made by tools/makedeps.py from the imports; do not edit\n"
-                     + rules(sys.argv[1:]))
+    sys.stdout.write(
+        "# made by tools/makedeps.py from the imports; do not edit\n" + rules(sys.argv[1:])
+    )

@@ -3,6 +3,7 @@
 Each policy is a module with ``NAME`` and ``PARAMETERS`` (name -> default). ``resolve`` validates a
 policy name and its parameters for ``sim.World``.
 """
+
 import math
 
 from ..arguments import number
@@ -22,8 +23,9 @@ def resolve(name, params):
     if not isinstance(name, str) or name not in POLICY_NAMES:
         raise ValueError(f"unknown freeze policy {name!r}; choose one of {', '.join(POLICY_NAMES)}")
     if name not in _IMPLEMENTED:
-        raise NotImplementedError(f"freeze={name!r} is not implemented yet "
-                                  f"(available: {', '.join(_IMPLEMENTED)})")
+        raise NotImplementedError(
+            f"freeze={name!r} is not implemented yet (available: {', '.join(_IMPLEMENTED)})"
+        )
     policy = _IMPLEMENTED[name]
     unknown = sorted(set(params) - set(policy.PARAMETERS))
     if unknown:
@@ -31,11 +33,10 @@ def resolve(name, params):
         raise ValueError(f"freeze={name!r} does not take {', '.join(unknown)} (it takes {takes})")
     values = {**policy.PARAMETERS, **params}
     for key, value in values.items():
-        x = number(value, key)                # "0.1" is not taken as a number
+        x = number(value, key)  # "0.1" is not taken as a number
         integral = key in policy.INT_PARAMETERS
         # counts are int64 in the step loop
-        if (not math.isfinite(x) or x < 0
-                or (integral and (x != int(x) or x < 1 or x >= 2 ** 62))):
+        if not math.isfinite(x) or x < 0 or (integral and (x != int(x) or x < 1 or x >= 2**62)):
             kind = "an integer >= 1 (and < 2**62)" if integral else "finite and >= 0"
             raise ValueError(f"{key} must be {kind}, got {value!r}")
         below = getattr(policy, "BELOW", {}).get(key)

@@ -56,10 +56,23 @@ What the certificate does not judge: whether the body moves (the rest test's spe
 gates, and a sliding contact, in ``extended``), and the tipping of a whole group over one body's
 edge when each body alone is held (the steadiness gate sees the group start to turn).
 """
+
 import numpy as np
 
-from ..data import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, END_SEPARATION, FRICTION,
-                    NORMAL_IMPULSE, NORMAL_X, NORMAL_Y, POINT_COUNT, SLOP, TANGENT_IMPULSE)
+from ..data import (
+    ANCHOR_BX,
+    ANCHOR_BY,
+    BODY_A,
+    BODY_B,
+    END_SEPARATION,
+    FRICTION,
+    NORMAL_IMPULSE,
+    NORMAL_X,
+    NORMAL_Y,
+    POINT_COUNT,
+    SLOP,
+    TANGENT_IMPULSE,
+)
 from ..jit import inline_kernel, kernel
 
 #: support points one certificate takes; a body with more is not certified (stays awake)
@@ -93,7 +106,7 @@ def _combination(gens, n_gens, tx, ty, tm, weights):
                 kx = by * cm - bm * cy
                 ky = bm * cx - bx * cm
                 kz = bx * cy - by * cx
-                det = ax * kx + ay * ky + am * kz            # a . (b x c)
+                det = ax * kx + ay * ky + am * kz  # a . (b x c)
                 if abs(det) < DEPENDENT:
                     continue
                 # Cramer: lambda_a = t.(b x c) / det, lambda_b = a.(t x c) / det,
@@ -101,12 +114,14 @@ def _combination(gens, n_gens, tx, ty, tm, weights):
                 la = (tx * kx + ty * ky + tm * kz) / det
                 if la < tol:
                     continue
-                lb = (ax * (ty * cm - tm * cy) + ay * (tm * cx - tx * cm)
-                      + am * (tx * cy - ty * cx)) / det
+                lb = (
+                    ax * (ty * cm - tm * cy) + ay * (tm * cx - tx * cm) + am * (tx * cy - ty * cx)
+                ) / det
                 if lb < tol:
                     continue
-                lc = (ax * (by * tm - bm * ty) + ay * (bm * tx - bx * tm)
-                      + am * (bx * ty - by * tx)) / det
+                lc = (
+                    ax * (by * tm - bm * ty) + ay * (bm * tx - bx * tm) + am * (bx * ty - by * tx)
+                ) / det
                 if lc >= tol:
                     weights[a] = max(la, 0.0)
                     weights[b] = max(lb, 0.0)
@@ -135,8 +150,11 @@ def _combination(gens, n_gens, tx, ty, tm, weights):
             lb /= det
             if la < tol or lb < tol:
                 continue
-            if (abs(la * ax + lb * bx - tx) + abs(la * ay + lb * by - ty)
-                    + abs(la * am + lb * bm - tm)) <= -tol:
+            if (
+                abs(la * ax + lb * bx - tx)
+                + abs(la * ay + lb * by - ty)
+                + abs(la * am + lb * bm - tm)
+            ) <= -tol:
                 weights[a] = max(la, 0.0)
                 weights[b] = max(lb, 0.0)
                 return True
@@ -153,8 +171,7 @@ def _combination(gens, n_gens, tx, ty, tm, weights):
 def _supports(i, other, nx, ny, n_dyn, awake_slot, up_x, up_y):
     """Does a contact whose normal into body i is (nx, ny) support i: its partner cannot move
     (floor -1, static, frozen), or i rests on it (the normal points up)?"""
-    return (not (0 <= other < n_dyn and awake_slot[other] >= 0)
-            or nx * up_x + ny * up_y > SUPPORT_UP)
+    return not (0 <= other < n_dyn and awake_slot[other] >= 0) or nx * up_x + ny * up_y > SUPPORT_UP
 
 
 @kernel
@@ -164,8 +181,12 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
     bodies). Margins from ``settings.friction_margin`` and ``settings.tip_margin``. Looks only at
     this step's active contacts, contacts.active[:n_active]. Returns (n_candidates,) bool."""
     n_dyn = settings.n_dynamic
-    position, extent, size, inv_mass = (bodies.position, bodies.extent, bodies.size,
-                                        bodies.inv_mass)
+    position, extent, size, inv_mass = (
+        bodies.position,
+        bodies.extent,
+        bodies.size,
+        bodies.inv_mass,
+    )
     ci = contacts.contact_int
     cf = contacts.contact_float
     pf = contacts.point_float
@@ -196,14 +217,14 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
                 fill[row_of[body]] += 1
 
     out = np.zeros(n_candidates, np.bool_)
-    cone = np.empty((2 * MAX_SUPPORT_POINTS, 3))   # cone edges: supports, then bracing loads
+    cone = np.empty((2 * MAX_SUPPORT_POINTS, 3))  # cone edges: supports, then bracing loads
     brace = np.empty((2 * MAX_SUPPORT_POINTS, 3))
     weights = np.empty(2 * MAX_SUPPORT_POINTS)
     for k in range(n_candidates):
         i = candidates[k]
         length = extent[i]
         mass = 1.0 / inv_mass[i]
-        lx = mass * settings.gravity_x * dt          # the load to hold: weight over the step ...
+        lx = mass * settings.gravity_x * dt  # the load to hold: weight over the step ...
         ly = mass * settings.gravity_y * dt
         lm = 0.0
         n_points = 0
@@ -214,20 +235,24 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
             a = ci[c, BODY_A]
             b = ci[c, BODY_B]
             other = a if b == i else b
-            sign = 1.0 if b == i else -1.0           # the normal points from A to B
-            nx = sign * cf[c, NORMAL_X]              # into i
+            sign = 1.0 if b == i else -1.0  # the normal points from A to B
+            nx = sign * cf[c, NORMAL_X]  # into i
             ny = sign * cf[c, NORMAL_Y]
             support = _supports(i, other, nx, ny, n_dyn, awake_slot, up_x, up_y)
             # a load braces i against tipping when its body is held by something else too
-            bracing = (not support and 0 <= other < n_dyn and row_of[other] >= 0
-                       and _held_elsewhere(other, i, row, row_of, entry, contacts))
+            bracing = (
+                not support
+                and 0 <= other < n_dyn
+                and row_of[other] >= 0
+                and _held_elsewhere(other, i, row, row_of, entry, contacts)
+            )
             mu = (1.0 - settings.friction_margin) * cf[c, FRICTION]
             for j in range(ci[c, POINT_COUNT]):
                 if pf[c, j, END_SEPARATION] > cf[c, SLOP]:
-                    continue                          # not touching: pushes nothing
+                    continue  # not touching: pushes nothing
                 rx = pf[c, j, ANCHOR_BX] + position[b, 0] - position[i, 0]
                 ry = pf[c, j, ANCHOR_BY] + position[b, 1] - position[i, 1]
-                if not support:                       # ... plus every load, at its witness
+                if not support:  # ... plus every load, at its witness
                     pn = pf[c, j, NORMAL_IMPULSE]
                     pt = pf[c, j, TANGENT_IMPULSE]
                     # on B: pn n + pt (ny, -nx) (the solver's tangent); on A minus that
@@ -248,11 +273,18 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
             if too_many:
                 break
         if too_many:
-            continue                                  # not certified: stays awake
+            continue  # not certified: stays awake
         n_all = min(n_points + n_brace, MAX_SUPPORT_POINTS)
-        cone[2 * n_points:2 * n_all] = brace[:2 * (n_all - n_points)]
-        out[k] = _margin(cone, n_all, -lx, -ly, -lm / length,
-                         settings.tip_margin * size[i] * np.hypot(lx, ly) / length, weights)
+        cone[2 * n_points : 2 * n_all] = brace[: 2 * (n_all - n_points)]
+        out[k] = _margin(
+            cone,
+            n_all,
+            -lx,
+            -ly,
+            -lm / length,
+            settings.tip_margin * size[i] * np.hypot(lx, ly) / length,
+            weights,
+        )
     return out
 
 
@@ -292,8 +324,9 @@ def _held_elsewhere(p, i, row, row_of, entry, contacts):
 def _margin(cone, n_points, tx, ty, tm, spare, weights):
     """Do the support cones hold the wrench (tx, ty, tm) with ``spare`` more moment (in units of
     the extent) either way?"""
-    return (_combination(cone, 2 * n_points, tx, ty, tm + spare, weights)
-            and _combination(cone, 2 * n_points, tx, ty, tm - spare, weights))
+    return _combination(cone, 2 * n_points, tx, ty, tm + spare, weights) and _combination(
+        cone, 2 * n_points, tx, ty, tm - spare, weights
+    )
 
 
 @kernel
@@ -310,8 +343,9 @@ def in_cone(generators, wrench):
     gens = np.ascontiguousarray(generators, dtype=np.float64)
     target = np.asarray(wrench, dtype=np.float64)
     if gens.ndim != 2 or gens.shape[1] != 3 or target.shape != (3,):
-        raise ValueError(f"generators must be (K, 3) and the wrench (3,), got {gens.shape} and "
-                         f"{target.shape}")
+        raise ValueError(
+            f"generators must be (K, 3) and the wrench (3,), got {gens.shape} and {target.shape}"
+        )
     if not (np.isfinite(gens).all() and np.isfinite(target).all()):
         raise ValueError("generators and wrench must be finite")
     found, weights = _in_cone_kernel(gens, len(gens), target[0], target[1], target[2])

@@ -1,6 +1,18 @@
 """Small contact computations the policies share."""
-from ..data import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, END_SEPARATION, NORMAL_X, NORMAL_Y,
-                    POINT_COUNT, SEPARATION, SLOP, SPECULATIVE)
+
+from ..data import (
+    ANCHOR_BX,
+    ANCHOR_BY,
+    BODY_A,
+    BODY_B,
+    END_SEPARATION,
+    NORMAL_X,
+    NORMAL_Y,
+    POINT_COUNT,
+    SEPARATION,
+    SLOP,
+    SPECULATIVE,
+)
 from ..jit import inline_kernel
 
 
@@ -19,10 +31,11 @@ def stopping_impulse(c, j, mover, bodies, contacts):
     wy = contacts.point_float[c, j, ANCHOR_BY] + position[b, 1]
     rx = wx - position[mover, 0]
     ry = wy - position[mover, 1]
-    vn = ((velocity[mover, 0] - angular_velocity[mover] * ry) * nx
-          + (velocity[mover, 1] + angular_velocity[mover] * rx) * ny)
+    vn = (velocity[mover, 0] - angular_velocity[mover] * ry) * nx + (
+        velocity[mover, 1] + angular_velocity[mover] * rx
+    ) * ny
     if mover != b:
-        vn = -vn                # n points from a to b: a approaches its partner when v.n > 0
+        vn = -vn  # n points from a to b: a approaches its partner when v.n > 0
     if vn >= 0.0:
         return 0.0, wx, wy
     rn = rx * ny - ry * nx
@@ -51,9 +64,11 @@ def arrives(c, j, dt, bodies, contacts):
         ray = wy - position[a, 1]
         vx -= velocity[a, 0] - angular_velocity[a] * ray
         vy -= velocity[a, 1] + angular_velocity[a] * rax
-    approach = -(vx * nx + vy * ny)                  # > 0: closing (n points from a to b)
-    return (contacts.point_float[c, j, SEPARATION] - max(approach, 0.0) * dt
-            <= contacts.contact_float[c, SLOP])
+    approach = -(vx * nx + vy * ny)  # > 0: closing (n points from a to b)
+    return (
+        contacts.point_float[c, j, SEPARATION] - max(approach, 0.0) * dt
+        <= contacts.contact_float[c, SLOP]
+    )
 
 
 @inline_kernel

@@ -5,6 +5,7 @@ step's contacts disturb, so the collision is solved with them moving; returns ho
 ``after_solve`` (positions final: decide transitions, record events, freeze bodies). Both take
 (settings, counters, bodies, contacts, activity) and walk this step's active contacts,
 ``contacts.active[:counters[N_ACTIVE]]``."""
+
 from ..jit import kernel
 from . import extended, paper, sleep
 from .codes import EXTENDED, PAPER, SLEEP

@@ -48,28 +48,67 @@ bodies touch (so resting bodies cost nothing otherwise):
 
 Per-body state: body_int[:, REST_COUNT] steps slow in a row; body_real columns below.
 """
+
 import numpy as np
 
 from ..activity import CAUSE, freeze, record, wake
-from ..data import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, N_ACTIVE, N_AWAKE, N_LINKS,
-                    N_CERTIFICATES, NORMAL_IMPULSE, NORMAL_X, NORMAL_Y, POINT_COUNT, END_SEPARATION, SEPARATION,
-                    SLOP, TANGENT_IMPULSE)
+from ..data import (
+    ANCHOR_BX,
+    ANCHOR_BY,
+    BODY_A,
+    BODY_B,
+    FRICTION,
+    N_ACTIVE,
+    N_AWAKE,
+    N_LINKS,
+    N_CERTIFICATES,
+    NORMAL_IMPULSE,
+    NORMAL_X,
+    NORMAL_Y,
+    POINT_COUNT,
+    END_SEPARATION,
+    SEPARATION,
+    SLOP,
+    TANGENT_IMPULSE,
+)
 from ..jit import inline_kernel, kernel
 from ..state import State
 from . import certificate
 from .contact_math import arrives, stopping_impulse, touching
 
 NAME = "extended"
-PARAMETERS = {"impulse_threshold": 0.5, "rest_speed": 0.02, "rest_acceleration": 0.1,
-              "rest_steps": 1, "slip_speed": 1e-3, "friction_margin": 0.05,
-              "tip_margin": 0.02}
+PARAMETERS = {
+    "impulse_threshold": 0.5,
+    "rest_speed": 0.02,
+    "rest_acceleration": 0.1,
+    "rest_steps": 1,
+    "slip_speed": 1e-3,
+    "friction_margin": 0.05,
+    "tip_margin": 0.02,
+}
 INT_PARAMETERS = ("rest_steps",)
 #: parameters that must stay below a bound (exclusive): a friction cone shrunk by 100% is a line
 BELOW = {"friction_margin": 1.0}
 # body_real columns: support summary and equilibrium load (see module docstring), and this step's
 # impulses from awake bodies (scratch)
-(SUPPORT_NX, SUPPORT_NY, SUPPORT_LO, SUPPORT_HI, SUPPORT_H, SUPPORT_MU, LOAD_X, LOAD_Y, LOAD_M,
- PUSH_X, PUSH_Y, PUSH_M, PUSH_NORMAL, PREVIOUS_VX, PREVIOUS_VY, PREVIOUS_W) = range(16)
+(
+    SUPPORT_NX,
+    SUPPORT_NY,
+    SUPPORT_LO,
+    SUPPORT_HI,
+    SUPPORT_H,
+    SUPPORT_MU,
+    LOAD_X,
+    LOAD_Y,
+    LOAD_M,
+    PUSH_X,
+    PUSH_Y,
+    PUSH_M,
+    PUSH_NORMAL,
+    PREVIOUS_VX,
+    PREVIOUS_VY,
+    PREVIOUS_W,
+) = range(16)
 REAL_COLUMNS = 16
 #: a contact whose friction is at this share of its Coulomb limit, or more, is sliding
 SLIDING_SHARE = 0.98
@@ -84,7 +123,7 @@ INT_COLUMNS = 3
 
 
 _FREE = np.int8(State.FREE)
-_FROZEN = np.int8(State.ROTATION_STABLE)   # extended reports frozen bodies as ROTATION_STABLE
+_FROZEN = np.int8(State.ROTATION_STABLE)  # extended reports frozen bodies as ROTATION_STABLE
 _RESTED = CAUSE["rested"]
 _IMPACT = CAUSE["impact"]
 _PUSHED = CAUSE["pushed"]
@@ -100,7 +139,7 @@ def _impulse_on(body, c, j, contacts):
     ny = contacts.contact_float[c, NORMAL_Y]
     pn = contacts.point_float[c, j, NORMAL_IMPULSE]
     pt = contacts.point_float[c, j, TANGENT_IMPULSE]
-    px = pn * nx + pt * ny            # tangent = (ny, -nx), as in the solver
+    px = pn * nx + pt * ny  # tangent = (ny, -nx), as in the solver
     py = pn * ny - pt * nx
     if contacts.contact_int[c, BODY_B] == body:
         return px, py
@@ -141,23 +180,27 @@ def before_solve(settings, counters, bodies, contacts, activity):
         nx = cf[c, NORMAL_X]
         ny = cf[c, NORMAL_Y]
         for frozen_body, mover in ((a, b), (b, a)):
-            if not (0 <= frozen_body < n_dyn and awake_slot[frozen_body] < 0
-                    and _is_movable(mover, n_dyn, awake_slot)):
+            if not (
+                0 <= frozen_body < n_dyn
+                and awake_slot[frozen_body] < 0
+                and _is_movable(mover, n_dyn, awake_slot)
+            ):
                 continue
             n_touched = _touch(frozen_body, touched, n_touched, body_real, body_int)
             # n points from a to b: a push on the frozen body is along +n if it is b, -n if a
             sign = 1.0 if frozen_body == b else -1.0
             for j in range(ci[c, POINT_COUNT]):
                 if not arrives(c, j, settings.dt, bodies, contacts):
-                    continue                # made ahead: the mover reaches it in a later step
+                    continue  # made ahead: the mover reaches it in a later step
                 p, wx, wy = stopping_impulse(c, j, mover, bodies, contacts)
                 if p > 0.0:
                     px = sign * p * nx
                     py = sign * p * ny
                     body_real[frozen_body, PUSH_X] += px
                     body_real[frozen_body, PUSH_Y] += py
-                    body_real[frozen_body, PUSH_M] += ((wx - position[frozen_body, 0]) * py
-                                                       - (wy - position[frozen_body, 1]) * px)
+                    body_real[frozen_body, PUSH_M] += (wx - position[frozen_body, 0]) * py - (
+                        wy - position[frozen_body, 1]
+                    ) * px
                     body_real[frozen_body, PUSH_NORMAL] += p
     queue = np.empty(n_dyn, np.int64)
     n_queue = 0
@@ -171,8 +214,9 @@ def before_solve(settings, counters, bodies, contacts, activity):
         else:
             cause = -1
         if cause >= 0:
-            n_queue = _wake_one(i, cause, n_queue, queue, settings, counters, bodies, contacts,
-                                activity)
+            n_queue = _wake_one(
+                i, cause, n_queue, queue, settings, counters, bodies, contacts, activity
+            )
     return _wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity)
 
 
@@ -201,8 +245,17 @@ def _wake_supported(n_queue, queue, settings, counters, bodies, contacts, activi
         head += 1
         for k in range(counters[N_LINKS]):
             if links[k, 0] == s and awake_slot[links[k, 1]] < 0:
-                n_queue = _wake_one(links[k, 1], _SUPPORT_LOST, n_queue, queue, settings, counters,
-                                    bodies, contacts, activity)
+                n_queue = _wake_one(
+                    links[k, 1],
+                    _SUPPORT_LOST,
+                    n_queue,
+                    queue,
+                    settings,
+                    counters,
+                    bodies,
+                    contacts,
+                    activity,
+                )
     if n_queue > 0:
         _drop_links_of_awake(counters, activity)
     return n_queue
@@ -218,8 +271,12 @@ def after_solve(settings, counters, bodies, contacts, activity):
     ci = contacts.contact_int
     cf = contacts.contact_float
     pf = contacts.point_float
-    states, awake, awake_slot, events = (activity.states, activity.awake, activity.awake_slot,
-                                         activity.events)
+    states, awake, awake_slot, events = (
+        activity.states,
+        activity.awake,
+        activity.awake_slot,
+        activity.events,
+    )
     body_real, body_int = activity.body_real, activity.body_int
     links, link_load = activity.links, activity.link_load
     n_dyn = settings.n_dynamic
@@ -231,7 +288,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
     up_y = -gy / g if g > 0 else 1.0
     count = counters[N_ACTIVE]
 
-    # ---- 1. pushes and tipping: frozen bodies touched by awake bodies ---------------------------------
+    # ---- 1. pushes and tipping: frozen bodies touched by awake bodies ----------------------------
     n_touched = 0
     touched = np.empty(min(2 * count, n_dyn) + 1, np.int64)
     for kk in range(count):
@@ -239,8 +296,11 @@ def after_solve(settings, counters, bodies, contacts, activity):
         a = ci[c, BODY_A]
         b = ci[c, BODY_B]
         for frozen_body, other in ((a, b), (b, a)):
-            if not (0 <= frozen_body < n_dyn and awake_slot[frozen_body] < 0
-                    and _is_movable(other, n_dyn, awake_slot)):
+            if not (
+                0 <= frozen_body < n_dyn
+                and awake_slot[frozen_body] < 0
+                and _is_movable(other, n_dyn, awake_slot)
+            ):
                 continue
             n_touched = _touch(frozen_body, touched, n_touched, body_real, body_int)
             for j in range(ci[c, POINT_COUNT]):
@@ -260,8 +320,9 @@ def after_solve(settings, counters, bodies, contacts, activity):
         body_int[i, TOUCHED] = 0
         cause = _equilibrium_broken(i, body_real, position)
         if cause >= 0:
-            n_queue = _wake_one(i, cause, n_queue, queue, settings, counters, bodies, contacts,
-                                activity)
+            n_queue = _wake_one(
+                i, cause, n_queue, queue, settings, counters, bodies, contacts, activity
+            )
     _wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity)
 
     # ---- 2. the rest test -----------------------------------------------------------------
@@ -313,8 +374,10 @@ def after_solve(settings, counters, bodies, contacts, activity):
         c = contacts.active[kk]
         a = ci[c, BODY_A]
         b = ci[c, BODY_B]
-        if not ((0 <= a < n_dyn and body_int[a, MARK] == 1)
-                or (0 <= b < n_dyn and body_int[b, MARK] == 1)):
+        if not (
+            (0 <= a < n_dyn and body_int[a, MARK] == 1)
+            or (0 <= b < n_dyn and body_int[b, MARK] == 1)
+        ):
             continue
         state = _unsettled(c, settings.slip_speed, dt, bodies, contacts)
         if state == _SLIDING:
@@ -337,8 +400,9 @@ def after_solve(settings, counters, bodies, contacts, activity):
         if body_int[awake[k], MARK] == 1:
             candidates[n_candidates] = awake[k]
             n_candidates += 1
-    held = certificate.holds(candidates, n_candidates, awake_slot, settings, bodies, contacts,
-                             count)
+    held = certificate.holds(
+        candidates, n_candidates, awake_slot, settings, bodies, contacts, count
+    )
     counters[N_CERTIFICATES] += n_candidates
     for k in range(n_candidates):
         if not held[k]:
@@ -365,22 +429,21 @@ def after_solve(settings, counters, bodies, contacts, activity):
             onto_frozen = 0 <= other < n_dyn and awake_slot[other] < 0
             for j in range(ci[c, POINT_COUNT]):
                 px, py = _impulse_on(i, c, j, contacts)
-                if px * up_x + py * up_y > 0.1 * np.hypot(px, py):       # a support
+                if px * up_x + py * up_y > 0.1 * np.hypot(px, py):  # a support
                     sx += px
                     sy += py
                     if onto_frozen:
                         # resting on an already frozen body: that body now carries this push,
                         # the opposite of the support impulse, at this very point
                         _add_load(other, -px, -py, c, j, contacts, position, body_real)
-                else:                                                    # a load
+                else:  # a load
                     wx = pf[c, j, ANCHOR_BX] + position[b, 0]
                     wy = pf[c, j, ANCHOR_BY] + position[b, 1]
                     body_real[i, LOAD_X] += px
                     body_real[i, LOAD_Y] += py
-                    body_real[i, LOAD_M] += ((wx - position[i, 0]) * py
-                                             - (wy - position[i, 1]) * px)
+                    body_real[i, LOAD_M] += (wx - position[i, 0]) * py - (wy - position[i, 1]) * px
             if sx != 0.0 or sy != 0.0:
-                body_real[i, SUPPORT_NX] += sx          # impulse-weighted support direction
+                body_real[i, SUPPORT_NX] += sx  # impulse-weighted support direction
                 body_real[i, SUPPORT_NY] += sy
                 body_real[i, SUPPORT_MU] = min(body_real[i, SUPPORT_MU], cf[c, FRICTION])
                 if 0 <= other < n_dyn:
@@ -408,13 +471,13 @@ def after_solve(settings, counters, bodies, contacts, activity):
             if norm > 0.0:
                 body_real[i, SUPPORT_NX] = nx / norm
                 body_real[i, SUPPORT_NY] = ny / norm
-            else:                       # held with no support against gravity: zero-g scenes
+            else:  # held with no support against gravity: zero-g scenes
                 body_real[i, SUPPORT_NX] = up_x
                 body_real[i, SUPPORT_NY] = up_y
             body_real[i, SUPPORT_LO] = np.inf
             body_real[i, SUPPORT_HI] = -np.inf
             body_real[i, SUPPORT_H] = 0.0
-            body_int[i, TOUCHED] = 0          # scratch: number of support points
+            body_int[i, TOUCHED] = 0  # scratch: number of support points
     for kk in range(count):
         c = contacts.active[kk]
         a = ci[c, BODY_A]
@@ -432,7 +495,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
                     s = wx * tx + wy * ty
                     body_real[i, SUPPORT_LO] = min(body_real[i, SUPPORT_LO], s)
                     body_real[i, SUPPORT_HI] = max(body_real[i, SUPPORT_HI], s)
-                    body_real[i, SUPPORT_H] += wx * ty - wy * tx      # offset along n = -perp(t)
+                    body_real[i, SUPPORT_H] += wx * ty - wy * tx  # offset along n = -perp(t)
                     body_int[i, TOUCHED] += 1
     k = 0
     while k < counters[N_AWAKE]:
@@ -446,7 +509,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
             freeze(i, settings, counters, bodies, contacts, activity)
             states[i] = _FROZEN
             record(events, counters, i, _FREE, _FROZEN, _RESTED)
-            continue                 # freeze() moved the last awake body into slot k
+            continue  # freeze() moved the last awake body into slot k
         k += 1
 
 
@@ -466,8 +529,8 @@ def _whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
             if not (_is_movable(a, n_dyn, awake_slot) and _is_movable(b, n_dyn, awake_slot)):
                 continue
             if not touching(c, contacts):
-                continue                # made ahead for a fast body that did not arrive
-            if body_int[a, MARK] + body_int[b, MARK] == 1:      # a candidate and a mover
+                continue  # made ahead for a fast body that did not arrive
+            if body_int[a, MARK] + body_int[b, MARK] == 1:  # a candidate and a mover
                 body_int[a, MARK] = 0
                 body_int[b, MARK] = 0
                 changed = True
@@ -495,10 +558,12 @@ def _unsettled(c, slip_speed, dt, bodies, contacts):
     for j in range(ci[c, POINT_COUNT]):
         # deep and still opening: the soft contact is pushing the bodies apart (a contact that
         # carries a load sits at a steady depth, which freezing keeps as it is)
-        deep = deep or (pf[c, j, END_SEPARATION] < -2.0 * cf[c, SLOP]
-                        and pf[c, j, END_SEPARATION] - pf[c, j, SEPARATION] > slip_speed * dt)
+        deep = deep or (
+            pf[c, j, END_SEPARATION] < -2.0 * cf[c, SLOP]
+            and pf[c, j, END_SEPARATION] - pf[c, j, SEPARATION] > slip_speed * dt
+        )
         if pf[c, j, END_SEPARATION] > cf[c, SLOP]:
-            continue                    # not touching
+            continue  # not touching
         sum_pn += pf[c, j, NORMAL_IMPULSE]
         sum_pt += pf[c, j, TANGENT_IMPULSE]
         # B's surface against A's along the tangent (ny, -nx)
@@ -512,8 +577,11 @@ def _unsettled(c, slip_speed, dt, bodies, contacts):
         slip = max(slip, abs(vx * cf[c, NORMAL_Y] - vy * cf[c, NORMAL_X]))
     # at the limit: the solver clamps |pt| <= mu pn point by point, so a manifold at 98% of it
     # is sliding (a sticking contact sits well inside)
-    if (slip > slip_speed and sum_pn > 0.0
-            and abs(sum_pt) >= SLIDING_SHARE * cf[c, FRICTION] * sum_pn):
+    if (
+        slip > slip_speed
+        and sum_pn > 0.0
+        and abs(sum_pt) >= SLIDING_SHARE * cf[c, FRICTION] * sum_pn
+    ):
         return _SLIDING
     return _DEEP if deep else 0
 
@@ -549,11 +617,11 @@ def _equilibrium_broken(i, body_real, position):
     rn = -(lx * nx + ly * ny)
     rt = -(lx * tx + ly * ty)
     if rn <= 0.0:
-        return _PUSHED                    # lifted off its supports
+        return _PUSHED  # lifted off its supports
     if abs(rt) > body_real[i, SUPPORT_MU] * rn:
-        return _PUSHED                    # friction cannot hold it: it slides
+        return _PUSHED  # friction cannot hold it: it slides
     if body_real[i, SUPPORT_HI] < body_real[i, SUPPORT_LO]:
-        return -1                         # no recorded support points (zero gravity)
+        return -1  # no recorded support points (zero gravity)
     x_t = position[i, 0] * tx + position[i, 1] * ty
     x_n = position[i, 0] * nx + position[i, 1] * ny
     s = x_t + ((body_real[i, SUPPORT_H] - x_n) * rt + moment) / rn

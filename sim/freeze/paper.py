@@ -18,18 +18,19 @@ in a pyramid's bottom row: they carry more than the threshold).
 
 Section 4, staying in contact:
   - one vertex touching -> VS: that vertex no longer moves vertically (it is held on the
-    surface's height); the body only rotates about it and translates horizontally. Done by solving the ordinary contacts and then one exact
-    vertical constraint at the vertex (an impulse that zeroes the vertex's vertical velocity, and a
-    translation that keeps it at its height). CHOICE: the vertex keeps the floor's friction.
+    surface's height); the body only rotates about it and translates horizontally. Done by solving
+    the ordinary contacts and then one exact vertical constraint at the vertex (an impulse that
+    zeroes the vertex's vertical velocity, and a translation that keeps it at its height). CHOICE:
+    the vertex keeps the floor's friction.
   - two or more vertices touching, centre of mass over the support (its x within the touching
     points') -> RS. Otherwise the body keeps rotating: VS about the touching vertex on the side of
     the centre of mass.
 RS: rotation and vertical motion stop (held at the pose reached, set down on the surface: CHOICE,
-the step's solve may have begun a bounce the threshold has just ruled out); the body is no longer solved
-against anything (its solver masses are zero: to others it is immovable); horizontal motion goes on
-under Coulomb friction with its support, v_x reduced by mu g h in each substep h (CHOICE: exactly
-as the solver applies friction to a sliding body, so an RS body slides as far as under `off`),
-until it stops; then it is frozen outright (taken out of the awake list).
+the step's solve may have begun a bounce the threshold has just ruled out); the body is no longer
+solved against anything (its solver masses are zero: to others it is immovable); horizontal motion
+goes on under Coulomb friction with its support, v_x reduced by mu g h in each substep h (CHOICE:
+exactly as the solver applies friction to a sliding body, so an RS body slides as far as under
+`off`), until it stops; then it is frozen outright (taken out of the awake list).
 
 Section 5.1: a VS body in contact with an RS body for two consecutive steps -> both held at rest
 (frozen), until another body collides with them.
@@ -49,15 +50,32 @@ impulse (estimated as the impulse that would stop the mover against an immovable
 ``impulse_threshold``; a body sliding or tipping along a held one does not wake it.
 CHOICE (figure 3): a body freed because its centre of mass left its support's edge does not take
 that edge as its floor again; it tips off it (otherwise it would at once become VS on the edge's
-corner and, its vertex held up, never fall). Nothing else wakes a body (the seed's second limit): a body resting on a body
-that is knocked away stays where it was, floating; VS never returns to FREE.
+corner and, its vertex held up, never fall). Nothing else wakes a body (the seed's second limit): a
+body resting on a body that is knocked away stays where it was, floating; VS never returns to FREE.
 """
+
 import numpy as np
 
 from ..activity import CAUSE, freeze, record, wake
-from ..data import (ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, FRICTION, INCIDENT, LOCAL_FACE_X,
-                    LOCAL_FACE_Y, LOCAL_X, LOCAL_Y, N_ACTIVE, N_AWAKE, NORMAL_Y,
-                    POINT_COUNT, REFERENCE, END_SEPARATION, SLOP)
+from ..data import (
+    ANCHOR_BX,
+    ANCHOR_BY,
+    BODY_A,
+    BODY_B,
+    FRICTION,
+    INCIDENT,
+    LOCAL_FACE_X,
+    LOCAL_FACE_Y,
+    LOCAL_X,
+    LOCAL_Y,
+    N_ACTIVE,
+    N_AWAKE,
+    NORMAL_Y,
+    POINT_COUNT,
+    REFERENCE,
+    END_SEPARATION,
+    SLOP,
+)
 from ..jit import inline_kernel, kernel
 from ..state import State
 from .contact_math import arrives, stopping_impulse, touching
@@ -107,7 +125,7 @@ def _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float):
     if _up_normal_on(i, c, manifold_int, manifold_float) < COS_FLOOR:
         return False
     if other < 0 or other >= n_dyn:
-        return True                         # the floor, or a static body's upward face
+        return True  # the floor, or a static body's upward face
     return states[other] == _RS
 
 
@@ -132,25 +150,31 @@ def before_solve(settings, counters, bodies, contacts, activity):
         a = manifold_int[c, BODY_A]
         b = manifold_int[c, BODY_B]
         for i, other in ((b, a), (a, b)):
-            if 0 <= i < n_dyn and awake_slot[i] >= 0 \
-                    and _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float):
+            if (
+                0 <= i < n_dyn
+                and awake_slot[i] >= 0
+                and _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float)
+            ):
                 for j in range(manifold_int[c, POINT_COUNT]):
                     # CHOICE: only points that reach the surface in this step collide in it (a
                     # speculative point further away, made early for a fast body, does not)
                     if arrives(c, j, settings.dt, bodies, contacts):
-                        body_real[i, FLOOR_IMPACT] += stopping_impulse(c, j, i, bodies,
-                                                                       contacts)[0]
+                        body_real[i, FLOOR_IMPACT] += stopping_impulse(c, j, i, bodies, contacts)[0]
     woken = 0
     for kk in range(count):
         c = contacts.active[kk]
         a = manifold_int[c, BODY_A]
         b = manifold_int[c, BODY_B]
         for held, mover in ((a, b), (b, a)):
-            if not (0 <= held < n_dyn and solver_inv_mass[held] == 0.0
-                    and 0 <= mover < n_dyn and awake_slot[mover] >= 0):
+            if not (
+                0 <= held < n_dyn
+                and solver_inv_mass[held] == 0.0
+                and 0 <= mover < n_dyn
+                and awake_slot[mover] >= 0
+            ):
                 continue
             if _floor_like_for(mover, held, c, n_dyn, states, manifold_int, manifold_float):
-                continue                    # landing on its top edge: it acts as the floor
+                continue  # landing on its top edge: it acts as the floor
             # a collision in the seed's sense (section 2): stopping the mover against the held
             # body would take more than the threshold impulse (estimated from the velocities
             # before gravity, so merely resting or sliding along it is not a collision)
@@ -164,9 +188,9 @@ def before_solve(settings, counters, bodies, contacts, activity):
             # mover (itself immovable to the solver) is released too
             for body in (held, mover):
                 if states[body] == _FREE or (body == mover and states[body] != _RS):
-                    continue                    # (a VS mover stays VS: the seed's 2nd limit)
+                    continue  # (a VS mover stays VS: the seed's 2nd limit)
                 wake(body, settings, counters, bodies, contacts, activity)
-                solver_inv_mass[body] = inv_mass[body]        # also for an awake RS body
+                solver_inv_mass[body] = inv_mass[body]  # also for an awake RS body
                 solver_inv_inertia[body] = inv_inertia[body]
                 record(events, counters, body, states[body], _FREE, _IMPACT)
                 states[body] = _FREE
@@ -178,8 +202,12 @@ def before_solve(settings, counters, bodies, contacts, activity):
 
 @kernel
 def after_solve(settings, counters, bodies, contacts, activity):
-    position, angle, velocity, angular_velocity = (bodies.position, bodies.angle, bodies.velocity,
-                                                   bodies.angular_velocity)
+    position, angle, velocity, angular_velocity = (
+        bodies.position,
+        bodies.angle,
+        bodies.velocity,
+        bodies.angular_velocity,
+    )
     inv_mass, inv_inertia = bodies.inv_mass, bodies.inv_inertia
     vert_start, local_verts = bodies.vert_start, bodies.local_verts
     manifold_int = contacts.contact_int
@@ -201,19 +229,25 @@ def after_solve(settings, counters, bodies, contacts, activity):
     for kk in range(count):
         c = contacts.active[kk]
         if not touching(c, contacts):
-            continue                        # made ahead for a fast body that did not arrive
+            continue  # made ahead for a fast body that did not arrive
         a = manifold_int[c, BODY_A]
         b = manifold_int[c, BODY_B]
         for i, other in ((b, a), (a, b)):
             if not (0 <= i < n_dyn and awake_slot[i] >= 0):
                 continue
-            if _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float) \
-                    and other != body_int[i, LEFT_SUPPORT]:
+            if (
+                _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float)
+                and other != body_int[i, LEFT_SUPPORT]
+            ):
                 best = body_int[i, FLOOR_MANIFOLD]
                 if best < 0 or manifold_int[c, POINT_COUNT] > manifold_int[best, POINT_COUNT]:
                     body_int[i, FLOOR_MANIFOLD] = c
-            if states[i] == _VS and 0 <= other < n_dyn and states[other] == _RS \
-                    and body_int[i, SUPPORT] != other:
+            if (
+                states[i] == _VS
+                and 0 <= other < n_dyn
+                and states[other] == _RS
+                and body_int[i, SUPPORT] != other
+            ):
                 body_int[i, RS_PARTNER] = other
     for k in range(n_awake):
         i = awake[k]
@@ -230,14 +264,14 @@ def after_solve(settings, counters, bodies, contacts, activity):
         c = body_int[i, FLOOR_MANIFOLD]
         state = states[i]
         if state == _RS:
-            if _slide_or_stop(i, c, dt, g, settings, counters, bodies, contacts,
-                              activity, True):
-                k -= 1                      # the body left the awake list; its slot was refilled
+            if _slide_or_stop(i, c, dt, g, settings, counters, bodies, contacts, activity, True):
+                k -= 1  # the body left the awake list; its slot was refilled
             continue
         if c < 0:
             if state == _VS:
-                _hold_pivot(i, position, angle, velocity, angular_velocity, inv_mass,
-                            inv_inertia, body_real)
+                _hold_pivot(
+                    i, position, angle, velocity, angular_velocity, inv_mass, inv_inertia, body_real
+                )
             continue
         # touching points of the floor-like contact: their world x, and the collision impulse
         lo = np.inf
@@ -256,7 +290,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
         support = manifold_int[c, BODY_A] if b == i else b
         if state == _FREE:
             if n_touch == 0 or body_real[i, FLOOR_IMPACT] > settings.impulse_threshold:
-                continue                    # bouncing by its impulse: stays FREE
+                continue  # bouncing by its impulse: stays FREE
         com_x = position[i, 0]
         if n_touch >= 2 and lo <= com_x <= hi:
             # section 4.2: at rest on two or more vertices, centre of mass over the support. It
@@ -264,8 +298,9 @@ def after_solve(settings, counters, bodies, contacts, activity):
             # started a bounce, or left it pressed in by up to the slop)
             for j in range(manifold_int[c, POINT_COUNT]):
                 if point_float[c, j, END_SEPARATION] <= manifold_float[c, SLOP]:
-                    surface = _surface_height(c, j, i, position, angle, manifold_int,
-                                              manifold_float, point_float)
+                    surface = _surface_height(
+                        c, j, i, position, angle, manifold_int, manifold_float, point_float
+                    )
             cs = np.cos(angle[i])
             sn = np.sin(angle[i])
             lowest = np.inf
@@ -278,13 +313,12 @@ def after_solve(settings, counters, bodies, contacts, activity):
             body_int[i, SUPPORT] = support if support >= 0 else -1
             velocity[i, 1] = 0.0
             angular_velocity[i] = 0.0
-            solver_inv_mass[i] = 0.0            # immovable to others from now on
+            solver_inv_mass[i] = 0.0  # immovable to others from now on
             solver_inv_inertia[i] = 0.0
             record(events, counters, i, state, _RS, _TWO_VERTICES_ON_FLOOR)
             states[i] = _RS
             body_int[i, LEFT_SUPPORT] = -2
-            if _slide_or_stop(i, c, dt, g, settings, counters, bodies, contacts,
-                              activity, False):
+            if _slide_or_stop(i, c, dt, g, settings, counters, bodies, contacts, activity, False):
                 k -= 1
             continue
         if n_touch >= 1:
@@ -299,17 +333,18 @@ def after_solve(settings, counters, bodies, contacts, activity):
                     if x == pivot_x:
                         y = point_float[c, j, ANCHOR_BY] + position[b, 1]
                         _set_pivot(i, x, y, position, angle, vert_start, local_verts, body_real)
-                        body_real[i, PIVOT_Y] = _surface_height(c, j, i, position, angle,
-                                                                manifold_int, manifold_float,
-                                                                point_float)
+                        body_real[i, PIVOT_Y] = _surface_height(
+                            c, j, i, position, angle, manifold_int, manifold_float, point_float
+                        )
             if state == _FREE:
                 record(events, counters, i, state, _VS, _ONE_VERTEX_ON_FLOOR)
                 states[i] = _VS
                 body_int[i, LEFT_SUPPORT] = -2
                 body_int[i, SUPPORT] = support if support >= 0 else -1
         if states[i] == _VS:
-            _hold_pivot(i, position, angle, velocity, angular_velocity, inv_mass, inv_inertia,
-                        body_real)
+            _hold_pivot(
+                i, position, angle, velocity, angular_velocity, inv_mass, inv_inertia, body_real
+            )
             if body_int[i, RS_CONTACT_STEPS] >= 2 and n_held < count:
                 held_pairs[n_held, 0] = i
                 n_held += 1
@@ -320,8 +355,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
         for body in (i, partner):
             if awake_slot[body] >= 0:
                 freeze(body, settings, counters, bodies, contacts, activity)
-                record(events, counters, body, states[body], states[body],
-                       _HELD_BY_CONTACT)
+                record(events, counters, body, states[body], states[body], _HELD_BY_CONTACT)
         body_int[i, RS_CONTACT_STEPS] = 0
 
 
@@ -331,12 +365,15 @@ def _surface_height(c, j, i, position, angle, manifold_int, manifold_float, poin
     (the vertex may have ended the step a little above or below it)."""
     ref = manifold_int[c, REFERENCE]
     if ref < 0:
-        return manifold_float[c, LOCAL_FACE_Y]              # the floor
-    if ref != i:                                            # the support's face: horizontal
+        return manifold_float[c, LOCAL_FACE_Y]  # the floor
+    if ref != i:  # the support's face: horizontal
         cs = np.cos(angle[ref])
         sn = np.sin(angle[ref])
-        return (sn * manifold_float[c, LOCAL_FACE_X] + cs * manifold_float[c, LOCAL_FACE_Y]
-                + position[ref, 1])
+        return (
+            sn * manifold_float[c, LOCAL_FACE_X]
+            + cs * manifold_float[c, LOCAL_FACE_Y]
+            + position[ref, 1]
+        )
     # i holds the reference face; the support's vertex is the incident point
     inc = manifold_int[c, INCIDENT]
     cs = np.cos(angle[inc])
@@ -367,8 +404,7 @@ def _set_pivot(i, x, y, position, angle, vert_start, local_verts, body_real):
 
 
 @inline_kernel
-def _hold_pivot(i, position, angle, velocity, angular_velocity, inv_mass, inv_inertia,
-                body_real):
+def _hold_pivot(i, position, angle, velocity, angular_velocity, inv_mass, inv_inertia, body_real):
     """VS: the pivot vertex does not move vertically. One exact vertical impulse at the vertex
     zeroes its vertical velocity; a vertical translation puts it back at its height."""
     cs = np.cos(angle[i])
@@ -377,7 +413,7 @@ def _hold_pivot(i, position, angle, velocity, angular_velocity, inv_mass, inv_in
     ly = body_real[i, PIVOT_LY]
     rx = cs * lx - sn * ly
     ry = sn * lx + cs * ly
-    vy = velocity[i, 1] + angular_velocity[i] * rx        # the vertex's vertical velocity
+    vy = velocity[i, 1] + angular_velocity[i] * rx  # the vertex's vertical velocity
     k = inv_mass[i] + inv_inertia[i] * rx * rx
     p = -vy / k
     velocity[i, 1] += inv_mass[i] * p
@@ -392,8 +428,12 @@ def _slide_or_stop(i, c, dt, g, settings, counters, bodies, contacts, activity, 
     ``slowed_here``: friction is applied here (the body was RS, immovable to the solver, during
     the step); not in the step a body becomes RS, which the solver solved with friction.
     Returns True when the body left the awake list."""
-    position, angle, velocity, angular_velocity = (bodies.position, bodies.angle, bodies.velocity,
-                                                   bodies.angular_velocity)
+    position, angle, velocity, angular_velocity = (
+        bodies.position,
+        bodies.angle,
+        bodies.velocity,
+        bodies.angular_velocity,
+    )
     manifold_int = contacts.contact_int
     point_float = contacts.point_float
     body_real, body_int, states = activity.body_real, activity.body_int, activity.states
@@ -418,7 +458,7 @@ def _slide_or_stop(i, c, dt, g, settings, counters, bodies, contacts, activity, 
             activity.solver_inv_inertia[i] = bodies.inv_inertia[i]
             record(events, counters, i, _RS, _FREE, _COM_OUTSIDE_SUPPORT)
             states[i] = _FREE
-            body_int[i, LEFT_SUPPORT] = support     # it tips off that edge, not onto it
+            body_int[i, LEFT_SUPPORT] = support  # it tips off that edge, not onto it
             body_int[i, SUPPORT] = -2
             return False
     # Coulomb friction as the solver applies it, substep by substep: this step the solver moved

@@ -12,6 +12,7 @@ knocked away, or a body landing on it, wakes it. Nothing that is asleep is solve
 Per-body state: body_real[:, TIMER] s; body_int[:, NEXT] the ring of a sleeping island (-1 when
 awake), body_int[:, PARENT] union-find scratch.
 """
+
 import numpy as np
 
 from ..activity import CAUSE, freeze, record, wake
@@ -22,7 +23,7 @@ from ..state import State
 
 NAME = "sleep"
 PARAMETERS = {"sleep_speed": 0.05, "sleep_time": 0.5}
-INT_PARAMETERS = ()          # parameters that are counts (the rest are reals)
+INT_PARAMETERS = ()  # parameters that are counts (the rest are reals)
 TIMER = 0
 REAL_COLUMNS = 1
 NEXT, PARENT = 0, 1
@@ -45,7 +46,7 @@ def _find(parent, i):
     root = i
     while parent[root] != root:
         root = parent[root]
-    while parent[i] != root:          # path compression
+    while parent[i] != root:  # path compression
         nxt = parent[i]
         parent[i] = root
         i = nxt
@@ -64,12 +65,16 @@ def before_solve(settings, counters, bodies, contacts, activity):
     for k in range(counters[N_ACTIVE]):
         c = contacts.active[k]
         if not arriving(c, settings.dt, bodies, contacts):
-            continue                        # made ahead: the mover reaches it in a later step
+            continue  # made ahead: the mover reaches it in a later step
         a = ci[c, BODY_A]
         b = ci[c, BODY_B]
         for sleeper, other in ((a, b), (b, a)):
-            if 0 <= sleeper < n_dyn and awake_slot[sleeper] < 0 and 0 <= other < n_dyn \
-                    and awake_slot[other] >= 0:
+            if (
+                0 <= sleeper < n_dyn
+                and awake_slot[sleeper] < 0
+                and 0 <= other < n_dyn
+                and awake_slot[other] >= 0
+            ):
                 i = sleeper
                 while True:
                     nxt = body_int[i, NEXT]
@@ -77,8 +82,14 @@ def before_solve(settings, counters, bodies, contacts, activity):
                     body_real[i, TIMER] = 0.0
                     wake(i, settings, counters, bodies, contacts, activity)
                     states[i] = _FREE
-                    record(events, counters, i, _SLEEPING, _FREE,
-                           _TOUCHED if i == sleeper else _BY_ISLAND)
+                    record(
+                        events,
+                        counters,
+                        i,
+                        _SLEEPING,
+                        _FREE,
+                        _TOUCHED if i == sleeper else _BY_ISLAND,
+                    )
                     woken += 1
                     if nxt < 0 or nxt == sleeper:
                         break
@@ -91,8 +102,12 @@ def after_solve(settings, counters, bodies, contacts, activity):
     """Idle timers, islands, and islands falling asleep."""
     velocity, angular_velocity, extent = bodies.velocity, bodies.angular_velocity, bodies.extent
     ci = contacts.contact_int
-    states, awake, awake_slot, events = (activity.states, activity.awake, activity.awake_slot,
-                                         activity.events)
+    states, awake, awake_slot, events = (
+        activity.states,
+        activity.awake,
+        activity.awake_slot,
+        activity.events,
+    )
     body_real, body_int = activity.body_real, activity.body_int
     n_dyn = settings.n_dynamic
     dt = settings.dt
@@ -107,27 +122,36 @@ def after_solve(settings, counters, bodies, contacts, activity):
         vx = velocity[i, 0]
         vy = velocity[i, 1]
         w = abs(angular_velocity[i]) * extent[i]
-        if abs(vx) < limit and abs(vy) < limit and w < limit \
-                and np.sqrt(vx * vx + vy * vy) + w < limit:
+        if (
+            abs(vx) < limit
+            and abs(vy) < limit
+            and w < limit
+            and np.sqrt(vx * vx + vy * vy) + w < limit
+        ):
             body_real[i, TIMER] += dt
             longest = max(longest, body_real[i, TIMER])
         else:
             body_real[i, TIMER] = 0.0
         body_int[i, PARENT] = i
     if longest < settings.sleep_time:
-        return                   # no island can sleep: skip building them
+        return  # no island can sleep: skip building them
     # islands of touching awake bodies (union-find over this step's manifolds)
     parent = body_int[:, PARENT]
     for k in range(counters[N_ACTIVE]):
         c = contacts.active[k]
         a = ci[c, BODY_A]
         b = ci[c, BODY_B]
-        if 0 <= a < n_dyn and b < n_dyn and awake_slot[a] >= 0 and awake_slot[b] >= 0 \
-                and touching(c, contacts):
+        if (
+            0 <= a < n_dyn
+            and b < n_dyn
+            and awake_slot[a] >= 0
+            and awake_slot[b] >= 0
+            and touching(c, contacts)
+        ):
             ra = _find(parent, a)
             rb = _find(parent, b)
             if ra != rb:
-                parent[max(ra, rb)] = min(ra, rb)    # the lower index is the root: deterministic
+                parent[max(ra, rb)] = min(ra, rb)  # the lower index is the root: deterministic
     # an island sleeps when its least idle body has been idle long enough (minimum timer per
     # island, indexed by the awake slot of the island's root)
     island_min = np.full(n_awake, np.inf)
@@ -162,7 +186,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
     for k in range(n_sleep):
         s = sleeper_island[k]
         if first[s] >= 0:
-            body_int[last[s], NEXT] = first[s]          # close the ring
+            body_int[last[s], NEXT] = first[s]  # close the ring
             first[s] = -1
     for k in range(n_sleep):
         i = sleepers[k]

@@ -43,19 +43,61 @@ The package, one stage per module (the order of a step):
 
 ``sim.kernel.step`` calls them in that order; what other modules use is re-exported here.
 """
+
 from .batches import deepest_separation, relax, relax_hard, restitution, solve, warm_start
 from .bodies import integrate_positions, integrate_velocities, load_bodies, row_of, unload_bodies
 from .colouring import capacity, colour, mask_words, max_colours
 from .layout import LANES, N_FIELDS, STRIDE
 from .packing import lane_normal_impulse, prepare, store
-from .parameters import (DAMPING_RATIO, DYNAMIC_CAP, HARD_RATIO, HARD_SWEEPS, IMPACT_SPEED,
-                         LOAD_TIME, MAX_CONDITION, PUSH_SPEED, RESTITUTION_SWEEPS, STATIC_CAP,
-                         STIFFNESS_RATIO, pair_hertz, softness)
+from .parameters import (
+    DAMPING_RATIO,
+    DYNAMIC_CAP,
+    HARD_RATIO,
+    HARD_SWEEPS,
+    IMPACT_SPEED,
+    LOAD_TIME,
+    MAX_CONDITION,
+    PUSH_SPEED,
+    RESTITUTION_SWEEPS,
+    STATIC_CAP,
+    STIFFNESS_RATIO,
+    pair_hertz,
+    softness,
+)
 
-__all__ = ["deepest_separation", "relax", "relax_hard", "restitution", "solve", "warm_start",
-           "integrate_positions", "integrate_velocities", "load_bodies", "row_of",
-           "unload_bodies", "capacity", "colour", "mask_words", "max_colours", "LANES",
-           "N_FIELDS", "STRIDE", "lane_normal_impulse", "prepare", "store", "DAMPING_RATIO",
-           "DYNAMIC_CAP", "HARD_RATIO", "HARD_SWEEPS", "IMPACT_SPEED", "LOAD_TIME",
-           "MAX_CONDITION", "PUSH_SPEED", "RESTITUTION_SWEEPS", "STATIC_CAP", "STIFFNESS_RATIO",
-           "pair_hertz", "softness"]
+__all__ = [
+    "deepest_separation",
+    "relax",
+    "relax_hard",
+    "restitution",
+    "solve",
+    "warm_start",
+    "integrate_positions",
+    "integrate_velocities",
+    "load_bodies",
+    "row_of",
+    "unload_bodies",
+    "capacity",
+    "colour",
+    "mask_words",
+    "max_colours",
+    "LANES",
+    "N_FIELDS",
+    "STRIDE",
+    "lane_normal_impulse",
+    "prepare",
+    "store",
+    "DAMPING_RATIO",
+    "DYNAMIC_CAP",
+    "HARD_RATIO",
+    "HARD_SWEEPS",
+    "IMPACT_SPEED",
+    "LOAD_TIME",
+    "MAX_CONDITION",
+    "PUSH_SPEED",
+    "RESTITUTION_SWEEPS",
+    "STATIC_CAP",
+    "STIFFNESS_RATIO",
+    "pair_hertz",
+    "softness",
+]

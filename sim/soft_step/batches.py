@@ -1,12 +1,58 @@
 """The batch kernels: warm start, the biased solve, the relax sweeps, restitution, each over whole
 batches of LANES contacts: gather the batch's body rows, compute every lane at once (packed
 vector instructions), scatter the velocities back."""
+
 from ..data import DPX, DPY, DQC, DQS, VX, VY, W
 from ..jit import wide_inline, wide_kernel
-from .layout import (BASE1, BASE2, BIAS_RATE, DPAX, DPAY, DPBX, DPBY, E, IA, IB, IMPULSE_SCALE,
-                     LANES_U, LN1, LN2, MA, MASS_SCALE, MB, MU, NMASS1, NMASS2, NX, NY, ON1, PN1,
-                     PN2, POINT2, PT1, QCA, QCB, QSA, QSB, RAX1, RAY1, RBX1, RBY1, RELV1, STRIDE_U,
-                     TN1, TN2, TT1, U64, VAX, VAY, VBX, VBY, WA, WB)
+from .layout import (
+    BASE1,
+    BASE2,
+    BIAS_RATE,
+    DPAX,
+    DPAY,
+    DPBX,
+    DPBY,
+    E,
+    IA,
+    IB,
+    IMPULSE_SCALE,
+    LANES_U,
+    LN1,
+    LN2,
+    MA,
+    MASS_SCALE,
+    MB,
+    MU,
+    NMASS1,
+    NMASS2,
+    NX,
+    NY,
+    ON1,
+    PN1,
+    PN2,
+    POINT2,
+    PT1,
+    QCA,
+    QCB,
+    QSA,
+    QSB,
+    RAX1,
+    RAY1,
+    RBX1,
+    RBY1,
+    RELV1,
+    STRIDE_U,
+    TN1,
+    TN2,
+    TT1,
+    U64,
+    VAX,
+    VAY,
+    VBX,
+    VBY,
+    WA,
+    WB,
+)
 from .parameters import MAX_CONDITION, RESTITUTION_SWEEPS
 
 
@@ -74,10 +120,12 @@ def _apply(wide, o, l, px, py, rax, ray, rbx, rby):
 
 @wide_inline
 def _normal_velocity(wide, o, l, nx, ny, rax, ray, rbx, rby):
-    dvx = ((wide[o + VBX + l] - wide[o + WB + l] * rby)
-           - (wide[o + VAX + l] - wide[o + WA + l] * ray))
-    dvy = ((wide[o + VBY + l] + wide[o + WB + l] * rbx)
-           - (wide[o + VAY + l] + wide[o + WA + l] * rax))
+    dvx = (wide[o + VBX + l] - wide[o + WB + l] * rby) - (
+        wide[o + VAX + l] - wide[o + WA + l] * ray
+    )
+    dvy = (wide[o + VBY + l] + wide[o + WB + l] * rbx) - (
+        wide[o + VAY + l] + wide[o + WA + l] * rax
+    )
     return dvx * nx + dvy * ny
 
 
@@ -104,7 +152,7 @@ def _arms(wide, o, l, p, nx, ny, tx, ty):
     qsa = wide[o + QSA + l]
     qcb = wide[o + QCB + l]
     qsb = wide[o + QSB + l]
-    sax = qca * rax - qsa * ray                  # anchors turned with their bodies
+    sax = qca * rax - qsa * ray  # anchors turned with their bodies
     say = qsa * rax + qca * ray
     sbx = qcb * rbx - qsb * rby
     sby = qsb * rbx + qcb * rby
@@ -194,7 +242,7 @@ def _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias):
     rn1b = rb1x * ny - rb1y * nx
     rn2a = ra2x * ny - ra2y * nx
     rn2b = rb2x * ny - rb2y * nx
-    real2 = wide[o + NMASS2 + l] > 0.0         # a second point (else the lane has one)
+    real2 = wide[o + NMASS2 + l] > 0.0  # a second point (else the lane has one)
     k11 = ma + mb + ia * rn1a * rn1a + ib * rn1b * rn1b
     k22 = ma + mb + ia * rn2a * rn2a + ib * rn2b * rn2b
     k12 = ma + mb + ia * rn1a * rn2a + ib * rn1b * rn2b
@@ -215,7 +263,7 @@ def _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias):
     y1 = _fmax(0.0, old1 - nm1 * r1 - leak1)
     r2s = m2 * (vn2 + k12 * (y1 - old1)) + b2
     y2 = _fmax(0.0, old2 - nm2 * r2s - leak2)
-    block = (real2 and k11 * k11 < MAX_CONDITION * det and x1 >= 0.0 and x2 >= 0.0)
+    block = real2 and k11 * k11 < MAX_CONDITION * det and x1 >= 0.0 and x2 >= 0.0
     new1 = x1 if block else y1
     new2 = x2 if block else y2
     wide[o + PN1 + l] = new1
@@ -237,8 +285,12 @@ def _friction_point(wide, o, l, p, nx, ny):
     vt = _normal_velocity(wide, o, l, tx, ty, rax, ray, rbx, rby)
     rta = rax * ty - ray * tx
     rtb = rbx * ty - rby * tx
-    k = (wide[o + MA + l] + wide[o + MB + l] + wide[o + IA + l] * rta * rta
-         + wide[o + IB + l] * rtb * rtb)
+    k = (
+        wide[o + MA + l]
+        + wide[o + MB + l]
+        + wide[o + IA + l] * rta * rta
+        + wide[o + IB + l] * rtb * rtb
+    )
     tm = 1.0 / k if (k > 0.0 and wide[o + p + ON1 + l] > 0.0) else 0.0
     old = wide[o + p + PT1 + l]
     limit = wide[o + MU + l] * wide[o + p + PN1 + l]
@@ -260,8 +312,20 @@ def _frictionless(wide, o):
 
 
 @wide_inline
-def _solve_batches(first, last, wide, lane_row, state, inv_h, push, use_bias, friction,
-                   skip_frictionless, only_hard, batch_hard):
+def _solve_batches(
+    first,
+    last,
+    wide,
+    lane_row,
+    state,
+    inv_h,
+    push,
+    use_bias,
+    friction,
+    skip_frictionless,
+    only_hard,
+    batch_hard,
+):
     for b in range(U64(first), U64(last)):
         if only_hard and not batch_hard[b]:
             continue
@@ -291,8 +355,20 @@ def solve(n_colours, colour_batches, wide, lane_row, state, inv_h, push):
     in the relax sweeps, as Box2D v3 does: with it here too a sweep cost ~40% more, and no
     test of the physics got better)."""
     for c in range(n_colours):
-        _solve_batches(colour_batches[c], colour_batches[c + 1], wide, lane_row, state, inv_h,
-                       push, True, False, False, False, lane_row)
+        _solve_batches(
+            colour_batches[c],
+            colour_batches[c + 1],
+            wide,
+            lane_row,
+            state,
+            inv_h,
+            push,
+            True,
+            False,
+            False,
+            False,
+            lane_row,
+        )
 
 
 @wide_kernel
@@ -300,17 +376,42 @@ def relax(n_colours, colour_batches, wide, lane_row, state, inv_h, skip_friction
     """One unbiased sweep (normal and friction rows): removes the bias velocity.
     ``skip_frictionless``: the "friction" fast path (see ``_frictionless``)."""
     for c in range(n_colours):
-        _solve_batches(colour_batches[c], colour_batches[c + 1], wide, lane_row, state, inv_h,
-                       0.0, False, True, skip_frictionless, False, lane_row)
+        _solve_batches(
+            colour_batches[c],
+            colour_batches[c + 1],
+            wide,
+            lane_row,
+            state,
+            inv_h,
+            0.0,
+            False,
+            True,
+            skip_frictionless,
+            False,
+            lane_row,
+        )
 
 
 @wide_kernel
-def relax_hard(n_colours, colour_batches, wide, lane_row, state, inv_h, skip_frictionless,
-               batch_hard):
+def relax_hard(
+    n_colours, colour_batches, wide, lane_row, state, inv_h, skip_frictionless, batch_hard
+):
     """One more unbiased sweep over the batches flagged hard only (see HARD_RATIO)."""
     for c in range(n_colours):
-        _solve_batches(colour_batches[c], colour_batches[c + 1], wide, lane_row, state, inv_h,
-                       0.0, False, True, skip_frictionless, True, batch_hard)
+        _solve_batches(
+            colour_batches[c],
+            colour_batches[c + 1],
+            wide,
+            lane_row,
+            state,
+            inv_h,
+            0.0,
+            False,
+            True,
+            skip_frictionless,
+            True,
+            batch_hard,
+        )
 
 
 @wide_inline
@@ -376,8 +477,7 @@ def deepest_separation(n_batches, wide, lane_row, state):
             ny = wide[o + NY + l]
             for p in (U64(0), POINT2):
                 if wide[o + p + NMASS1 + l] == 0.0:
-                    continue                      # an empty lane or point
+                    continue  # an empty lane or point
                 _, _, _, _, dx, dy = _arms(wide, o, l, p, nx, ny, nx, ny)
                 deepest = min(deepest, wide[o + p + BASE1 + l] + dx * nx + dy * ny)
     return deepest
-

@@ -1,6 +1,7 @@
 """The solver's body rows (``SolverData.state``): row 0 is the dummy row of everything that cannot
 move (floor, static and frozen bodies); awake body k is row k + 1. Loaded from the bodies before
 the substeps, integrated in them, and written back after."""
+
 import numpy as np
 
 from ..data import DPX, DPY, DQC, DQS, N_AWAKE, TURN, VX, VY, W
@@ -63,7 +64,6 @@ def integrate_positions(n_awake, state, h):
         inv = 1.0 / np.sqrt(c2 * c2 + s2 * s2)
         state[r, DQC] = c2 * inv
         state[r, DQS] = s2 * inv
-
 
 
 @lean_kernel

@@ -1,6 +1,7 @@
 """Colouring: the active contacts are split into colours, no two contacts of one colour sharing a
 body the solver moves, and each colour is cut into batches of LANES (``colour``); the buffers
 this needs are sized by ``capacity`` and ``mask_words``."""
+
 from numba.cpython.unsafe.numbers import trailing_zeros
 
 from ..data import BODY_A, BODY_B, N_ACTIVE, N_AWAKE, N_BATCHES, N_COLOURS
@@ -29,12 +30,14 @@ def mask_words(max_degree):
     return max(1, -(-max_colours(max_degree) // 64))
 
 
-
 @inline_kernel
 def _movable(i, n_dynamic, activity):
     """Does the solver change body i's velocity (so two contacts on it must not share a batch)?"""
-    return (0 <= i < n_dynamic and activity.awake_slot[i] >= 0
-            and (activity.solver_inv_mass[i] > 0.0 or activity.solver_inv_inertia[i] > 0.0))
+    return (
+        0 <= i < n_dynamic
+        and activity.awake_slot[i] >= 0
+        and (activity.solver_inv_mass[i] > 0.0 or activity.solver_inv_inertia[i] > 0.0)
+    )
 
 
 @inline_kernel
@@ -54,7 +57,7 @@ def _first_free_colour(masks, ra, rb, lowest, n_words):
         if rb > 0:
             used |= masks[rb, q]
         if q == lowest // 64:
-            used |= (U64(1) << U64(lowest % 64)) - U64(1)    # the colours below ``lowest``
+            used |= (U64(1) << U64(lowest % 64)) - U64(1)  # the colours below ``lowest``
         free = ~used
         if free != U64(0):
             bit = trailing_zeros(free)
@@ -103,17 +106,18 @@ def colour(settings, counters, contacts, activity, solver):
     for r in range(n_awake + 1):
         for q in range(n_words):
             masks[r, q] = U64(0)
-    counts = solver.colour_batches          # first used as per-colour counts
+    counts = solver.colour_batches  # first used as per-colour counts
     n_colours_max = counts.shape[0] - 1
     for c in range(n_colours_max + 1):
         counts[c] = 0
     n_active = counters[N_ACTIVE]
-    order = solver.order                    # colour of each active contact (~colour: hard), for now
+    order = solver.order  # colour of each active contact (~colour: hard), for now
     # Contacts touching a body in a hard contact (HARD_RATIO) get extra relax sweeps, by batch:
     # laid out first in their colour, they fill few batches instead of tainting most (a pile of
     # random polygons, masses 0.005-0.39 kg: 41 of 51 batches were hard with them spread out).
-    any_hard = settings.mixed_masses and _mark_hard_rows(n_active, n_dyn, contacts, activity,
-                                                         solver)
+    any_hard = settings.mixed_masses and _mark_hard_rows(
+        n_active, n_dyn, contacts, activity, solver
+    )
     # Contacts between two movable bodies first, then those with an immovable one (static, frozen,
     # the floor) in colours after all of theirs: within a sweep the support is solved last, so the
     # sweep ends with every body pushed out of what cannot move, as in Box2D v3, which gives static
@@ -131,8 +135,9 @@ def colour(settings, counters, contacts, activity, solver):
                 continue
             c = _first_free_colour(masks, ra, rb, lowest, n_words)
             # max_colours() guarantees one: each body has at most max_degree contacts
-            hard = any_hard and ((ra > 0 and solver.row_mark[ra])
-                                 or (rb > 0 and solver.row_mark[rb]))
+            hard = any_hard and (
+                (ra > 0 and solver.row_mark[ra]) or (rb > 0 and solver.row_mark[rb])
+            )
             order[k] = ~c if hard else c
             counts[c] += 1
             n_colours = max(n_colours, c + 1)
@@ -146,10 +151,10 @@ def colour(settings, counters, contacts, activity, solver):
     n_batches = batch
     for e in range(n_batches * LANES):
         solver.lane_slot[e] = -1
-    cursor = solver.colour_cursor           # next free lane of each colour
+    cursor = solver.colour_cursor  # next free lane of each colour
     for c in range(n_colours):
         cursor[c] = counts[c] * LANES
-    for first_pass in range(2 if any_hard else 1):     # hard contacts first, then the rest
+    for first_pass in range(2 if any_hard else 1):  # hard contacts first, then the rest
         for k in range(n_active):
             c = order[k]
             if any_hard and (c < 0) != (first_pass == 0):
@@ -164,4 +169,3 @@ def colour(settings, counters, contacts, activity, solver):
     counters[N_BATCHES] = n_batches
     counters[N_COLOURS] = n_colours
     return n_batches
-

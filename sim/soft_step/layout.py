@@ -3,6 +3,7 @@ stored field by field, so that one field of a whole batch is one contiguous run 
 (a packed vector register). Each contact has its shared fields, then the same fields once per
 point (point 2's POINT2 past point 1's). Offsets are unsigned (U64): no sign checks in the packed
 loops."""
+
 import numpy as np
 
 #: constraints per batch: 8 float64 fill one 512-bit register (AVX-512) or two 256-bit ones (AVX2)
@@ -14,18 +15,68 @@ LANES_U = U64(LANES)
 #: of the step (m), the normal mass, whether the point exists, the accumulated impulses (N s; warm
 #: start), the step's totals, the approach velocity (m/s) and the carried load; and the two
 #: bodies' rows gathered from the state (velocity, displacement, rotation so far)
-FIELD_NAMES = ("NX NY MU E MA IA MB IB BIAS_RATE MASS_SCALE IMPULSE_SCALE "
-               "RAX1 RAY1 RBX1 RBY1 BASE1 NMASS1 ON1 PN1 PT1 TN1 TT1 RELV1 LN1 "
-               "RAX2 RAY2 RBX2 RBY2 BASE2 NMASS2 ON2 PN2 PT2 TN2 TT2 RELV2 LN2 "
-               "VAX VAY WA DPAX DPAY QCA QSA VBX VBY WB DPBX DPBY QCB QSB").split()
+FIELD_NAMES = (
+    "NX NY MU E MA IA MB IB BIAS_RATE MASS_SCALE IMPULSE_SCALE "
+    "RAX1 RAY1 RBX1 RBY1 BASE1 NMASS1 ON1 PN1 PT1 TN1 TT1 RELV1 LN1 "
+    "RAX2 RAY2 RBX2 RBY2 BASE2 NMASS2 ON2 PN2 PT2 TN2 TT2 RELV2 LN2 "
+    "VAX VAY WA DPAX DPAY QCA QSA VBX VBY WB DPBX DPBY QCB QSB"
+).split()
 #: number of fields of a batch; field F of lane l of batch b is wide[b * STRIDE + F + l]
 N_FIELDS = len(FIELD_NAMES)
 STRIDE = N_FIELDS * LANES
-(NX, NY, MU, E, MA, IA, MB, IB, BIAS_RATE, MASS_SCALE, IMPULSE_SCALE,
- RAX1, RAY1, RBX1, RBY1, BASE1, NMASS1, ON1, PN1, PT1, TN1, TT1, RELV1, LN1,
- RAX2, RAY2, RBX2, RBY2, BASE2, NMASS2, ON2, PN2, PT2, TN2, TT2, RELV2, LN2,
- VAX, VAY, WA, DPAX, DPAY, QCA, QSA, VBX, VBY, WB, DPBX, DPBY, QCB, QSB) = [
-    U64(k * LANES) for k in range(N_FIELDS)]
+(
+    NX,
+    NY,
+    MU,
+    E,
+    MA,
+    IA,
+    MB,
+    IB,
+    BIAS_RATE,
+    MASS_SCALE,
+    IMPULSE_SCALE,
+    RAX1,
+    RAY1,
+    RBX1,
+    RBY1,
+    BASE1,
+    NMASS1,
+    ON1,
+    PN1,
+    PT1,
+    TN1,
+    TT1,
+    RELV1,
+    LN1,
+    RAX2,
+    RAY2,
+    RBX2,
+    RBY2,
+    BASE2,
+    NMASS2,
+    ON2,
+    PN2,
+    PT2,
+    TN2,
+    TT2,
+    RELV2,
+    LN2,
+    VAX,
+    VAY,
+    WA,
+    DPAX,
+    DPAY,
+    QCA,
+    QSA,
+    VBX,
+    VBY,
+    WB,
+    DPBX,
+    DPBY,
+    QCB,
+    QSB,
+) = [U64(k * LANES) for k in range(N_FIELDS)]
 #: offset of point 2's fields from point 1's, and the number of fields per point
 POINT2 = U64((RAX2 - RAX1))
 POINT_FIELDS = int(RAX2 - RAX1) // LANES

@@ -1,16 +1,71 @@
 """Packing: every lane of every batch filled from its contact before the substeps (``prepare``),
 and the impulses stored back into the contacts after them (``store``)."""
+
 import numpy as np
 
-from ..data import (ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, BODY_A, BODY_B, CARRIED, DPX, DPY,
-                    DQC, DQS, END_SEPARATION, FRICTION, NORMAL_IMPULSE, NORMAL_VELOCITY, NORMAL_X,
-                    NORMAL_Y, N_BATCHES, N_HARD, POINT_COUNT, RESTITUTION, SEPARATION,
-                    TANGENT_IMPULSE, WARM_NORMAL, WARM_TANGENT)
+from ..data import (
+    ANCHOR_AX,
+    ANCHOR_AY,
+    ANCHOR_BX,
+    ANCHOR_BY,
+    BODY_A,
+    BODY_B,
+    CARRIED,
+    DPX,
+    DPY,
+    DQC,
+    DQS,
+    END_SEPARATION,
+    FRICTION,
+    NORMAL_IMPULSE,
+    NORMAL_VELOCITY,
+    NORMAL_X,
+    NORMAL_Y,
+    N_BATCHES,
+    N_HARD,
+    POINT_COUNT,
+    RESTITUTION,
+    SEPARATION,
+    TANGENT_IMPULSE,
+    WARM_NORMAL,
+    WARM_TANGENT,
+)
 from ..jit import inline_kernel, lean_kernel
 from .bodies import row_of
-from .layout import (BASE1, BIAS_RATE, E, IA, IB, IMPULSE_SCALE, LANES, LANES_U, LN1, MA,
-                     MASS_SCALE, MB, MU, NMASS1, NX, NY, N_FIELDS, ON1, PN1, PN2, POINT2,
-                     POINT_FIELDS, PT1, RAX1, RAY1, RBX1, RBY1, RELV1, STRIDE_U, TN1, TT1, U64)
+from .layout import (
+    BASE1,
+    BIAS_RATE,
+    E,
+    IA,
+    IB,
+    IMPULSE_SCALE,
+    LANES,
+    LANES_U,
+    LN1,
+    MA,
+    MASS_SCALE,
+    MB,
+    MU,
+    NMASS1,
+    NX,
+    NY,
+    N_FIELDS,
+    ON1,
+    PN1,
+    PN2,
+    POINT2,
+    POINT_FIELDS,
+    PT1,
+    RAX1,
+    RAY1,
+    RBX1,
+    RBY1,
+    RELV1,
+    STRIDE_U,
+    TN1,
+    TT1,
+    U64,
+)
 from .parameters import HARD_RATIO, pair_hertz, softness
 
 
@@ -39,7 +94,7 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
             e = b * LANES + lane
             ob = U64(2 * b * LANES + lane)
             s = solver.lane_slot[e]
-            if s < 0:                              # padding: every field zero, no effect
+            if s < 0:  # padding: every field zero, no effect
                 solver.lane_row[ob] = U64(0)
                 solver.lane_row[ob + LANES_U] = U64(0)
                 for f in range(N_FIELDS):
@@ -77,7 +132,7 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
             n_points = ci[s, POINT_COUNT]
             for j in range(2):
                 p = POINT2 * U64(j)
-                if j >= n_points:                  # a one-point lane: its second point is void
+                if j >= n_points:  # a one-point lane: its second point is void
                     for f in range(POINT_FIELDS):
                         wide[o + p + RAX1 + U64(f) * LANES_U + l] = 0.0
                     continue
@@ -90,15 +145,16 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
                 wide[o + p + RBX1 + l] = rbx
                 wide[o + p + RBY1 + l] = rby
                 # separation = base + (dpB - dpA + rot(dqB) rB - rot(dqA) rA) . n
-                wide[o + p + BASE1 + l] = (pf[s, j, SEPARATION]
-                                           - ((rbx - rax) * nx + (rby - ray) * ny))
+                wide[o + p + BASE1 + l] = pf[s, j, SEPARATION] - (
+                    (rbx - rax) * nx + (rby - ray) * ny
+                )
                 rna = rax * ny - ray * nx
                 rnb = rbx * ny - rby * nx
                 k_normal = ma + mb + ia * rna * rna + ib * rnb * rnb
                 # the point's mass at the start of the step (restitution's; the rows recompute
                 # theirs from their arms each sweep)
                 wide[o + p + NMASS1 + l] = 1.0 / k_normal if k_normal > 0.0 else 0.0
-                wide[o + p + ON1 + l] = 1.0 if k_normal > 0.0 else 0.0   # the point exists
+                wide[o + p + ON1 + l] = 1.0 if k_normal > 0.0 else 0.0  # the point exists
                 wide[o + p + PN1 + l] = warm * pf[s, j, WARM_NORMAL]
                 wide[o + p + PT1 + l] = warm * pf[s, j, WARM_TANGENT]
                 wide[o + p + TN1 + l] = 0.0
@@ -116,7 +172,7 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
             wide[o + IMPULSE_SCALE + l] = impulse_scale
     if settings.mixed_masses:
         counters[N_HARD] = _mark_hard(counters[N_BATCHES], wide, solver)
-    else:                                  # no contact can be hard (World._mixed_masses)
+    else:  # no contact can be hard (World._mixed_masses)
         for b in range(counters[N_BATCHES]):
             solver.batch_hard[b] = False
         counters[N_HARD] = 0
@@ -158,7 +214,6 @@ def _mark_hard(n_batches, wide, solver):
     return n_hard
 
 
-
 @inline_kernel
 def _end_separation(wide, o, l, p, nx, ny, state, ra, rb):
     """m: point p's separation at the end of the step (the start separation, plus how the
@@ -167,10 +222,16 @@ def _end_separation(wide, o, l, p, nx, ny, state, ra, rb):
     ray = wide[o + p + RAY1 + l]
     rbx = wide[o + p + RBX1 + l]
     rby = wide[o + p + RBY1 + l]
-    dx = ((state[rb, DPX] - state[ra, DPX]) + (state[rb, DQC] * rbx - state[rb, DQS] * rby)
-          - (state[ra, DQC] * rax - state[ra, DQS] * ray))
-    dy = ((state[rb, DPY] - state[ra, DPY]) + (state[rb, DQS] * rbx + state[rb, DQC] * rby)
-          - (state[ra, DQS] * rax + state[ra, DQC] * ray))
+    dx = (
+        (state[rb, DPX] - state[ra, DPX])
+        + (state[rb, DQC] * rbx - state[rb, DQS] * rby)
+        - (state[ra, DQC] * rax - state[ra, DQS] * ray)
+    )
+    dy = (
+        (state[rb, DPY] - state[ra, DPY])
+        + (state[rb, DQS] * rbx + state[rb, DQC] * rby)
+        - (state[ra, DQS] * rax + state[ra, DQC] * ray)
+    )
     return wide[o + p + BASE1 + l] + dx * nx + dy * ny
 
 
@@ -200,8 +261,9 @@ def store(counters, contacts, solver, carry_rate, impact_speed):
             ny = wide[o + NY + l]
             for j in range(contacts.contact_int[s, POINT_COUNT]):
                 p = POINT2 * U64(j)
-                pf[s, j, END_SEPARATION] = _end_separation(wide, o, l, p, nx, ny, solver.state,
-                                                           ra, rb)
+                pf[s, j, END_SEPARATION] = _end_separation(
+                    wide, o, l, p, nx, ny, solver.state, ra, rb
+                )
                 if wide[o + p + RELV1 + l] < -impact_speed:
                     pf[s, j, WARM_NORMAL] = 0.0
                     pf[s, j, WARM_TANGENT] = 0.0

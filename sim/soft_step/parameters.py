@@ -1,6 +1,7 @@
 """The soft contact's parameters: defaults (each with the measurement that chose it) and the
 stiffness of a contact pair (``pair_hertz``) turned into the soft constraint's coefficients
 (``softness``, Catto's soft step)."""
+
 import numpy as np
 
 from ..jit import inline_kernel
@@ -76,4 +77,3 @@ def pair_hertz(base_hertz, size, gravity, h, immovable):
     if immovable:
         hertz *= 2.0
     return min(hertz, cap)
-

@@ -4,6 +4,7 @@ thinnest width of a convex polygon, the deepest overlap at a pose (separating ax
 a sweep of bounding boxes), and a segment clipped to a box (the projectile's path, for
 tunnelling). Polygon padding and the pairwise separation are study.overlap's, shared with
 fig_tradeoff."""
+
 import numpy as np
 
 from study.overlap import pad, separation, world_vertices
@@ -18,11 +19,11 @@ class Shapes:
         bodies = list(scene.bodies)
         self.n = len(bodies)
         k = max(len(b.vertices) for b in bodies + list(scene.static_bodies))
-        self.local = np.empty((self.n, k, 2))          # (N,K,2) m, body frame about the COM
-        self.mass = np.empty(self.n)                   # (N,) kg
-        self.inertia = np.empty(self.n)                # (N,) kg m^2
-        self.width = np.empty(self.n)                  # (N,) m, thinnest width
-        self.half = np.empty((self.n, 2))              # (N,2) m, half extents in the body frame
+        self.local = np.empty((self.n, k, 2))  # (N,K,2) m, body frame about the COM
+        self.mass = np.empty(self.n)  # (N,) kg
+        self.inertia = np.empty(self.n)  # (N,) kg m^2
+        self.width = np.empty(self.n)  # (N,) m, thinnest width
+        self.half = np.empty((self.n, 2))  # (N,2) m, half extents in the body frame
         for i, b in enumerate(bodies):
             m, c, inertia = mass_properties(b.vertices, b.density)
             v = np.asarray(b.vertices, dtype=float) - c
@@ -31,12 +32,14 @@ class Shapes:
             self.width[i] = thinnest_width(v)
             self.half[i] = np.abs(v).max(axis=0)
         statics = list(scene.static_bodies)
-        self.statics = np.array([pad(world_vertices(b), k)
-                                 for b in statics]).reshape(len(statics), k, 2)   # (S,K,2) m
+        self.statics = np.array([pad(world_vertices(b), k) for b in statics]).reshape(
+            len(statics), k, 2
+        )  # (S,K,2) m
         self.static_width = np.array([thinnest_width(b.vertices) for b in statics])
         self.static_pose = [(np.asarray(b.position, float), b.angle) for b in statics]
-        self.static_half = np.array([np.abs(np.asarray(b.vertices, float)).max(axis=0)
-                                     for b in statics]).reshape(len(statics), 2)
+        self.static_half = np.array(
+            [np.abs(np.asarray(b.vertices, float)).max(axis=0) for b in statics]
+        ).reshape(len(statics), 2)
         self.floor_y = scene.floor_y
         self.g = float(np.hypot(*scene.gravity))
 
@@ -48,8 +51,10 @@ class Shapes:
 
     def energy(self, positions, velocities, angular_velocities):
         """(kinetic, potential relative to the floor) J."""
-        ke = 0.5 * float(self.mass @ np.einsum("ij,ij->i", velocities, velocities)
-                         + self.inertia @ (angular_velocities ** 2))
+        ke = 0.5 * float(
+            self.mass @ np.einsum("ij,ij->i", velocities, velocities)
+            + self.inertia @ (angular_velocities**2)
+        )
         floor = 0.0 if self.floor_y is None else self.floor_y
         pe = self.g * float(self.mass @ (positions[:, 1] - floor))
         return ke, pe
@@ -62,7 +67,7 @@ def thinnest_width(vertices):
     length = np.hypot(e[:, 0], e[:, 1])
     keep = length > 0
     n = np.stack([e[keep, 1], -e[keep, 0]], axis=1) / length[keep, None]
-    proj = n @ v.T                                      # (E, K)
+    proj = n @ v.T  # (E, K)
     return float((proj.max(axis=1) - proj.min(axis=1)).min())
 
 
@@ -82,7 +87,7 @@ def clip_to_box(a, b, half):
             continue
         t1, t2 = (-h - a[axis]) / d[axis], (h - a[axis]) / d[axis]
         near, far = (t1, t2) if t1 < t2 else (t2, t1)
-        sign_near = -1 if d[axis] > 0 else 1           # moving +: enters through the - face
+        sign_near = -1 if d[axis] > 0 else 1  # moving +: enters through the - face
         if near > t_in:
             t_in, face_in = near, (axis, sign_near)
         if far < t_out:
@@ -99,12 +104,12 @@ def deepest_overlap(shapes, positions, angles):
     width = shapes.width
     depth, rel = 0.0, 0.0
     if shapes.floor_y is not None:
-        below = shapes.floor_y - w[..., 1].min(axis=1)       # (N,) m
+        below = shapes.floor_y - w[..., 1].min(axis=1)  # (N,) m
         depth, rel = max(depth, float(below.max())), max(rel, float((below / width).max()))
     polys = np.concatenate([w, shapes.statics]) if len(shapes.statics) else w
     widths = np.concatenate([width, shapes.static_width]) if len(shapes.statics) else width
     n_dyn = len(w)
-    lo, hi = polys.min(axis=1), polys.max(axis=1)            # (M,2)
+    lo, hi = polys.min(axis=1), polys.max(axis=1)  # (M,2)
     order = np.argsort(lo[:, 0], kind="stable")
     lo_s, hi_s = lo[order], hi[order]
     # in x-sorted order, body k's candidates are k+1 .. last[k]-1 (their min x <= its max x)

@@ -3,6 +3,7 @@ the runner's observables sample by sample, it keeps finiteness, energy growth, t
 overlap, the drift of the bodies that should rest, wakes, tunnelling (the projectile's path
 through a body, or a body ending below the floor) and the outcome ("stands" / "collapsed",
 "stopped" / "passed", "stays" / "falls left" / "falls right"), the same code for every system."""
+
 import math
 
 import numpy as np
@@ -11,9 +12,9 @@ from study.extremes.geometry import clip_to_box, deepest_overlap
 from study.extremes.scenes import ARRIVAL_S
 
 #: the outcome rules (table_extremes' docstring, "outcome")
-STAND_MOVE = 0.5               # outcome "stands": no body moved more than this x its width ...
-STAND_TURN = 0.2               # ... nor turned more than this, rad
-KNIFE_TURN = 0.1               # knife edge "stays": turned less than this, rad
+STAND_MOVE = 0.5  # outcome "stands": no body moved more than this x its width ...
+STAND_TURN = 0.2  # ... nor turned more than this, rad
+KNIFE_TURN = 0.1  # knife edge "stays": turned less than this, rad
 
 
 class Judge:
@@ -25,8 +26,9 @@ class Judge:
         self.kind = p["kind"]
         self.resting = np.array(p["resting"], dtype=int)
         self.projectile = p["projectile"]
-        self.rest_pose = (None if p.get("rest_pose") is None else
-                          np.asarray(p["rest_pose"], dtype=float))      # (N,2) m
+        self.rest_pose = (
+            None if p.get("rest_pose") is None else np.asarray(p["rest_pose"], dtype=float)
+        )  # (N,2) m
         self.shapes = shapes
         self.start = None
         self.finite = True
@@ -38,8 +40,8 @@ class Judge:
         self.drift_m = self.drift_rel = 0.0
         self.wakes = np.zeros(shapes.n, dtype=int)
         self.asleep = None
-        self.local_before = {}   # projectile: its centre in each body's frame at the last sample
-        self.entered = {}        # projectile: the face of each body its centre entered through
+        self.local_before = {}  # projectile: its centre in each body's frame at the last sample
+        self.entered = {}  # projectile: the face of each body its centre entered through
         self.asleep_before_event = math.nan
         self.last = None
 
@@ -47,8 +49,12 @@ class Judge:
         pos, ang = runner.positions, runner.angles
         vel, angvel = runner.velocities, runner.angular_velocities
         asleep = np.asarray(runner.asleep, dtype=bool)
-        if not (np.isfinite(pos).all() and np.isfinite(ang).all() and np.isfinite(vel).all()
-                and np.isfinite(angvel).all()):
+        if not (
+            np.isfinite(pos).all()
+            and np.isfinite(ang).all()
+            and np.isfinite(vel).all()
+            and np.isfinite(angvel).all()
+        ):
             self.finite = False
             return False
         self.last = (pos, ang)
@@ -66,8 +72,9 @@ class Judge:
         if len(self.resting):
             moved = np.hypot(*(pos[self.resting] - self.start[0][self.resting]).T)
             self.drift_m = max(self.drift_m, float(moved.max()))
-            self.drift_rel = max(self.drift_rel,
-                                 float((moved / self.shapes.width[self.resting]).max()))
+            self.drift_rel = max(
+                self.drift_rel, float((moved / self.shapes.width[self.resting]).max())
+            )
         self.wakes += self.asleep & ~asleep
         self.asleep = asleep
         if self.projectile is not None:
@@ -83,14 +90,15 @@ class Judge:
         from the last sample to this one, each end in the body's frame at that time, clipped to
         the body's rectangle). Pushed back out, or out of a side face, is not counted."""
         p = self.projectile
-        targets = [(i, pos[i], ang[i], self.shapes.half[i]) for i in range(self.shapes.n)
-                   if i != p]
-        targets += [(self.shapes.n + k, q, a, h) for k, ((q, a), h) in
-                    enumerate(zip(self.shapes.static_pose, self.shapes.static_half))]
+        targets = [(i, pos[i], ang[i], self.shapes.half[i]) for i in range(self.shapes.n) if i != p]
+        targets += [
+            (self.shapes.n + k, q, a, h)
+            for k, ((q, a), h) in enumerate(zip(self.shapes.static_pose, self.shapes.static_half))
+        ]
         for k, q, a, half in targets:
             c, s = math.cos(a), math.sin(a)
             dx, dy = pos[p] - q
-            now = np.array([c * dx + s * dy, -s * dx + c * dy])      # m, in the body's frame
+            now = np.array([c * dx + s * dy, -s * dx + c * dy])  # m, in the body's frame
             before = self.local_before.get(k)
             self.local_before[k] = now
             if before is None or self.tunnelled:
@@ -98,16 +106,16 @@ class Judge:
             hit = clip_to_box(before, now, half)
             if hit is None:
                 continue
-            entry, exit_ = hit                  # faces (axis, sign), None where not crossed
-            if entry is None and exit_ is None:             # inside all along
+            entry, exit_ = hit  # faces (axis, sign), None where not crossed
+            if entry is None and exit_ is None:  # inside all along
                 continue
-            if entry is not None and exit_ is not None:     # in and out within this step
+            if entry is not None and exit_ is not None:  # in and out within this step
                 through = entry[0] == exit_[0] and entry[1] != exit_[1]
                 self.entered.pop(k, None)
-            elif entry is not None:             # in: remember the face
+            elif entry is not None:  # in: remember the face
                 self.entered[k] = entry
                 through = False
-            else:                               # out: through the face opposite the entry?
+            else:  # out: through the face opposite the entry?
                 came = self.entered.pop(k, None)
                 through = came is not None and came[0] == exit_[0] and came[1] != exit_[1]
             if through:
@@ -133,14 +141,15 @@ class Judge:
             if turned[0] < KNIFE_TURN:
                 return "stays"
             return "falls left" if pos[0, 0] < pos0[0, 0] else "falls right"
-        if self.kind == "pile":                  # no known rest pose: not judged
+        if self.kind == "pile":  # no known rest pose: not judged
             return ""
         if self.kind == "projectile" and len(self.shapes.statics):
             wall_x = self.shapes.static_pose[0][0][0]
             return "passed" if pos[self.projectile, 0] > wall_x else "stopped"
-        if self.rest_pose is not None:           # bodies that land first: judged where they
-            moved = np.hypot(*(pos - self.rest_pose).T)   # should come to rest
+        if self.rest_pose is not None:  # bodies that land first: judged where they
+            moved = np.hypot(*(pos - self.rest_pose).T)  # should come to rest
         keep = np.array([i for i in range(self.shapes.n) if i != self.projectile], dtype=int)
-        ok = (moved[keep] <= STAND_MOVE * self.shapes.width[keep]).all() and \
-            (turned[keep] <= STAND_TURN).all()
+        ok = (moved[keep] <= STAND_MOVE * self.shapes.width[keep]).all() and (
+            turned[keep] <= STAND_TURN
+        ).all()
         return "stands" if ok else "collapsed"

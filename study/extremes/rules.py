@@ -3,12 +3,12 @@ degraded, failed, rejected or not run, by the thresholds here, given its measure
 reference's (study.extremes.record.Measurement)."""
 
 #: the rules (see table_extremes' docstring)
-EXPLOSION_FACTOR = 2.0         # KE > this x E_avail: failed
-PENETRATION_REL = 0.10         # deeper than this fraction of the thinner body: degraded
-DRIFT_REL = 0.01               # resting body moved more than this fraction of its width: degraded
-ENERGY_GROWTH = 0.05           # energy created, fraction of E_avail: degraded
-MAX_WAKES = 2                  # a resting body woken more often: chattering (failed)
-MAX_STATE_CHANGES = 3          # impact scene, one sim body: chattering above this
+EXPLOSION_FACTOR = 2.0  # KE > this x E_avail: failed
+PENETRATION_REL = 0.10  # deeper than this fraction of the thinner body: degraded
+DRIFT_REL = 0.01  # resting body moved more than this fraction of its width: degraded
+ENERGY_GROWTH = 0.05  # energy created, fraction of E_avail: degraded
+MAX_WAKES = 2  # a resting body woken more often: chattering (failed)
+MAX_STATE_CHANGES = 3  # impact scene, one sim body: chattering above this
 
 STATUSES = ("stable", "degraded", "failed", "rejected", "not run")
 
@@ -48,8 +48,15 @@ def classify(res, ref):
 def ref_valid(ref):
     """Whether a reference (a Measurement, or None) can judge outcomes: it ran, stayed finite and
     whole, and has an outcome."""
-    return (ref is not None and ref.status_hint == "" and not ref.error and ref.finite
-            and not ref.tunnelled and not ref.exploded and bool(ref.outcome))
+    return (
+        ref is not None
+        and ref.status_hint == ""
+        and not ref.error
+        and ref.finite
+        and not ref.tunnelled
+        and not ref.exploded
+        and bool(ref.outcome)
+    )
 
 
 def chattering(task, res):

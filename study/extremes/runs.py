@@ -5,6 +5,7 @@ samples and judges one of them into a Measurement.
 
 Nothing here names an axis: what an axis varies is read from its Axis record
 (study.extremes.axes)."""
+
 import json
 import math
 import time
@@ -23,9 +24,9 @@ from study.peers import sim_world
 
 #: the reference's solver (table_extremes' docstring, "Reference"): sim.World's defaults, written
 #: out so that the reference is fixed here and never moves with a runner's or the World's defaults
-REF_SUBSTEPS = 4               # substeps per reference step (doubled for a scene refused at it)
-REF_ITERATIONS = 1             # biased solve sweeps per substep
-REF_MAX_SUBSTEPS = 4096        # give up doubling here (the reference is then "rejected")
+REF_SUBSTEPS = 4  # substeps per reference step (doubled for a scene refused at it)
+REF_ITERATIONS = 1  # biased solve sweeps per substep
+REF_MAX_SUBSTEPS = 4096  # give up doubling here (the reference is then "rejected")
 #: the systems whose impulse test the impact axis watches (the others get sim-paper's v*)
 DECIDING_SYSTEMS = ("sim-paper", "sim-extended")
 #: scene kinds sampled after every step: their event (an arrival, an impact, a fall) is brief
@@ -81,7 +82,7 @@ def simulate(task):
     world = sim_world(runner)
     out.substeps = int(world.substeps) if world is not None else None
     judge = Judge(scene, shapes)
-    decision = Decision(task["system"][len("sim-"):]) if task.get("watch_decision") else None
+    decision = Decision(task["system"][len("sim-") :]) if task.get("watch_decision") else None
     steps, every, budget = task["steps"], task["sample_every"], task["budget_s"]
     stepping = 0.0
 
@@ -101,7 +102,7 @@ def simulate(task):
         done = 0
         while done < steps and judge.finite:
             k = min(every, steps - done)
-            if done == 0:                       # the first step is not timed (the study's rule)
+            if done == 0:  # the first step is not timed (the study's rule)
                 if not advance(1):
                     break
                 k -= 1
@@ -112,9 +113,11 @@ def simulate(task):
             stepping += time.perf_counter() - t0
             done += k
             out.steps_done = done
-            judge.sample(runner, done * task["dt"],
-                         overlap=(done // every) % task.get("overlap_every", 1) == 0
-                         or done == steps)
+            judge.sample(
+                runner,
+                done * task["dt"],
+                overlap=(done // every) % task.get("overlap_every", 1) == 0 or done == steps,
+            )
             if decision is not None:
                 decision.watch(runner.world)
             if judge.ke_max > EXPLOSION_FACTOR:
@@ -122,8 +125,7 @@ def simulate(task):
                 break
             if time.perf_counter() - t_start > budget and done < steps:
                 out.status_hint = "not run"
-                out.error = (f"timeout: {budget:g} s of wall time reached at step {done} of "
-                             f"{steps}")
+                out.error = f"timeout: {budget:g} s of wall time reached at step {done} of {steps}"
                 break
     finally:
         out.state_changes_max = state_changes(runner, shapes.n)
@@ -184,12 +186,23 @@ def run_task(axis, value, system, config, v_star=None):
     steps = int(value) if record.knob == "steps" else int(round(config["duration_s"][axis] / dt))
     kind, bodies = kind_and_size(spec)
     every_step = kind in EVERY_STEP_KINDS
-    return {"role": "run", "axis": axis, "value": value, "system": system,
-            "runner": runner_system(system), "settings": settings, "scene": spec,
-            "kind": kind, "bodies": bodies, "dt": dt, "iterations": iterations, "steps": steps,
-            "sample_every": sample_every(steps, bodies, every_step, config),
-            "budget_s": config["budget_s"],
-            "watch_decision": record.knob == "threshold" and system in DECIDING_SYSTEMS}
+    return {
+        "role": "run",
+        "axis": axis,
+        "value": value,
+        "system": system,
+        "runner": runner_system(system),
+        "settings": settings,
+        "scene": spec,
+        "kind": kind,
+        "bodies": bodies,
+        "dt": dt,
+        "iterations": iterations,
+        "steps": steps,
+        "sample_every": sample_every(steps, bodies, every_step, config),
+        "budget_s": config["budget_s"],
+        "watch_decision": record.knob == "threshold" and system in DECIDING_SYSTEMS,
+    }
 
 
 def reference_task(run, config):
@@ -199,7 +212,7 @@ def reference_task(run, config):
     dt = min(run["dt"], DT) / config[record.fine]
     spec = run["scene"]
     duration = run["steps"] * run["dt"]
-    if record.reference_scene is not None:      # one small scene stands for the row's
+    if record.reference_scene is not None:  # one small scene stands for the row's
         builder, arg = record.reference_scene
         spec = {"builder": builder, "args": [arg]}
     if record.reference_cap:
@@ -207,20 +220,33 @@ def reference_task(run, config):
     steps = int(round(duration / dt))
     kind, bodies = kind_and_size(spec)
     every_step = kind in EVERY_STEP_KINDS
-    return {"role": "ref", "axis": "reference", "value": 0, "system": "sim-off",
-            "runner": "sim-off", "settings": {"substeps": REF_SUBSTEPS},
-            "refine_substeps": REF_MAX_SUBSTEPS, "scene": spec,
-            "kind": kind, "bodies": bodies, "dt": dt, "iterations": REF_ITERATIONS,
-            "steps": steps, "sample_every": sample_every(steps, bodies, every_step, config),
-            "budget_s": 20 * config["budget_s"],
-            # a reference's penetration is only reported: ~``samples`` overlap tests suffice
-            # even where its poses are checked every step (tunnelling)
-            "overlap_every": max(1, steps // config["samples"]) if every_step else 1}
+    return {
+        "role": "ref",
+        "axis": "reference",
+        "value": 0,
+        "system": "sim-off",
+        "runner": "sim-off",
+        "settings": {"substeps": REF_SUBSTEPS},
+        "refine_substeps": REF_MAX_SUBSTEPS,
+        "scene": spec,
+        "kind": kind,
+        "bodies": bodies,
+        "dt": dt,
+        "iterations": REF_ITERATIONS,
+        "steps": steps,
+        "sample_every": sample_every(steps, bodies, every_step, config),
+        "budget_s": 20 * config["budget_s"],
+        # a reference's penetration is only reported: ~``samples`` overlap tests suffice
+        # even where its poses are checked every step (tunnelling)
+        "overlap_every": max(1, steps // config["samples"]) if every_step else 1,
+    }
 
 
 def task_key(task):
     """The store's key of a task: a run by its cell, a reference by everything that makes it."""
     if task["role"] == "run":
         return f"run|{task['axis']}|{task['value']!r}|{task['system']}"
-    return "ref|" + json.dumps([task["scene"], task["dt"], task["iterations"], task["steps"],
-                                task["settings"]], sort_keys=True)
+    return "ref|" + json.dumps(
+        [task["scene"], task["dt"], task["iterations"], task["steps"], task["settings"]],
+        sort_keys=True,
+    )

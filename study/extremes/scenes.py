@@ -6,6 +6,7 @@ the projectile's index, and the pose the bodies should come to rest in.
 
 Tasks name a scene by a spec, {"builder": name, "args": [...]} (plain JSON: it is part of the
 incremental store's keys); ``scene_of`` builds it once per process."""
+
 import json
 import math
 
@@ -14,40 +15,43 @@ import numpy as np
 import sim
 from study.common import DT
 
-G = 9.81                       # m/s^2, |gravity| of every scene
+G = 9.81  # m/s^2, |gravity| of every scene
 FRICTION = 0.6
-PROJECTILE_SIZE = 0.2          # m, side of the projectile box
+PROJECTILE_SIZE = 0.2  # m, side of the projectile box
 #: s, the projectile's flight time to first touching its target: 2.5 s plus half a step at 1/60 s,
 #: so that at dt 1/60 it is half a step's travel short of its target at a step's end (arriving
 #: exactly at a step's end would be a lucky phase that hides tunnelling in some engines and not
 #: in others)
 ARRIVAL_S = 2.5 + 0.5 * DT
-WALL = (0.05, 4.0)             # m, thin static wall: thickness, height
-HAMMER = 0.5                   # m, side of the impact scene's falling box ...
-HAMMER_DENSITY = 0.3           # kg/m^2 (0.075 kg: from rest it lands under both thresholds)
-HAMMER_GAP = 2.0               # m, its starting height above the anvil, so that it arrives
-                               # after extended has frozen the anvil (2 steps) even thrown at
-                               # 20 m/s, the top of the bisection (6 steps); at 0.5 m it arrived
-                               # in step 2, racing the freeze, once contacts were made ahead of
-                               # fast bodies (solver v2)
-COLUMN_PITCH = 1.5             # m, between the five-box columns of the 10^4-body scene
-DROP_GAP = 0.1                 # m, between the boxes of the dropped column (dt, iterations axes)
+WALL = (0.05, 4.0)  # m, thin static wall: thickness, height
+HAMMER = 0.5  # m, side of the impact scene's falling box ...
+HAMMER_DENSITY = 0.3  # kg/m^2 (0.075 kg: from rest it lands under both thresholds)
+HAMMER_GAP = 2.0  # m, its starting height above the anvil, so that it arrives
+# after extended has frozen the anvil (2 steps) even thrown at
+# 20 m/s, the top of the bisection (6 steps); at 0.5 m it arrived
+# in step 2, racing the freeze, once contacts were made ahead of
+# fast bodies (solver v2)
+COLUMN_PITCH = 1.5  # m, between the five-box columns of the 10^4-body scene
+DROP_GAP = 0.1  # m, between the boxes of the dropped column (dt, iterations axes)
 
 
 def _box(w, h, x, y, **kw):
     return sim.Body.box(w, h, position=(x, y), friction=FRICTION, **kw)
 
 
-def _scene(name, bodies, params, kind, resting=None, projectile=None, rest_pose=None,
-           **kwargs):
+def _scene(name, bodies, params, kind, resting=None, projectile=None, rest_pose=None, **kwargs):
     """A scene whose params record how it is judged: kind (rest | impact | projectile |
     knife), the bodies that should rest where they start (drift), the projectile's index, and
     where the bodies should come to rest (``rest_pose``, [[x, y], ...] m; None: where they
     start)."""
     n = len(bodies)
-    params = {**params, "kind": kind,
-              "resting": list(range(n)) if resting is None else list(resting),
-              "projectile": projectile, "rest_pose": rest_pose}
+    params = {
+        **params,
+        "kind": kind,
+        "resting": list(range(n)) if resting is None else list(resting),
+        "projectile": projectile,
+        "rest_pose": rest_pose,
+    }
     return sim.Scene(bodies=bodies, name=name, params=params, **kwargs)
 
 
@@ -58,8 +62,10 @@ def _require(ok, message):
 
 
 def _positive(x, what):
-    _require(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
-             and x > 0, f"{what} must be a finite number > 0, got {x!r}")
+    _require(
+        isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and x > 0,
+        f"{what} must be a finite number > 0, got {x!r}",
+    )
     return float(x)
 
 
@@ -91,11 +97,13 @@ def plank_upright(aspect):
 
 def polygon_on_box(n):
     """A regular n-gon (circumradius 0.5 m) on its flat bottom edge on a unit box."""
-    _require(isinstance(n, int) and not isinstance(n, bool) and n >= 3,
-             f"a regular polygon needs an integer number of vertices >= 3, got {n!r}")
+    _require(
+        isinstance(n, int) and not isinstance(n, bool) and n >= 3,
+        f"a regular polygon needs an integer number of vertices >= 3, got {n!r}",
+    )
     r = 0.5
     poly = sim.Body.regular(n, r, friction=FRICTION)
-    apothem = r * math.cos(math.pi / n)       # centre to the flat bottom edge
+    apothem = r * math.cos(math.pi / n)  # centre to the flat bottom edge
     poly.position = (0.0, 1.0 + apothem)
     bodies = [_box(1, 1, 0, 0.5), poly]
     return _scene("polygon_on_box", bodies, {"n": n, "radius": r}, "rest")
@@ -108,8 +116,11 @@ def collinear_box(eps):
     v = [(-0.5, -0.5), (0.0, -0.5 - eps), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
     low = sim.Body(vertices=v, friction=FRICTION)
     c = low.centroid
-    low = sim.Body(vertices=np.asarray(v) - c, position=(float(c[0]), 0.5 + eps + float(c[1])),
-                   friction=FRICTION)
+    low = sim.Body(
+        vertices=np.asarray(v) - c,
+        position=(float(c[0]), 0.5 + eps + float(c[1])),
+        friction=FRICTION,
+    )
     bodies = [low, _box(1, 1, 0, 1.5 + eps)]
     return _scene("collinear_box", bodies, {"eps": eps}, "rest")
 
@@ -120,17 +131,28 @@ def _projectile(speed, aim_x, aim_y, arrival_s=ARRIVAL_S):
     speed = _positive(speed, "projectile speed")
     arrival_s = _positive(arrival_s, "arrival time")
     x0 = aim_x - PROJECTILE_SIZE / 2 - speed * arrival_s
-    return sim.Body.box(PROJECTILE_SIZE, PROJECTILE_SIZE, position=(x0, aim_y),
-                        velocity=(float(speed), G * arrival_s / 2), friction=FRICTION,
-                        name="projectile")
+    return sim.Body.box(
+        PROJECTILE_SIZE,
+        PROJECTILE_SIZE,
+        position=(x0, aim_y),
+        velocity=(float(speed), G * arrival_s / 2),
+        friction=FRICTION,
+        name="projectile",
+    )
 
 
 def projectile_stack(speed):
     """A 5-box column and a projectile arriving at the middle of box 2 after ARRIVAL_S s."""
     bodies = list(sim.scenes.stack(5, friction=FRICTION).bodies)
     bodies.append(_projectile(speed, -0.5, 2.5))
-    return _scene("projectile_stack", bodies, {"speed": speed, "arrival_s": ARRIVAL_S},
-                  "projectile", resting=[], projectile=len(bodies) - 1)
+    return _scene(
+        "projectile_stack",
+        bodies,
+        {"speed": speed, "arrival_s": ARRIVAL_S},
+        "projectile",
+        resting=[],
+        projectile=len(bodies) - 1,
+    )
 
 
 def projectile_wall(speed, arrival_s=ARRIVAL_S):
@@ -139,9 +161,15 @@ def projectile_wall(speed, arrival_s=ARRIVAL_S):
     t, h = WALL
     wall = sim.Body.box(t, h, position=(0.0, h / 2), friction=FRICTION, name="wall")
     bodies = [_projectile(speed, -t / 2, h / 2, arrival_s)]
-    return _scene("projectile_wall", bodies, {"speed": speed, "arrival_s": arrival_s,
-                                              "wall": list(WALL)},
-                  "projectile", resting=[], projectile=0, static_bodies=[wall])
+    return _scene(
+        "projectile_wall",
+        bodies,
+        {"speed": speed, "arrival_s": arrival_s, "wall": list(WALL)},
+        "projectile",
+        resting=[],
+        projectile=0,
+        static_bodies=[wall],
+    )
 
 
 def column(height):
@@ -157,8 +185,9 @@ def dropped_column(height, gap=DROP_GAP):
     Judged against the stacked pose."""
     bodies = [_box(1, 1, 0, 0.5 + k * (1.0 + gap) + gap) for k in range(int(height))]
     rest = [[0.0, 0.5 + k] for k in range(int(height))]
-    return _scene("dropped_column", bodies, {"height": height, "gap": gap}, "rest", resting=[],
-                  rest_pose=rest)
+    return _scene(
+        "dropped_column", bodies, {"height": height, "gap": gap}, "rest", resting=[], rest_pose=rest
+    )
 
 
 def dropped_mass_stack(ratio, gap=DROP_GAP):
@@ -167,11 +196,19 @@ def dropped_mass_stack(ratio, gap=DROP_GAP):
     lands last (at ~2.4 m/s from 0.1 m gaps) on a column the solver has just built, with no
     presolved start. Judged against the stacked pose."""
     ratio = _positive(ratio, "mass ratio")
-    bodies = [_box(1, 1, 0, 0.5 + k * (1.0 + gap) + gap, density=ratio if k == 2 else 1.0)
-              for k in range(3)]
+    bodies = [
+        _box(1, 1, 0, 0.5 + k * (1.0 + gap) + gap, density=ratio if k == 2 else 1.0)
+        for k in range(3)
+    ]
     rest = [[0.0, 0.5 + k] for k in range(3)]
-    return _scene("dropped_mass_stack", bodies, {"ratio": ratio, "gap": gap}, "rest",
-                  resting=[], rest_pose=rest)
+    return _scene(
+        "dropped_mass_stack",
+        bodies,
+        {"ratio": ratio, "gap": gap},
+        "rest",
+        resting=[],
+        rest_pose=rest,
+    )
 
 
 def pile_drop(n=30, columns=10, height=35.0, size=0.5, seed=0):
@@ -181,23 +218,35 @@ def pile_drop(n=30, columns=10, height=35.0, size=0.5, seed=0):
     ~26 m/s, row on row: the fast-pile case of the regression tests (not an axis of the table:
     where a pile comes to rest is not known in advance, so the outcome rule cannot judge it; its
     penetration can be)."""
-    _require(isinstance(n, int) and n >= 1 and isinstance(columns, int) and columns >= 1,
-             f"pile_drop needs integer n >= 1 and columns >= 1, got {n!r}, {columns!r}")
+    _require(
+        isinstance(n, int) and n >= 1 and isinstance(columns, int) and columns >= 1,
+        f"pile_drop needs integer n >= 1 and columns >= 1, got {n!r}, {columns!r}",
+    )
     height, size = _positive(height, "height"), _positive(size, "size")
-    pitch = 0.8 * size / 0.5                       # m, between box centres (0.8 m at 0.5 m)
+    pitch = 0.8 * size / 0.5  # m, between box centres (0.8 m at 0.5 m)
     rng = np.random.default_rng(seed)
     bodies = []
     for k in range(n):
         row, col = divmod(k, columns)
         x = (col - (columns - 1) / 2) * pitch + rng.uniform(-0.05, 0.05) * size / 0.5
-        bodies.append(_box(size, size, x, height + row * pitch,
-                           angle=float(rng.uniform(-0.2, 0.2))))
-    inner = columns * pitch                        # m, the bin's inner width
-    walls = [sim.Body.box(0.5, 6.0, position=(side * (inner / 2 + 0.25), 3.0), friction=FRICTION,
-                          name="wall") for side in (-1, 1)]
-    return _scene("pile_drop", bodies, {"n": n, "columns": columns, "height": height,
-                                        "size": size, "seed": seed}, "pile", resting=[],
-                  static_bodies=walls)
+        bodies.append(
+            _box(size, size, x, height + row * pitch, angle=float(rng.uniform(-0.2, 0.2)))
+        )
+    inner = columns * pitch  # m, the bin's inner width
+    walls = [
+        sim.Body.box(
+            0.5, 6.0, position=(side * (inner / 2 + 0.25), 3.0), friction=FRICTION, name="wall"
+        )
+        for side in (-1, 1)
+    ]
+    return _scene(
+        "pile_drop",
+        bodies,
+        {"n": n, "columns": columns, "height": height, "size": size, "seed": seed},
+        "pile",
+        resting=[],
+        static_bodies=walls,
+    )
 
 
 def pyramid(base):
@@ -209,40 +258,73 @@ def columns(n, height=5):
     """n bodies as n/height columns of ``height`` unit boxes, COLUMN_PITCH m apart."""
     if n % height:
         raise ValueError(f"columns: n={n} is not a multiple of the column height {height}")
-    bodies = [_box(1, 1, c * COLUMN_PITCH, 0.5 + k) for c in range(n // height)
-              for k in range(height)]
+    bodies = [
+        _box(1, 1, c * COLUMN_PITCH, 0.5 + k) for c in range(n // height) for k in range(height)
+    ]
     return _scene("columns", bodies, {"n": n, "height": height, "pitch": COLUMN_PITCH}, "rest")
 
 
 def impact(v0):
     """The hammer (HAMMER m box, density HAMMER_DENSITY) HAMMER_GAP m above the anvil (a unit
     box on the floor), thrown down at v0 m/s. Only the anvil must rest (drift)."""
-    _require(isinstance(v0, (int, float)) and math.isfinite(v0) and v0 >= 0,
-             f"v0 must be a finite speed >= 0 m/s, got {v0!r}")
+    _require(
+        isinstance(v0, (int, float)) and math.isfinite(v0) and v0 >= 0,
+        f"v0 must be a finite speed >= 0 m/s, got {v0!r}",
+    )
     anvil = _box(1, 1, 0, 0.5, name="anvil")
-    hammer = sim.Body.box(HAMMER, HAMMER, position=(0.0, 1.0 + HAMMER_GAP + HAMMER / 2),
-                          velocity=(0.0, -float(v0)), density=HAMMER_DENSITY, friction=FRICTION,
-                          name="hammer")
-    return _scene("impact", [anvil, hammer], {"v0": v0, "gap": HAMMER_GAP}, "impact",
-                  resting=[0], rest_pose=[[0.0, 0.5], [0.0, 1.0 + HAMMER / 2]])
+    hammer = sim.Body.box(
+        HAMMER,
+        HAMMER,
+        position=(0.0, 1.0 + HAMMER_GAP + HAMMER / 2),
+        velocity=(0.0, -float(v0)),
+        density=HAMMER_DENSITY,
+        friction=FRICTION,
+        name="hammer",
+    )
+    return _scene(
+        "impact",
+        [anvil, hammer],
+        {"v0": v0, "gap": HAMMER_GAP},
+        "impact",
+        resting=[0],
+        rest_pose=[[0.0, 0.5], [0.0, 1.0 + HAMMER / 2]],
+    )
 
 
 def knife_edge(tilt):
     """A unit box on one corner, rotated 45 deg + ``tilt`` rad, the corner touching the floor."""
-    _require(isinstance(tilt, (int, float)) and math.isfinite(tilt) and abs(tilt) < math.pi / 4,
-             f"tilt must be finite and within +-pi/4 rad, got {tilt!r}")
+    _require(
+        isinstance(tilt, (int, float)) and math.isfinite(tilt) and abs(tilt) < math.pi / 4,
+        f"tilt must be finite and within +-pi/4 rad, got {tilt!r}",
+    )
     angle = math.pi / 4 + tilt
-    lowest = -0.5 * math.sin(angle) - 0.5 * math.cos(angle)   # corner (-0.5, -0.5), rotated
+    lowest = -0.5 * math.sin(angle) - 0.5 * math.cos(angle)  # corner (-0.5, -0.5), rotated
     x_corner = -0.5 * math.cos(angle) + 0.5 * math.sin(angle)
     body = sim.Body.box(1, 1, position=(-x_corner, -lowest), angle=angle, friction=FRICTION)
     return _scene("knife_edge", [body], {"tilt": tilt}, "knife", resting=[])
 
 
-BUILDERS = {f.__name__: f for f in (mass_stack, size_stack, plank_flat, plank_upright,
-                                    polygon_on_box, collinear_box, projectile_stack,
-                                    projectile_wall, column, dropped_column,
-                                    dropped_mass_stack, pile_drop, pyramid, columns, impact,
-                                    knife_edge)}
+BUILDERS = {
+    f.__name__: f
+    for f in (
+        mass_stack,
+        size_stack,
+        plank_flat,
+        plank_upright,
+        polygon_on_box,
+        collinear_box,
+        projectile_stack,
+        projectile_wall,
+        column,
+        dropped_column,
+        dropped_mass_stack,
+        pile_drop,
+        pyramid,
+        columns,
+        impact,
+        knife_edge,
+    )
+}
 
 
 def make_scene(spec):
@@ -250,7 +332,6 @@ def make_scene(spec):
     if spec["builder"] not in BUILDERS:
         raise ValueError(f"unknown scene builder {spec['builder']!r}")
     return BUILDERS[spec["builder"]](*spec["args"])
-
 
 
 #: spec (as JSON) -> scene, per process: the 10^4-body scene takes a while to build

@@ -2,6 +2,7 @@
 the throw-down speed v* of the hammer at which sim-paper's or sim-extended's impulse test flips,
 found by bisection (``find_threshold``, an executor task), and the ``Decision`` watched in every
 run of that axis."""
+
 import math
 
 import sim
@@ -27,8 +28,7 @@ class Decision:
                 self.crossed = True
             return
         c = world.contacts()
-        pair = (((c["body_a"] == 0) & (c["body_b"] == 1)) |
-                ((c["body_a"] == 1) & (c["body_b"] == 0)))
+        pair = ((c["body_a"] == 0) & (c["body_b"] == 1)) | ((c["body_a"] == 1) & (c["body_b"] == 0))
         if (pair & (c["end_separation"] <= c["slop"]) & (c["normal_impulse"] > 0)).any():
             self.crossed = bool(world.states[1] == sim.State.FREE)
 
@@ -67,14 +67,21 @@ def find_threshold(task):
     lo, hi = 0.0, 20.0
     at_lo, at_hi = impact_decision(policy, lo, steps), impact_decision(policy, hi, steps)
     if at_lo is not False or at_hi is not True:
-        return {"policy": policy, "v_star": math.nan, "bracket": [lo, hi],
-                "note": f"no crossing in [{lo}, {hi}] m/s (decision {at_lo} at {lo}, {at_hi} "
-                        f"at {hi})"}
+        return {
+            "policy": policy,
+            "v_star": math.nan,
+            "bracket": [lo, hi],
+            "note": f"no crossing in [{lo}, {hi}] m/s (decision {at_lo} at {lo}, {at_hi} at {hi})",
+        }
     for _ in range(n_bisect):
         mid = 0.5 * (lo + hi)
         if impact_decision(policy, mid, steps):
             hi = mid
         else:
             lo = mid
-    return {"policy": policy, "v_star": 0.5 * (lo + hi), "bracket": [lo, hi],
-            "note": "hammer bounces above v*" if policy == "paper" else "anvil wakes above v*"}
+    return {
+        "policy": policy,
+        "v_star": 0.5 * (lo + hi),
+        "bracket": [lo, hi],
+        "note": "hammer bounces above v*" if policy == "paper" else "anvil wakes above v*",
+    }

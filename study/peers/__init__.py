@@ -17,6 +17,7 @@ experiments store in their metadata) and ``close()`` (runners are also context m
 
 Peers never leak into ``sim``: this package imports sim, never the reverse.
 """
+
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -31,8 +32,18 @@ from .sim_runner import DEFAULT_SUBSTEPS as SIM_DEFAULT_SUBSTEPS
 from .sim_runner import SimRunner
 
 #: Every system name ``make_runner`` knows, sim's policies first.
-SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk", "pymunk-sleep",
-           "pybullet", "pybullet-sleep", "box2d", "box2d-sleep")
+SYSTEMS = (
+    "sim-off",
+    "sim-sleep",
+    "sim-paper",
+    "sim-extended",
+    "pymunk",
+    "pymunk-sleep",
+    "pybullet",
+    "pybullet-sleep",
+    "box2d",
+    "box2d-sleep",
+)
 
 #: Solver iterations when ``make_runner`` is given none: each engine's own default, so that every
 #: system runs as its authors tuned it and a comparison is fair by construction (same scene, same
@@ -45,13 +56,18 @@ SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk", "pymun
 #:             and a base-40 one collapses; see ``pybullet_runner``)
 #:   box2d     8 velocity iterations per step (Box2D's testbed default), plus 3 position
 #:             iterations (a runner setting, ``position_iterations``)
-DEFAULT_ITERATIONS = {"sim": SIM_DEFAULT_ITERATIONS, "pymunk": 10,
-                      "pybullet": PYBULLET_DEFAULT_ITERATIONS, "box2d": BOX2D_DEFAULT_ITERATIONS}
+DEFAULT_ITERATIONS = {
+    "sim": SIM_DEFAULT_ITERATIONS,
+    "pymunk": 10,
+    "pybullet": PYBULLET_DEFAULT_ITERATIONS,
+    "box2d": BOX2D_DEFAULT_ITERATIONS,
+}
 
 
 @runtime_checkable
 class Runner(Protocol):
     """What experiments may rely on, whatever the system."""
+
     name: str
     settings: dict
 
@@ -77,7 +93,7 @@ class Runner(Protocol):
 
 
 def engine_of(system):
-    """"sim", "pymunk", "pybullet" or "box2d" for a system name; ValueError for an unknown
+    """ "sim", "pymunk", "pybullet" or "box2d" for a system name; ValueError for an unknown
     one."""
     if system not in SYSTEMS:
         raise ValueError(f"unknown system {system!r}; choose one of {', '.join(SYSTEMS)}")
@@ -102,9 +118,12 @@ def solver_summary(settings):
     substeps = settings.get("substeps", 1)
     relax = settings.get("relax_iterations", 0)
     position = settings.get("position_iterations", 0)
-    return {"substeps": substeps, "iterations": settings["iterations"],
-            "relax_iterations": relax,
-            "contact_sweeps_per_step": substeps * (settings["iterations"] + relax) + position}
+    return {
+        "substeps": substeps,
+        "iterations": settings["iterations"],
+        "relax_iterations": relax,
+        "contact_sweeps_per_step": substeps * (settings["iterations"] + relax) + position,
+    }
 
 
 def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
@@ -120,12 +139,15 @@ def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
     """
     engine = engine_of(system)
     if "sleeping" in settings or "freeze" in settings:
-        raise ValueError(f"choose sleeping or the freeze policy by the system name, not by a "
-                         f"setting (got {system!r} with {sorted(settings)})")
+        raise ValueError(
+            f"choose sleeping or the freeze policy by the system name, not by a "
+            f"setting (got {system!r} with {sorted(settings)})"
+        )
     iterations = DEFAULT_ITERATIONS[engine] if iterations is None else iterations
     if engine == "sim":
-        return SimRunner(scene, dt=dt, iterations=iterations, freeze=system[len("sim-"):],
-                         **settings)
+        return SimRunner(
+            scene, dt=dt, iterations=iterations, freeze=system[len("sim-") :], **settings
+        )
     sleeping = system.endswith("-sleep")
     if engine == "pymunk":
         return PymunkRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
@@ -134,6 +156,17 @@ def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
     return PybulletRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
 
 
-__all__ = ["Runner", "SYSTEMS", "DEFAULT_ITERATIONS", "SIM_DEFAULT_SUBSTEPS", "make_runner",
-           "engine_of", "sim_world", "solver_summary", "SimRunner", "PymunkRunner",
-           "PybulletRunner", "Box2dRunner"]
+__all__ = [
+    "Runner",
+    "SYSTEMS",
+    "DEFAULT_ITERATIONS",
+    "SIM_DEFAULT_SUBSTEPS",
+    "make_runner",
+    "engine_of",
+    "sim_world",
+    "solver_summary",
+    "SimRunner",
+    "PymunkRunner",
+    "PybulletRunner",
+    "Box2dRunner",
+]

@@ -63,6 +63,7 @@ the overlap each contact keeps (up to b2_linearSlop, 5 mm per row: mean sinking 
 20, 15 cm at base 40), not an unconverged solve; more iterations only cost time (base 20: 0.37,
 0.56, 1.14 ms per step).
 """
+
 import importlib.metadata
 import math
 
@@ -95,13 +96,15 @@ def _com_pose(body):
     """Centre of mass (world, m), vertices about it (K,2) m, mass kg, moment kg m^2."""
     mass, centroid, inertia = mass_properties(body.vertices, body.density)
     c, s = math.cos(body.angle), math.sin(body.angle)
-    com = (body.position[0] + c * centroid[0] - s * centroid[1],
-           body.position[1] + s * centroid[0] + c * centroid[1])
+    com = (
+        body.position[0] + c * centroid[0] - s * centroid[1],
+        body.position[1] + s * centroid[0] + c * centroid[1],
+    )
     return com, np.asarray(body.vertices, dtype=np.float64) - centroid, mass, inertia
 
 
 def _where(kind, i, name):
-    """"body 3 (name)" for messages; "body 3" for an unnamed body (named "body 3" by sim)."""
+    """ "body 3 (name)" for messages; "body 3" for an unnamed body (named "body 3" by sim)."""
     return f"{kind} {i}" + (f" ({name})" if name and name != f"{kind} {i}" else "")
 
 
@@ -109,7 +112,7 @@ def _distance_to_boundary(points, polygon):
     """Distance of each point (P,2) to the boundary of the closed polygon (K,2), m."""
     a = polygon
     e = np.roll(polygon, -1, axis=0) - a
-    d = points[:, None, :] - a[None, :, :]                          # (P,K,2)
+    d = points[:, None, :] - a[None, :, :]  # (P,K,2)
     t = np.clip(np.einsum("pkj,kj->pk", d, e) / np.einsum("kj,kj->k", e, e), 0.0, 1.0)
     gap = d - t[:, :, None] * e[None, :, :]
     return np.hypot(gap[..., 0], gap[..., 1]).min(axis=1)
@@ -121,8 +124,10 @@ def box2d_polygon(local, where):
     ValueError, starting "box2d: <where>", if Box2D cannot hold it faithfully."""
     v = np.asarray(local, dtype=np.float64)
     if len(v) > MAX_POLYGON_VERTICES:
-        raise ValueError(f"box2d: {where} has {len(v)} vertices; Box2D 2.3 allows at most "
-                         f"{MAX_POLYGON_VERTICES} (b2_maxPolygonVertices)")
+        raise ValueError(
+            f"box2d: {where} has {len(v)} vertices; Box2D 2.3 allows at most "
+            f"{MAX_POLYGON_VERTICES} (b2_maxPolygonVertices)"
+        )
     inner = inset(v, POLYGON_RADIUS)
     e_in = np.roll(inner, -1, axis=0) - inner
     e_out = np.roll(v, -1, axis=0) - v
@@ -130,11 +135,13 @@ def box2d_polygon(local, where):
     # polygons have no zero-length edges, so the division is safe).
     along = np.einsum("ij,ij->i", e_in, e_out) / np.hypot(e_out[:, 0], e_out[:, 1])
     if np.any(along <= float(Box2D.b2_linearSlop)):
-        raise ValueError(f"box2d: {where} is too small or too thin for Box2D's "
-                         f"{POLYGON_RADIUS:g} m polygon skin (b2_polygonRadius): the polygon "
-                         f"shrunk by the skin must keep every edge longer than b2_linearSlop "
-                         f"{float(Box2D.b2_linearSlop):g} m, and its shortest would be "
-                         f"{along.min():.3g} m (negative: the edge turns round)")
+        raise ValueError(
+            f"box2d: {where} is too small or too thin for Box2D's "
+            f"{POLYGON_RADIUS:g} m polygon skin (b2_polygonRadius): the polygon "
+            f"shrunk by the skin must keep every edge longer than b2_linearSlop "
+            f"{float(Box2D.b2_linearSlop):g} m, and its shortest would be "
+            f"{along.min():.3g} m (negative: the edge turns round)"
+        )
     return inner
 
 
@@ -146,8 +153,10 @@ def _check_hull(shape, wanted, where):
     nearest = np.hypot(*(got[:, None, :] - wanted[None, :, :]).transpose(2, 0, 1)).min(axis=1)
     off = _distance_to_boundary(wanted, got)
     if nearest.max() > tol or off.max() > tol:
-        raise ValueError(f"box2d: {where}: Box2D's convex hull changed the polygon by "
-                         f"{max(nearest.max(), off.max()):.3g} m (more than float32 round-off)")
+        raise ValueError(
+            f"box2d: {where}: Box2D's convex hull changed the polygon by "
+            f"{max(nearest.max(), off.max()):.3g} m (more than float32 round-off)"
+        )
 
 
 class Box2dRunner:
@@ -162,15 +171,23 @@ class Box2dRunner:
                          against static ones, sim's "bullet" bodies against every body)
     """
 
-    def __init__(self, scene, dt=1 / 60, iterations=DEFAULT_ITERATIONS, sleeping=False,
-                 position_iterations=DEFAULT_POSITION_ITERATIONS, warm_starting=True,
-                 continuous=True):
+    def __init__(
+        self,
+        scene,
+        dt=1 / 60,
+        iterations=DEFAULT_ITERATIONS,
+        sleeping=False,
+        position_iterations=DEFAULT_POSITION_ITERATIONS,
+        warm_starting=True,
+        continuous=True,
+    ):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
         self.dt = positive(dt, "dt")
         self.iterations = count(iterations, "iterations", 1, MAX_ITERATIONS, LIMITS_WHY)
-        self.position_iterations = count(position_iterations, "position_iterations", 0,
-                                         MAX_ITERATIONS, LIMITS_WHY)
+        self.position_iterations = count(
+            position_iterations, "position_iterations", 0, MAX_ITERATIONS, LIMITS_WHY
+        )
         self.sleeping = flag(sleeping, "sleeping")
         warm_starting = flag(warm_starting, "warm_starting")
         continuous = flag(continuous, "continuous")
@@ -179,14 +196,16 @@ class Box2dRunner:
         self.step_count = 0
         scene = self.scene
         # Box2D clamps a step's motion to these; a faster body would silently be slowed.
-        self.max_speed = float(Box2D.b2_maxTranslation) / self.dt                # m/s
-        self.max_angular_speed = float(Box2D.b2_maxRotation) / self.dt           # rad/s
+        self.max_speed = float(Box2D.b2_maxTranslation) / self.dt  # m/s
+        self.max_angular_speed = float(Box2D.b2_maxRotation) / self.dt  # rad/s
         if math.hypot(*scene.gravity) * self.dt >= self.max_speed:
-            raise ValueError(f"box2d: dt {self.dt:.4g} s is too long for Box2D: one step of "
-                             f"gravity ({math.hypot(*scene.gravity) * self.dt:.4g} m/s) already "
-                             f"reaches its per-step motion limit, b2_maxTranslation "
-                             f"{float(Box2D.b2_maxTranslation):g} m / dt = "
-                             f"{self.max_speed:.4g} m/s")
+            raise ValueError(
+                f"box2d: dt {self.dt:.4g} s is too long for Box2D: one step of "
+                f"gravity ({math.hypot(*scene.gravity) * self.dt:.4g} m/s) already "
+                f"reaches its per-step motion limit, b2_maxTranslation "
+                f"{float(Box2D.b2_maxTranslation):g} m / dt = "
+                f"{self.max_speed:.4g} m/s"
+            )
 
         world = Box2D.b2World(gravity=tuple(scene.gravity), doSleep=self.sleeping)
         world.warmStarting = warm_starting
@@ -195,25 +214,30 @@ class Box2dRunner:
         self.world = world
         try:
             self._build(scene)
-        except AssertionError as exc:        # any other b2Assert while building (none known)
+        except AssertionError as exc:  # any other b2Assert while building (none known)
             raise ValueError(f"box2d: Box2D refused the scene {scene.name!r} ({exc})") from None
 
         sizes = self._sizes
         self.settings = {
-            "engine": "box2d", "system": self.name,
+            "engine": "box2d",
+            "system": self.name,
             "box2d_version": importlib.metadata.version("box2d"),
-            "precision": "float32", "dt": self.dt,
-            "iterations": self.iterations, "position_iterations": self.position_iterations,
+            "precision": "float32",
+            "dt": self.dt,
+            "iterations": self.iterations,
+            "position_iterations": self.position_iterations,
             "sleeping": self.sleeping,
             "b2_linearSleepTolerance": float(Box2D.b2_linearSleepTolerance),
             "b2_angularSleepTolerance": float(Box2D.b2_angularSleepTolerance),
             "b2_timeToSleep": float(Box2D.b2_timeToSleep),
-            "warm_starting": world.warmStarting, "continuous": world.continuousPhysics,
-            "sub_stepping": world.subStepping, "bullets": int(sum(b.bullet for b in
-                                                                 scene.bodies)),
+            "warm_starting": world.warmStarting,
+            "continuous": world.continuousPhysics,
+            "sub_stepping": world.subStepping,
+            "bullets": int(sum(b.bullet for b in scene.bodies)),
             "b2_linearSlop": float(Box2D.b2_linearSlop),
             "b2_angularSlop": float(Box2D.b2_angularSlop),
-            "b2_polygonRadius": POLYGON_RADIUS, "polygon_inset": POLYGON_RADIUS,
+            "b2_polygonRadius": POLYGON_RADIUS,
+            "polygon_inset": POLYGON_RADIUS,
             "b2_maxPolygonVertices": MAX_POLYGON_VERTICES,
             "b2_baumgarte": float(Box2D.b2_baumgarte),
             "b2_toiBaugarte": float(Box2D.b2_toiBaugarte),
@@ -221,18 +245,28 @@ class Box2dRunner:
             "b2_maxAngularCorrection": float(Box2D.b2_maxAngularCorrection),
             "b2_maxTranslation": float(Box2D.b2_maxTranslation),
             "b2_maxRotation": float(Box2D.b2_maxRotation),
-            "max_speed_m_s": self.max_speed, "max_angular_speed_rad_s": self.max_angular_speed,
+            "max_speed_m_s": self.max_speed,
+            "max_angular_speed_rad_s": self.max_angular_speed,
             "speed_limit_check": "at the end of every step() call",
             "b2_velocityThreshold": float(Box2D.b2_velocityThreshold),
             "friction_mixing": "sqrt(mu_a mu_b) = geometric mean (Box2D's own, exact)",
             "restitution_mixing": "max(e_a, e_b) (Box2D's own, exact)",
-            "linear_damping": 0.0, "angular_damping": 0.0,
+            "linear_damping": 0.0,
+            "angular_damping": 0.0,
             "mass_data": "sim's mass and inertia about the centre of mass",
-            "body_size_m": {"min": min(sizes), "max": max(sizes),
-                            "recommended": list(RECOMMENDED_SIZE)},
-            "floor": None if self.floor_span is None else
-                     {"shape": "box", "top_y": scene.floor_y, "thickness": FLOOR_THICKNESS,
-                      "x_span": list(self.floor_span)},
+            "body_size_m": {
+                "min": min(sizes),
+                "max": max(sizes),
+                "recommended": list(RECOMMENDED_SIZE),
+            },
+            "floor": None
+            if self.floor_span is None
+            else {
+                "shape": "box",
+                "top_y": scene.floor_y,
+                "thickness": FLOOR_THICKNESS,
+                "x_span": list(self.floor_span),
+            },
         }
 
     # ---- set-up -----------------------------------------------------------------------------
@@ -241,17 +275,18 @@ class Box2dRunner:
         wanted = box2d_polygon(local, where)
         try:
             shape = Box2D.b2PolygonShape(vertices=[tuple(p) for p in wanted.tolist()])
-        except AssertionError as exc:     # pybox2d's form of a b2Assert (no abort)
+        except AssertionError as exc:  # pybox2d's form of a b2Assert (no abort)
             raise ValueError(f"box2d: {where}: Box2D refused the polygon ({exc})") from None
         _check_hull(shape, wanted, where)
-        return body.CreateFixture(shape=shape, density=0.0, friction=float(friction),
-                                  restitution=float(restitution))
+        return body.CreateFixture(
+            shape=shape, density=0.0, friction=float(friction), restitution=float(restitution)
+        )
 
     def _build(self, scene):
         world = self.world
         n = scene.n_bodies
         self._bodies = []
-        self._sizes = []                  # m, each dynamic body's diameter about its centroid
+        self._sizes = []  # m, each dynamic body's diameter about its centroid
         # Each Box2D body's userData is its index in contacts(): scene body i, static n + j,
         # the floor -1.
         x_lo, x_hi = math.inf, -math.inf
@@ -265,14 +300,18 @@ class Box2dRunner:
                     f"motion per step to b2_maxTranslation {float(Box2D.b2_maxTranslation):g} m "
                     f"and b2_maxRotation {float(Box2D.b2_maxRotation):.4g} rad ("
                     f"{self.max_speed:.4g} m/s, {self.max_angular_speed:.4g} rad/s at dt "
-                    f"{self.dt:.4g} s)")
-            body = world.CreateDynamicBody(position=com, angle=float(b.angle),
-                                           bullet=bool(b.bullet), linearDamping=0.0,
-                                           angularDamping=0.0)
+                    f"{self.dt:.4g} s)"
+                )
+            body = world.CreateDynamicBody(
+                position=com,
+                angle=float(b.angle),
+                bullet=bool(b.bullet),
+                linearDamping=0.0,
+                angularDamping=0.0,
+            )
             body.sleepingAllowed = self.sleeping
             self._fixture(body, local, b.friction, b.restitution, where)
-            body.massData = Box2D.b2MassData(mass=float(mass), center=(0.0, 0.0),
-                                             I=float(inertia))
+            body.massData = Box2D.b2MassData(mass=float(mass), center=(0.0, 0.0), I=float(inertia))
             body.linearVelocity = tuple(b.velocity)
             body.angularVelocity = float(b.angular_velocity)
             self._bodies.append(body)
@@ -290,7 +329,7 @@ class Box2dRunner:
             reach = float(np.max(np.hypot(local[:, 0], local[:, 1])))
             x_lo, x_hi = min(x_lo, com[0] - reach), max(x_hi, com[0] + reach)
 
-        self.floor_span = None                     # (x_min, x_max) m of the floor box
+        self.floor_span = None  # (x_min, x_max) m of the floor box
         if scene.floor_y is not None:
             # Wider than anything travels in a run, as the other peers' floors. A box, not an
             # edge: a thick floor cannot be tunnelled through and has one well-defined top face.
@@ -298,14 +337,19 @@ class Box2dRunner:
             self.floor_span = (x_lo - margin, x_hi + margin)
             half_w = 0.5 * (self.floor_span[1] - self.floor_span[0]) - POLYGON_RADIUS
             half_h = 0.5 * FLOOR_THICKNESS - POLYGON_RADIUS
-            centre = (0.5 * (self.floor_span[0] + self.floor_span[1]),
-                      scene.floor_y - 0.5 * FLOOR_THICKNESS)
+            centre = (
+                0.5 * (self.floor_span[0] + self.floor_span[1]),
+                scene.floor_y - 0.5 * FLOOR_THICKNESS,
+            )
             # Its skin's top is floor_y (to float32 round-off: the box's top face is centre +
             # half_h = floor_y - skin).
             floor = world.CreateStaticBody(position=centre)
-            floor.CreateFixture(shape=Box2D.b2PolygonShape(box=(half_w, half_h)), density=0.0,
-                                friction=float(scene.floor_friction),
-                                restitution=float(scene.floor_restitution))
+            floor.CreateFixture(
+                shape=Box2D.b2PolygonShape(box=(half_w, half_h)),
+                density=0.0,
+                friction=float(scene.floor_friction),
+                restitution=float(scene.floor_restitution),
+            )
             floor.userData = -1
 
     @property
@@ -331,15 +375,19 @@ class Box2dRunner:
         v = self.velocities
         speed = np.hypot(v[:, 0], v[:, 1])
         spin = np.abs(self.angular_velocities)
-        fast = np.flatnonzero((speed >= self.max_speed * (1 - FLOAT32_TOL))
-                              | (spin >= self.max_angular_speed * (1 - FLOAT32_TOL)))
+        fast = np.flatnonzero(
+            (speed >= self.max_speed * (1 - FLOAT32_TOL))
+            | (spin >= self.max_angular_speed * (1 - FLOAT32_TOL))
+        )
         if fast.size:
             i = int(fast[0])
             where = _where("body", i, self.scene.body_name(i))
-            raise RuntimeError(f"box2d: {where} reached Box2D's per-step motion limit at "
-                               f"step {self.step_count} ({speed[i]:.4g} m/s, {spin[i]:.4g} "
-                               f"rad/s; limits {self.max_speed:.4g} m/s, "
-                               f"{self.max_angular_speed:.4g} rad/s)")
+            raise RuntimeError(
+                f"box2d: {where} reached Box2D's per-step motion limit at "
+                f"step {self.step_count} ({speed[i]:.4g} m/s, {spin[i]:.4g} "
+                f"rad/s; limits {self.max_speed:.4g} m/s, "
+                f"{self.max_angular_speed:.4g} rad/s)"
+            )
 
     @property
     def time(self):
@@ -386,12 +434,25 @@ class Box2dRunner:
             normal = tuple(world_manifold.normal)
             for k in range(manifold.pointCount):
                 p = manifold.points[k]
-                rows.append((a, b, *tuple(world_manifold.points[k]), *normal,
-                             p.normalImpulse, p.tangentImpulse))
+                rows.append(
+                    (
+                        a,
+                        b,
+                        *tuple(world_manifold.points[k]),
+                        *normal,
+                        p.normalImpulse,
+                        p.tangentImpulse,
+                    )
+                )
         table = np.array(rows, dtype=np.float64).reshape(len(rows), 8)
-        return {"body_a": table[:, 0].astype(np.int64), "body_b": table[:, 1].astype(np.int64),
-                "point": table[:, 2:4], "normal": table[:, 4:6],
-                "normal_impulse": table[:, 6], "tangent_impulse": table[:, 7]}
+        return {
+            "body_a": table[:, 0].astype(np.int64),
+            "body_b": table[:, 1].astype(np.int64),
+            "point": table[:, 2:4],
+            "normal": table[:, 4:6],
+            "normal_impulse": table[:, 6],
+            "tangent_impulse": table[:, 7],
+        }
 
     # ---- lifetime ---------------------------------------------------------------------------
     def close(self):
@@ -406,6 +467,8 @@ class Box2dRunner:
         self.close()
 
     def __repr__(self):
-        return (f"Box2dRunner(scene={self.scene.name!r}, bodies={self.scene.n_bodies}, "
-                f"dt={self.dt}, iterations={self.iterations}/{self.position_iterations}, "
-                f"sleeping={self.sleeping}, step={self.step_count})")
+        return (
+            f"Box2dRunner(scene={self.scene.name!r}, bodies={self.scene.n_bodies}, "
+            f"dt={self.dt}, iterations={self.iterations}/{self.position_iterations}, "
+            f"sleeping={self.sleeping}, step={self.step_count})"
+        )

@@ -5,7 +5,8 @@ Axes and angles
 - sim's plane (x, y) is Bullet's x-z plane: sim x -> Bullet x, sim y -> Bullet z, gravity along -z.
   sim's angle is counter-clockwise about sim's +z (out of the screen), which is Bullet's -y
   (x cross z = -y), so a sim angle theta is a rotation by -theta about Bullet's +y, and a sim
-  angular velocity w is -w about +y. (tests/adapters/test_pybullet_runner.py checks the world vertices of a
+  angular velocity w is -w about +y. (tests/adapters/test_pybullet_runner.py checks the world
+  vertices of a
   rotated box.)
 - Each dynamic body is its own URDF: a massless fixed base and one link joined to it by a `planar`
   joint (axis y). The link can only translate in x-z and rotate about y, so bodies stay exactly in
@@ -70,6 +71,7 @@ Measured deviations (tests/adapters/test_pybullet_runner.py pins them; dt 1/60)
   2.4 cm in 5 s (sim 2e-7 m, pymunk 1 cm), of a base-20 one 0.14 m (mean sinking 2.5 cm), of a
   base-40 one 0.9 m (sinking 10 cm). With 10 iterations: base 20 0.78 m, base 40 collapses.
 """
+
 import importlib.metadata
 import inspect
 import math
@@ -109,16 +111,21 @@ def _com_pose(body):
     """Centre of mass (world, m), vertices about it (K,2) m, mass kg, moment kg m^2."""
     mass, centroid, inertia = mass_properties(body.vertices, body.density)
     c, s = math.cos(body.angle), math.sin(body.angle)
-    com = (body.position[0] + c * centroid[0] - s * centroid[1],
-           body.position[1] + s * centroid[0] + c * centroid[1])
+    com = (
+        body.position[0] + c * centroid[0] - s * centroid[1],
+        body.position[1] + s * centroid[0] + c * centroid[1],
+    )
     return com, np.asarray(body.vertices, dtype=np.float64) - centroid, mass, inertia
 
 
 def _x_extent(scene):
     """Smallest and largest x any body or static polygon reaches at the start, m."""
-    xs = [c[0] + sign * float(np.max(np.hypot(local[:, 0], local[:, 1])))
-          for b in list(scene.bodies) + list(scene.static_bodies)
-          for c, local, _, _ in [_com_pose(b)] for sign in (-1.0, 1.0)]
+    xs = [
+        c[0] + sign * float(np.max(np.hypot(local[:, 0], local[:, 1])))
+        for b in list(scene.bodies) + list(scene.static_bodies)
+        for c, local, _, _ in [_com_pose(b)]
+        for sign in (-1.0, 1.0)
+    ]
     return min(xs), max(xs)
 
 
@@ -149,8 +156,8 @@ def inset(local, distance):
     v = np.asarray(local, dtype=np.float64)
     e = np.roll(v, -1, axis=0) - v
     n = np.stack([e[:, 1], -e[:, 0]], axis=1)
-    n /= np.hypot(n[:, 0], n[:, 1])[:, None]            # outward normal of edge i (v_i -> v_i+1)
-    n_prev = np.roll(n, 1, axis=0)                       # edge ending at vertex i
+    n /= np.hypot(n[:, 0], n[:, 1])[:, None]  # outward normal of edge i (v_i -> v_i+1)
+    n_prev = np.roll(n, 1, axis=0)  # edge ending at vertex i
     # vertex i moves to where the two offset edges meet: along n_prev + n by d / (1 + n_prev.n)
     denom = 1.0 + np.einsum("ij,ij->i", n_prev, n)
     return v - distance * (n_prev + n) / denom[:, None]
@@ -162,12 +169,13 @@ def _obj_text(local):
     v = inset(local, COLLISION_MARGIN)
     k = len(v)
     y = HALF_DEPTH - COLLISION_MARGIN
-    lines = ([f"v {_num(x)} {_num(-y)} {_num(z)}" for x, z in v]
-             + [f"v {_num(x)} {_num(y)} {_num(z)}" for x, z in v])
-    for i in range(1, k - 1):                             # caps as fans (OBJ indices from 1)
+    lines = [f"v {_num(x)} {_num(-y)} {_num(z)}" for x, z in v] + [
+        f"v {_num(x)} {_num(y)} {_num(z)}" for x, z in v
+    ]
+    for i in range(1, k - 1):  # caps as fans (OBJ indices from 1)
         lines.append(f"f 1 {i + 2} {i + 1}")
         lines.append(f"f {k + 1} {k + i + 1} {k + i + 2}")
-    for i in range(k):                                    # sides as two triangles each
+    for i in range(k):  # sides as two triangles each
         j = (i + 1) % k
         lines.append(f"f {i + 1} {j + 1} {k + j + 1}")
         lines.append(f"f {i + 1} {k + j + 1} {k + i + 1}")
@@ -234,7 +242,8 @@ def restitution_values(scene):
 
     Returns (bodies (N,) array, environment value for the floor and static bodies, exact flag)."""
     env = ([scene.floor_restitution] if scene.floor_y is not None else []) + [
-        b.restitution for b in scene.static_bodies]
+        b.restitution for b in scene.static_bodies
+    ]
     e = np.array([b.restitution for b in scene.bodies], dtype=np.float64)
     stored = np.maximum(e, max(env)) if env else e.copy()
     env_value = 1.0
@@ -244,8 +253,9 @@ def restitution_values(scene):
     values, counts = np.unique(np.stack([e, stored], axis=1), axis=0, return_counts=True)
     for a in range(len(values)):
         for b in range(a, len(values)):
-            if (a != b or counts[a] > 1) and \
-                    values[a, 1] * values[b, 1] != max(values[a, 0], values[b, 0]):
+            if (a != b or counts[a] > 1) and values[a, 1] * values[b, 1] != max(
+                values[a, 0], values[b, 0]
+            ):
                 exact = False
     return stored, env_value, exact
 
@@ -259,8 +269,15 @@ class PybulletRunner:
     restitution_threshold  m/s, impacts slower than this do not bounce (sim's default, 1.0)
     """
 
-    def __init__(self, scene, dt=1 / 60, iterations=DEFAULT_ITERATIONS, sleeping=False,
-                 sleep_threshold=None, restitution_threshold=RESTITUTION_THRESHOLD):
+    def __init__(
+        self,
+        scene,
+        dt=1 / 60,
+        iterations=DEFAULT_ITERATIONS,
+        sleeping=False,
+        sleep_threshold=None,
+        restitution_threshold=RESTITUTION_THRESHOLD,
+    ):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
         self.dt = positive(dt, "dt")
@@ -268,8 +285,9 @@ class PybulletRunner:
         self.sleeping = flag(sleeping, "sleeping")
         if sleep_threshold is not None:
             sleep_threshold = positive(sleep_threshold, "sleep_threshold", allow_zero=True)
-        restitution_threshold = positive(restitution_threshold, "restitution_threshold",
-                                         allow_zero=True)
+        restitution_threshold = positive(
+            restitution_threshold, "restitution_threshold", allow_zero=True
+        )
         # a copy: edits to the caller's scene after this do not reach the run (nor its reports)
         self.scene = scene.snapshot()
         self.step_count = 0
@@ -286,21 +304,24 @@ class PybulletRunner:
     def _build(self, scene, iterations, sleep_threshold, restitution_threshold):
         c = self._client
         pb.setGravity(scene.gravity[0], 0.0, scene.gravity[1], physicsClientId=c)
-        pb.setPhysicsEngineParameter(fixedTimeStep=self.dt, numSubSteps=0,
-                                     numSolverIterations=iterations,
-                                     restitutionVelocityThreshold=restitution_threshold,
-                                     physicsClientId=c)
+        pb.setPhysicsEngineParameter(
+            fixedTimeStep=self.dt,
+            numSubSteps=0,
+            numSolverIterations=iterations,
+            restitutionVelocityThreshold=restitution_threshold,
+            physicsClientId=c,
+        )
         stored_e, env_e, exact_e = restitution_values(scene)
         flags = pb.URDF_USE_INERTIA_FROM_FILE | (pb.URDF_ENABLE_SLEEPING if self.sleeping else 0)
-        self._ids = []                      # pybullet body id of scene body i
+        self._ids = []  # pybullet body id of scene body i
         self._mass = np.empty(len(scene.bodies))
         self._inertia = np.empty(len(scene.bodies))
         self._angle0 = np.empty(len(scene.bodies))
         self._com0 = np.empty((len(scene.bodies), 2))
-        self._kick = []                     # (body id, force, torque) applied in the first step
+        self._kick = []  # (body id, force, torque) applied in the first step
         shapes = {"box": 0, "mesh": 0}
         folder = tempfile.mkdtemp(prefix="freeze2d-pybullet-")
-        self.files_folder = folder          # deleted below; kept as a name for tests
+        self.files_folder = folder  # deleted below; kept as a name for tests
         try:
             for i, b in enumerate(scene.bodies):
                 com, local, mass, inertia = _com_pose(b)
@@ -314,20 +335,39 @@ class PybulletRunner:
                     kwargs["sleepThreshold"] = float(sleep_threshold)
                 # Two calls: given damping or maxJointVelocity, changeDynamics silently skips
                 # the link's material (lateralFriction stayed 0.5 when they shared one call).
-                pb.changeDynamics(uid, 0, lateralFriction=math.sqrt(b.friction),
-                                  restitution=float(stored_e[i]), rollingFriction=0.0,
-                                  spinningFriction=0.0, jointDamping=0.0, frictionAnchor=0,
-                                  physicsClientId=c, **kwargs)
-                pb.changeDynamics(uid, 0, linearDamping=0.0, angularDamping=0.0,
-                                  maxJointVelocity=MAX_JOINT_VELOCITY, physicsClientId=c)
+                pb.changeDynamics(
+                    uid,
+                    0,
+                    lateralFriction=math.sqrt(b.friction),
+                    restitution=float(stored_e[i]),
+                    rollingFriction=0.0,
+                    spinningFriction=0.0,
+                    jointDamping=0.0,
+                    frictionAnchor=0,
+                    physicsClientId=c,
+                    **kwargs,
+                )
+                pb.changeDynamics(
+                    uid,
+                    0,
+                    linearDamping=0.0,
+                    angularDamping=0.0,
+                    maxJointVelocity=MAX_JOINT_VELOCITY,
+                    physicsClientId=c,
+                )
                 self._ids.append(uid)
                 self._mass[i], self._inertia[i] = mass, inertia
                 self._angle0[i], self._com0[i] = b.angle, com
                 vx, vy = b.velocity
                 if vx or vy or b.angular_velocity:
-                    self._kick.append((uid, [mass * vx / self.dt, 0.0, mass * vy / self.dt],
-                                       [com[0], 0.0, com[1]],
-                                       [0.0, -inertia * b.angular_velocity / self.dt, 0.0]))
+                    self._kick.append(
+                        (
+                            uid,
+                            [mass * vx / self.dt, 0.0, mass * vy / self.dt],
+                            [com[0], 0.0, com[1]],
+                            [0.0, -inertia * b.angular_velocity / self.dt, 0.0],
+                        )
+                    )
             self._static_ids = []
             for j, b in enumerate(scene.static_bodies):
                 com, local, _, _ = _com_pose(b)
@@ -335,18 +375,28 @@ class PybulletRunner:
                 shapes[kind] += 1
                 path = Path(folder) / f"static{j}.urdf"
                 path.write_text(_static_urdf(geometry))
-                uid = pb.loadURDF(str(path), basePosition=(com[0], 0.0, com[1]),
-                                  baseOrientation=_pitch_quaternion(b.angle), useFixedBase=True,
-                                  physicsClientId=c)
-                pb.changeDynamics(uid, -1, lateralFriction=math.sqrt(b.friction),
-                                  restitution=env_e, rollingFriction=0.0, spinningFriction=0.0,
-                                  physicsClientId=c)
+                uid = pb.loadURDF(
+                    str(path),
+                    basePosition=(com[0], 0.0, com[1]),
+                    baseOrientation=_pitch_quaternion(b.angle),
+                    useFixedBase=True,
+                    physicsClientId=c,
+                )
+                pb.changeDynamics(
+                    uid,
+                    -1,
+                    lateralFriction=math.sqrt(b.friction),
+                    restitution=env_e,
+                    rollingFriction=0.0,
+                    spinningFriction=0.0,
+                    physicsClientId=c,
+                )
                 self._static_ids.append(uid)
         finally:
             shutil.rmtree(folder, ignore_errors=True)
 
         self._floor = None
-        self.floor_span = None              # (x_min, x_max) m of the floor box
+        self.floor_span = None  # (x_min, x_max) m of the floor box
         if scene.floor_y is not None:
             # A box rather than a plane: against Bullet's plane a resting box gets one contact
             # point in its first step (a corner) and is knocked ~1 mm sideways; box-box contacts
@@ -354,43 +404,71 @@ class PybulletRunner:
             x_lo, x_hi = _x_extent(scene)
             margin = (x_hi - x_lo) + 1000.0
             self.floor_span = (x_lo - margin, x_hi + margin)
-            half = (0.5 * (self.floor_span[1] - self.floor_span[0]), 2 * HALF_DEPTH,
-                    0.5 * FLOOR_THICKNESS)
+            half = (
+                0.5 * (self.floor_span[1] - self.floor_span[0]),
+                2 * HALF_DEPTH,
+                0.5 * FLOOR_THICKNESS,
+            )
             shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=c)
-            centre = (0.5 * (self.floor_span[0] + self.floor_span[1]), 0.0,
-                      scene.floor_y - 0.5 * FLOOR_THICKNESS)
+            centre = (
+                0.5 * (self.floor_span[0] + self.floor_span[1]),
+                0.0,
+                scene.floor_y - 0.5 * FLOOR_THICKNESS,
+            )
             self._floor = pb.createMultiBody(0.0, shape, -1, centre, physicsClientId=c)
-            pb.changeDynamics(self._floor, -1, lateralFriction=math.sqrt(scene.floor_friction),
-                              restitution=env_e, rollingFriction=0.0, spinningFriction=0.0,
-                              physicsClientId=c)
+            pb.changeDynamics(
+                self._floor,
+                -1,
+                lateralFriction=math.sqrt(scene.floor_friction),
+                restitution=env_e,
+                rollingFriction=0.0,
+                spinningFriction=0.0,
+                physicsClientId=c,
+            )
 
         self._cache_step = -1
         self._cache = None
-        self._previous = None               # (positions, joint angles) before the last step
+        self._previous = None  # (positions, joint angles) before the last step
         self.settings = {
-            "engine": "pybullet", "system": self.name,
+            "engine": "pybullet",
+            "system": self.name,
             "pybullet_version": importlib.metadata.version("pybullet"),
-            "pybullet_api_version": pb.getAPIVersion(physicsClientId=c), "dt": self.dt,
-            "iterations": iterations, "num_sub_steps": 0,
-            "sleeping": self.sleeping, "deactivation_time_s": DEACTIVATION_TIME,
-            "sleep_threshold": DEFAULT_SLEEP_THRESHOLD if sleep_threshold is None
-                               else float(sleep_threshold),
+            "pybullet_api_version": pb.getAPIVersion(physicsClientId=c),
+            "dt": self.dt,
+            "iterations": iterations,
+            "num_sub_steps": 0,
+            "sleeping": self.sleeping,
+            "deactivation_time_s": DEACTIVATION_TIME,
+            "sleep_threshold": DEFAULT_SLEEP_THRESHOLD
+            if sleep_threshold is None
+            else float(sleep_threshold),
             "restitution_velocity_threshold": restitution_threshold,
-            "joint": "planar (axis y), fixed massless base", "inertia": "from URDF (sim's)",
+            "joint": "planar (axis y), fixed massless base",
+            "inertia": "from URDF (sim's)",
             "shapes": {"box": shapes["box"], "convex_mesh": shapes["mesh"]},
-            "collision_margin": COLLISION_MARGIN, "mesh_inset": COLLISION_MARGIN,
+            "collision_margin": COLLISION_MARGIN,
+            "mesh_inset": COLLISION_MARGIN,
             "extrusion_depth": 2 * HALF_DEPTH,
-            "linear_damping": 0.0, "angular_damping": 0.0, "joint_damping": 0.0,
-            "rolling_friction": 0.0, "spinning_friction": 0.0, "friction_anchor": False,
+            "linear_damping": 0.0,
+            "angular_damping": 0.0,
+            "joint_damping": 0.0,
+            "rolling_friction": 0.0,
+            "spinning_friction": 0.0,
+            "friction_anchor": False,
             "max_joint_velocity": MAX_JOINT_VELOCITY,
             "friction_mixing": "product of sqrt(mu) = geometric mean (exact)",
             "restitution_mixing": "product; floor and statics store 1.0, bodies "
-                                  "max(e_body, e_environment)",
+            "max(e_body, e_environment)",
             "restitution_exact_for_all_pairs": bool(exact_e),
             "initial_velocity": "impulse over the first step",
-            "floor": None if self._floor is None else
-                     {"shape": "box", "top_z": scene.floor_y, "thickness": FLOOR_THICKNESS,
-                      "x_span": list(self.floor_span)},
+            "floor": None
+            if self._floor is None
+            else {
+                "shape": "box",
+                "top_z": scene.floor_y,
+                "thickness": FLOOR_THICKNESS,
+                "x_span": list(self.floor_span),
+            },
         }
 
     @property
@@ -407,7 +485,7 @@ class PybulletRunner:
             return self
         c = self._client
         step = pb.stepSimulation
-        if self._kick:                                   # initial velocities, see the docstring
+        if self._kick:  # initial velocities, see the docstring
             for uid, force, at, torque in self._kick:
                 pb.applyExternalForce(uid, 0, force, at, pb.WORLD_FRAME, physicsClientId=c)
                 pb.applyExternalTorque(uid, 0, torque, pb.WORLD_FRAME, physicsClientId=c)
@@ -415,7 +493,7 @@ class PybulletRunner:
             step(physicsClientId=c)
             self.step_count += 1
             n -= 1
-        if self.sleeping and n:                          # keep the pose before the last step
+        if self.sleeping and n:  # keep the pose before the last step
             for _ in range(n - 1):
                 step(physicsClientId=c)
             self.step_count += n - 1
@@ -459,8 +537,9 @@ class PybulletRunner:
         raw_orn = np.empty((n, 4))
         raw_vel = np.empty((n, 6))
         for i, uid in enumerate(self._ids):
-            s = pb.getLinkState(uid, 0, computeLinkVelocity=1, computeForwardKinematics=1,
-                                physicsClientId=c)
+            s = pb.getLinkState(
+                uid, 0, computeLinkVelocity=1, computeForwardKinematics=1, physicsClientId=c
+            )
             raw_pos[i], raw_orn[i] = s[0], s[1]
             raw_vel[i, :3], raw_vel[i, 3:] = s[6], s[7]
             q0[i] = pb.getJointState(uid, 0, physicsClientId=c)[0]
@@ -468,7 +547,7 @@ class PybulletRunner:
         vel[:, 0], vel[:, 1] = raw_vel[:, 0], raw_vel[:, 2]
         w[:] = -raw_vel[:, 4]
         angles = self._angle0 - q0
-        if self.step_count == 0:                        # the first-step impulse is still pending
+        if self.step_count == 0:  # the first-step impulse is still pending
             vel = np.array([b.velocity for b in self.scene.bodies], dtype=np.float64)
             w = np.array([b.angular_velocity for b in self.scene.bodies], dtype=np.float64)
         self._cache = (pos, angles, vel, w, q0, raw_pos, raw_orn, raw_vel)
@@ -504,7 +583,7 @@ class PybulletRunner:
             return np.zeros(n, dtype=bool)
         pos, _, _, _, q0, _, _, raw_vel = self._read()
         prev_pos, prev_q0 = self._previous
-        return ((raw_vel == 0.0).all(axis=1) & (pos == prev_pos).all(axis=1) & (q0 == prev_q0))
+        return (raw_vel == 0.0).all(axis=1) & (pos == prev_pos).all(axis=1) & (q0 == prev_q0)
 
     def out_of_plane(self):
         """How far the bodies left the x-z plane: dict of max |y| of the centres of mass (m), max
@@ -513,20 +592,29 @@ class PybulletRunner:
         _, _, _, _, _, raw_pos, raw_orn, raw_vel = self._read()
         qx, qz = raw_orn[:, 0], raw_orn[:, 2]
         tilt = np.arccos(np.clip(1.0 - 2.0 * (qx * qx + qz * qz), -1.0, 1.0))
-        base = max((math.hypot(*pb.getBasePositionAndOrientation(uid, physicsClientId=self._client)[0])
-                    for uid in self._ids), default=0.0)
-        return {"max_abs_y_m": float(np.abs(raw_pos[:, 1]).max()),
-                "max_tilt_rad": float(tilt.max()),
-                "max_abs_vy_m_s": float(np.abs(raw_vel[:, 1]).max()),
-                "max_abs_wxz_rad_s": float(np.abs(raw_vel[:, [3, 5]]).max()),
-                "max_base_drift_m": float(base)}
+        base = max(
+            (
+                math.hypot(*pb.getBasePositionAndOrientation(uid, physicsClientId=self._client)[0])
+                for uid in self._ids
+            ),
+            default=0.0,
+        )
+        return {
+            "max_abs_y_m": float(np.abs(raw_pos[:, 1]).max()),
+            "max_tilt_rad": float(tilt.max()),
+            "max_abs_vy_m_s": float(np.abs(raw_vel[:, 1]).max()),
+            "max_abs_wxz_rad_s": float(np.abs(raw_vel[:, [3, 5]]).max()),
+            "max_base_drift_m": float(base),
+        }
 
     def vertices(self, i):
         """World vertices (K,2) of dynamic body ``i`` as Bullet places its shape: the scene's
         polygon carried by the link's position and quaternion (for axis tests)."""
         _, _, _, _, _, raw_pos, raw_orn, _ = self._read()
         _, local, _, _ = _com_pose(self.scene.bodies[i])
-        m = np.array(pb.getMatrixFromQuaternion(raw_orn[i].tolist()), dtype=np.float64).reshape(3, 3)
+        m = np.array(pb.getMatrixFromQuaternion(raw_orn[i].tolist()), dtype=np.float64).reshape(
+            3, 3
+        )
         pts = np.stack([local[:, 0], np.zeros(len(local)), local[:, 1]], axis=1) @ m.T + raw_pos[i]
         return pts[:, [0, 2]]
 
@@ -538,9 +626,9 @@ class PybulletRunner:
         k = len(found)
         point, normal, impulse = np.empty((k, 2)), np.empty((k, 2)), np.empty(k)
         for j, c in enumerate(found):
-            point[j] = c[6][0], c[6][2]            # positionOnB, x-z plane -> 2D
+            point[j] = c[6][0], c[6][2]  # positionOnB, x-z plane -> 2D
             normal[j] = c[7][0], c[7][2]
-            impulse[j] = c[9] * self.dt            # normalForce
+            impulse[j] = c[9] * self.dt  # normalForce
         return {"point": point, "normal": normal, "normal_impulse": impulse}
 
     # ---- lifetime ---------------------------------------------------------------------------
@@ -550,7 +638,7 @@ class PybulletRunner:
         if client is not None and client >= 0:
             try:
                 pb.disconnect(physicsClientId=client)
-            except Exception:            # already gone, or pybullet torn down at exit
+            except Exception:  # already gone, or pybullet torn down at exit
                 pass
 
     def __enter__(self):
@@ -563,6 +651,8 @@ class PybulletRunner:
         self.close()
 
     def __repr__(self):
-        return (f"PybulletRunner(scene={self.scene.name!r}, bodies={len(self.scene.bodies)}, "
-                f"dt={self.dt}, iterations={self.settings.get('iterations')}, "
-                f"sleeping={self.sleeping}, step={self.step_count})")
+        return (
+            f"PybulletRunner(scene={self.scene.name!r}, bodies={len(self.scene.bodies)}, "
+            f"dt={self.dt}, iterations={self.settings.get('iterations')}, "
+            f"sleeping={self.sleeping}, step={self.step_count})"
+        )

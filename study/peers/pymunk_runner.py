@@ -35,11 +35,12 @@ measures make it depend on neither:
   the body frame, ties (within round-off) broken by the rightmost: for an axis-aligned box exactly
   create_box's order, and for any polygon independent of where the caller's list started.
 """
+
 import math
 
 import numpy as np
 import pymunk
-from pymunk._chipmunk import lib as _chipmunk   # the C API; pymunk's own pickling uses this call
+from pymunk._chipmunk import lib as _chipmunk  # the C API; pymunk's own pickling uses this call
 
 from sim.arguments import count, flag, positive
 from sim.geometry import MAX_VERTICES, mass_properties
@@ -67,8 +68,10 @@ def _com_pose(body):
     """Centre of mass (world, m), local vertices about it (K,2) m, mass kg, moment kg m^2."""
     mass, centroid, inertia = mass_properties(body.vertices, body.density)
     c, s = math.cos(body.angle), math.sin(body.angle)
-    com = (body.position[0] + c * centroid[0] - s * centroid[1],
-           body.position[1] + s * centroid[0] + c * centroid[1])
+    com = (
+        body.position[0] + c * centroid[0] - s * centroid[1],
+        body.position[1] + s * centroid[0] + c * centroid[1],
+    )
     return com, canonical_vertices(body.vertices - centroid), mass, inertia
 
 
@@ -76,7 +79,7 @@ def _poly(pm_body, local):
     """A Poly with exactly these vertices in this order (Poly() would reorder them by its hull)."""
     verts = [tuple(p) for p in local.tolist()]
     shape = pymunk.Poly(pm_body, verts)
-    shape.unsafe_set_vertices(verts)      # raw: safe here, the shape is not in a space yet
+    shape.unsafe_set_vertices(verts)  # raw: safe here, the shape is not in a space yet
     return shape
 
 
@@ -96,16 +99,25 @@ class PymunkRunner:
     collision_slop  m of penetration Chipmunk leaves uncorrected (sim's ``slop``)
     """
 
-    def __init__(self, scene, dt=1 / 60, iterations=10, sleeping=False, sleep_time=0.5,
-                 idle_speed=None, collision_slop=0.005):
+    def __init__(
+        self,
+        scene,
+        dt=1 / 60,
+        iterations=10,
+        sleeping=False,
+        sleep_time=0.5,
+        idle_speed=None,
+        collision_slop=0.005,
+    ):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
         self.dt = positive(dt, "dt")
         iterations = count(iterations, "iterations", 1, MAX_ITERATIONS, LIMITS_WHY)
         sleeping = flag(sleeping, "sleeping")
         sleep_time = positive(sleep_time, "sleep_time", allow_zero=True)
-        idle_speed = None if idle_speed is None else positive(idle_speed, "idle_speed",
-                                                              allow_zero=True)
+        idle_speed = (
+            None if idle_speed is None else positive(idle_speed, "idle_speed", allow_zero=True)
+        )
         collision_slop = positive(collision_slop, "collision_slop", allow_zero=True)
         # a copy: edits to the caller's scene after this do not reach the run (nor its reports)
         self.scene = scene.snapshot()
@@ -140,41 +152,54 @@ class PymunkRunner:
             pm.position, pm.angle = com, b.angle
             space.add(pm, self._material(_poly(pm, local), b.friction, b.restitution))
 
-        self.floor_span = None                     # (x_min, x_max) m of the floor segment
+        self.floor_span = None  # (x_min, x_max) m of the floor segment
         if scene.floor_y is not None:
             # Wider than anything travels in a run: the scene's extent again plus 1 km each side.
             margin = (x_hi - x_lo) + 1000.0
             self.floor_span = (x_lo - margin, x_hi + margin)
-            floor = pymunk.Segment(space.static_body, (self.floor_span[0], scene.floor_y),
-                                   (self.floor_span[1], scene.floor_y), 0.0)
+            floor = pymunk.Segment(
+                space.static_body,
+                (self.floor_span[0], scene.floor_y),
+                (self.floor_span[1], scene.floor_y),
+                0.0,
+            )
             space.add(self._material(floor, scene.floor_friction, scene.floor_restitution))
 
-        if min(s._hashid for s in space.shapes) < SHAPE_ID_START:   # pymunk changed underneath
+        if min(s._hashid for s in space.shapes) < SHAPE_ID_START:  # pymunk changed underneath
             raise RuntimeError("pymunk ignored the shape id counter; see the module docstring")
 
         bouncy = (scene.floor_restitution > 0 and scene.floor_y is not None) or any(
-            b.restitution > 0 for b in list(scene.bodies) + list(scene.static_bodies))
+            b.restitution > 0 for b in list(scene.bodies) + list(scene.static_bodies)
+        )
         if bouncy:
             space.on_collision(None, None, pre_solve=_max_restitution)
         self.sleeping = bool(sleeping)
         self.settings = {
-            "engine": "pymunk", "system": self.name, "pymunk_version": pymunk.version,
-            "chipmunk_version": pymunk.chipmunk_version, "dt": self.dt,
-            "iterations": space.iterations, "sleeping": self.sleeping,
+            "engine": "pymunk",
+            "system": self.name,
+            "pymunk_version": pymunk.version,
+            "chipmunk_version": pymunk.chipmunk_version,
+            "dt": self.dt,
+            "iterations": space.iterations,
+            "sleeping": self.sleeping,
             "sleep_time_threshold": space.sleep_time_threshold,
             "idle_speed_threshold": space.idle_speed_threshold,
-            "collision_slop": space.collision_slop, "collision_bias": space.collision_bias,
-            "collision_persistence": space.collision_persistence, "damping": space.damping,
-            "restitution_max_handler": bouncy, "shape_id_start": SHAPE_ID_START,
+            "collision_slop": space.collision_slop,
+            "collision_bias": space.collision_bias,
+            "collision_persistence": space.collision_persistence,
+            "damping": space.damping,
+            "restitution_max_handler": bouncy,
+            "shape_id_start": SHAPE_ID_START,
             "polygon_vertices": "raw, lowest-then-rightmost first",
-            "floor": None if self.floor_span is None else
-                     {"shape": "segment", "radius": 0.0, "x_span": list(self.floor_span)},
+            "floor": None
+            if self.floor_span is None
+            else {"shape": "segment", "radius": 0.0, "x_span": list(self.floor_span)},
         }
 
     @staticmethod
     def _material(shape, friction, restitution):
-        shape.friction = math.sqrt(friction)      # product of two sqrt = geometric mean
-        shape.elasticity = restitution            # read back by _max_restitution
+        shape.friction = math.sqrt(friction)  # product of two sqrt = geometric mean
+        shape.elasticity = restitution  # read back by _max_restitution
         return shape
 
     @property
@@ -230,7 +255,7 @@ class PymunkRunner:
 
         def add(arbiter):
             key = frozenset(id(s) for s in arbiter.shapes)
-            if key in seen:                       # an arbiter between two bodies is seen twice
+            if key in seen:  # an arbiter between two bodies is seen twice
                 return
             seen.add(key)
             cps = arbiter.contact_point_set
@@ -246,9 +271,11 @@ class PymunkRunner:
         for body in self._bodies:
             body.each_arbiter(add)
         k = len(point)
-        return {"point": np.array(point, dtype=np.float64).reshape(k, 2),
-                "normal": np.array(normal, dtype=np.float64).reshape(k, 2),
-                "normal_impulse": np.array(impulse, dtype=np.float64)}
+        return {
+            "point": np.array(point, dtype=np.float64).reshape(k, 2),
+            "normal": np.array(normal, dtype=np.float64).reshape(k, 2),
+            "normal_impulse": np.array(impulse, dtype=np.float64),
+        }
 
     def close(self):
         """Nothing to release (the space is freed with the runner); here so every runner can be
@@ -261,6 +288,8 @@ class PymunkRunner:
         self.close()
 
     def __repr__(self):
-        return (f"PymunkRunner(scene={self.scene.name!r}, bodies={len(self._bodies)}, "
-                f"dt={self.dt}, iterations={self.space.iterations}, sleeping={self.sleeping}, "
-                f"step={self.step_count})")
+        return (
+            f"PymunkRunner(scene={self.scene.name!r}, bodies={len(self._bodies)}, "
+            f"dt={self.dt}, iterations={self.space.iterations}, sleeping={self.sleeping}, "
+            f"step={self.step_count})"
+        )

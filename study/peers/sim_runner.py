@@ -13,6 +13,7 @@ validation), so a results file says which solver configuration produced it.
 VERTICAL_STABLE under ``paper``). A ``paper`` body that is VERTICAL_STABLE and pivoting, or
 ROTATION_STABLE and still sliding, is awake: ``states`` says which.
 """
+
 import inspect
 
 import sim
@@ -27,10 +28,22 @@ DEFAULT_SUBSTEPS = _DEFAULTS["substeps"].default
 #: sim.World's settings recorded in ``settings`` (besides dt, iterations, freeze), as the World
 #: holds them: the soft step's knobs (substeps, relax sweeps, contact stiffness and damping, push
 #: speed, load time), the contact tolerances, and the switches.
-_WORLD_SETTINGS = ("substeps", "relax_iterations", "contact_hertz", "damping_ratio",
-                   "push_speed", "load_time", "slop", "speculative_distance",
-                   "restitution_threshold", "warm_starting", "continuous", "overlap_tolerance",
-                   "initial_iterations", "fast_paths")
+_WORLD_SETTINGS = (
+    "substeps",
+    "relax_iterations",
+    "contact_hertz",
+    "damping_ratio",
+    "push_speed",
+    "load_time",
+    "slop",
+    "speculative_distance",
+    "restitution_threshold",
+    "warm_starting",
+    "continuous",
+    "overlap_tolerance",
+    "initial_iterations",
+    "fast_paths",
+)
 
 
 class SimRunner:
@@ -40,22 +53,26 @@ class SimRunner:
     def __init__(self, scene, dt=1 / 60, iterations=None, freeze="off", **world_settings):
         if iterations is None:
             iterations = DEFAULT_ITERATIONS
-        self.world = sim.World(scene, dt=dt, iterations=iterations, freeze=freeze,
-                               **world_settings)
+        self.world = sim.World(scene, dt=dt, iterations=iterations, freeze=freeze, **world_settings)
         self.scene = self.world.scene
         self.freeze = freeze
         w = self.world
-        self.settings = {"engine": "sim", "system": self.name, "dt": w.dt,
-                         "iterations": w.iterations, "freeze": w.freeze,
-                         "policy_parameters": dict(w.policy_parameters),
-                         "solver": "soft step (Box2D v3): iterations are biased sweeps per "
-                                   "substep",
-                         **{k: getattr(w, k) for k in _WORLD_SETTINGS},
-                         # Hz before the per-pair rules (raised for small bodies, doubled
-                         # against immovable ones, capped: sim.soft_step.pair_hertz); None
-                         # above means the cap, DYNAMIC_CAP of the substep rate
-                         "contact_hertz_base": (w.contact_hertz if w.contact_hertz is not None
-                                                else DYNAMIC_CAP * w.substeps / w.dt)}
+        self.settings = {
+            "engine": "sim",
+            "system": self.name,
+            "dt": w.dt,
+            "iterations": w.iterations,
+            "freeze": w.freeze,
+            "policy_parameters": dict(w.policy_parameters),
+            "solver": "soft step (Box2D v3): iterations are biased sweeps per substep",
+            **{k: getattr(w, k) for k in _WORLD_SETTINGS},
+            # Hz before the per-pair rules (raised for small bodies, doubled
+            # against immovable ones, capped: sim.soft_step.pair_hertz); None
+            # above means the cap, DYNAMIC_CAP of the substep rate
+            "contact_hertz_base": (
+                w.contact_hertz if w.contact_hertz is not None else DYNAMIC_CAP * w.substeps / w.dt
+            ),
+        }
 
     @property
     def name(self):
@@ -108,8 +125,7 @@ class SimRunner:
         """The contact points of the last step: {"point": (K,2) m, "normal": (K,2) unit, A to B,
         "normal_impulse": (K,) N s along the normal over the whole step} (World.contacts)."""
         c = self.world.contacts()
-        return {"point": c["point"], "normal": c["normal"],
-                "normal_impulse": c["normal_impulse"]}
+        return {"point": c["point"], "normal": c["normal"], "normal_impulse": c["normal_impulse"]}
 
     def close(self):
         """Nothing to release; here so every runner can be closed alike."""

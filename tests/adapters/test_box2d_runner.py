@@ -5,6 +5,7 @@ these ask for float32 round-off, with the measured figure. They pin down the con
 (centre of mass, sim's mass data, the polygon skin inset, the floor's top, materials, initial
 velocities, sleeping) and what Box2D cannot build (ValueErrors naming the reason).
 """
+
 import json
 import math
 
@@ -16,8 +17,7 @@ import sim
 from conftest import tilted_box
 from study.metadata import jsonable
 from study.peers import Box2dRunner
-from study.peers.box2d_runner import (MAX_POLYGON_VERTICES, POLYGON_RADIUS,
-                                            box2d_polygon)
+from study.peers.box2d_runner import MAX_POLYGON_VERTICES, POLYGON_RADIUS, box2d_polygon
 
 DT = 1 / 60
 G = 9.81
@@ -35,12 +35,13 @@ def test_free_fall_is_semi_implicit_euler_with_initial_velocity():
     scene = _free([sim.Body.box(1.0, 1.0, position=(0.5, 10.0), velocity=(1.5, 0.0))])
     runner = Box2dRunner(scene, dt=DT)
     world = sim.World(scene, dt=DT, substeps=1)
-    np.testing.assert_array_equal(runner.velocities, [[1.5, 0.0]])      # before the first step
+    np.testing.assert_array_equal(runner.velocities, [[1.5, 0.0]])  # before the first step
     for n in (1, 2, 60):
         runner.step(n - runner.step_count)
         world.step(n - world.step_count)
-        assert runner.positions[0, 1] == pytest.approx(10.0 - G * DT * DT * n * (n + 1) / 2,
-                                                       rel=1e-6)
+        assert runner.positions[0, 1] == pytest.approx(
+            10.0 - G * DT * DT * n * (n + 1) / 2, rel=1e-6
+        )
         assert runner.positions[0, 0] == pytest.approx(0.5 + 1.5 * n * DT, rel=1e-6)
         assert runner.velocities[0, 1] == pytest.approx(-G * n * DT, rel=2e-6)
         np.testing.assert_allclose(runner.positions, world.positions, rtol=0, atol=1e-5)
@@ -64,15 +65,17 @@ def test_box2d_clamps_fast_motion_so_the_runner_stops():
         Box2dRunner(fast, dt=DT)
     with pytest.raises(ValueError, match="b2_maxRotation"):
         Box2dRunner(_free([sim.Body.box(1.0, 1.0, angular_velocity=100.0)]), dt=DT)
-    with pytest.raises(ValueError, match=r"dt 0.5 s is too long for Box2D"):   # g dt^2 > 2 m
+    with pytest.raises(ValueError, match=r"dt 0.5 s is too long for Box2D"):  # g dt^2 > 2 m
         Box2dRunner(scene, dt=0.5)
 
 
 def test_angle_sign_and_unwrapping_match_sim_while_spinning():
     """A spinning box in free flight turns CCW for w > 0 and its angle is not wrapped: after 3 s
     at 3 rad/s it reads 0.2 + 9 rad, as sim's does (float32 accumulates: measured 1.7e-5 rad)."""
-    scene = _free([sim.Body.box(1.0, 0.5, position=(0.0, 0.0), angle=0.2,
-                                angular_velocity=3.0)], gravity=(0.0, 0.0))
+    scene = _free(
+        [sim.Body.box(1.0, 0.5, position=(0.0, 0.0), angle=0.2, angular_velocity=3.0)],
+        gravity=(0.0, 0.0),
+    )
     runner = Box2dRunner(scene, dt=DT)
     world = sim.World(scene, dt=DT)
     runner.step(180)
@@ -82,8 +85,9 @@ def test_angle_sign_and_unwrapping_match_sim_while_spinning():
     assert runner.angles[0] > 2 * math.pi
 
 
-@pytest.mark.parametrize("scene", [sim.scenes.seed_fig1(), sim.scenes.drop(5, seed=1)],
-                         ids=["seed_fig1", "drop5"])
+@pytest.mark.parametrize(
+    "scene", [sim.scenes.seed_fig1(), sim.scenes.drop(5, seed=1)], ids=["seed_fig1", "drop5"]
+)
 def test_initial_pose_and_motion_match_sim(scene):
     """Up to float32 round-off of the values given to Box2D (|x| < 10 m: < 1e-6 m)."""
     world = sim.World(scene)
@@ -91,8 +95,7 @@ def test_initial_pose_and_motion_match_sim(scene):
         np.testing.assert_allclose(runner.positions, world.positions, rtol=0, atol=1e-6)
         np.testing.assert_allclose(runner.angles, world.angles, rtol=0, atol=1e-6)
         np.testing.assert_allclose(runner.velocities, world.velocities, rtol=0, atol=1e-6)
-        np.testing.assert_allclose(runner.angular_velocities, world.angular_velocities,
-                                   atol=1e-6)
+        np.testing.assert_allclose(runner.angular_velocities, world.angular_velocities, atol=1e-6)
 
 
 def test_off_centre_body_frame_reports_centre_of_mass_with_sims_mass_data():
@@ -113,7 +116,7 @@ def test_box_at_rest_stays():
     exactly touching never moves at all (measured 2e-10 m in 5 s)."""
     runner = Box2dRunner(sim.scenes.single_box(), dt=DT)
     start = runner.positions
-    runner.step(300)                                               # 5 s
+    runner.step(300)  # 5 s
     assert np.hypot(*(runner.positions - start).T).max() < 1e-6
     assert abs(runner.angles[0]) < 1e-6
 
@@ -125,8 +128,10 @@ def test_polygons_are_inset_by_the_skin_so_a_box_rests_on_floor_y(floor_y):
     into the floor by b2_linearSlop (measured 5.0 mm: Box2D's position correction leaves that
     much overlap alone). A box with an extra vertex on its bottom edge rests alike."""
     verts = [(-0.5, -0.5), (0.0, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
-    for body in (sim.Body.box(1.0, 1.0, position=(0.0, floor_y + 0.51)),
-                 sim.Body(vertices=verts, position=(0.0, floor_y + 0.51))):
+    for body in (
+        sim.Body.box(1.0, 1.0, position=(0.0, floor_y + 0.51)),
+        sim.Body(vertices=verts, position=(0.0, floor_y + 0.51)),
+    ):
         runner = Box2dRunner(sim.Scene([body], floor_y=floor_y), dt=DT)
         runner.step(120)
         sink = floor_y + 0.5 - runner.positions[0, 1]
@@ -147,38 +152,44 @@ def test_friction_slide_distance_is_the_discrete_answer():
     runner.step(120)
     v = speed - mu * G * DT * np.arange(1, int(speed / (mu * G * DT)) + 1)
     assert runner.positions[0, 0] - x0 == pytest.approx(DT * v.sum(), rel=1e-5)
-    assert runner.positions[0, 0] - x0 == pytest.approx(speed ** 2 / (2 * mu * G), rel=0.03)
+    assert runner.positions[0, 0] - x0 == pytest.approx(speed**2 / (2 * mu * G), rel=0.03)
     assert abs(runner.velocities[0, 0]) < 1e-6 and abs(runner.angles[0]) < 1e-6
 
 
 def test_materials_mix_as_in_sim_geometric_mean_and_max():
     """Box2D's own mixing is sim's: sqrt(mu_a mu_b) and max(e_a, e_b). The contact's mixed
     values are read back, and a box of mu 0.25 on a floor of 0.64 slides as mu 0.4 does."""
-    scene = sim.Scene([sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=0.25,
-                                    restitution=0.3)], floor_friction=0.64,
-                      floor_restitution=0.1)
+    scene = sim.Scene(
+        [sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=0.25, restitution=0.3)],
+        floor_friction=0.64,
+        floor_restitution=0.1,
+    )
     runner = Box2dRunner(scene)
     runner.step(1)
     (contact,) = [c for c in runner.world.contacts if c.touching]
     assert contact.friction == pytest.approx(math.sqrt(0.25 * 0.64), rel=1e-7)
     assert contact.restitution == pytest.approx(0.3, rel=1e-7)
-    slide = sim.Scene([sim.Body.box(1.0, 1.0, position=(0.0, 0.5), velocity=(3.0, 0.0),
-                                    friction=0.25)], floor_friction=0.64)
+    slide = sim.Scene(
+        [sim.Body.box(1.0, 1.0, position=(0.0, 0.5), velocity=(3.0, 0.0), friction=0.25)],
+        floor_friction=0.64,
+    )
     mixed = Box2dRunner(slide, dt=DT).step(120)
     same = Box2dRunner(sim.scenes.sliding_box(speed=3.0, friction=0.4), dt=DT).step(120)
     assert mixed.positions[0, 0] == pytest.approx(same.positions[0, 0], rel=1e-5)
 
 
 def _apex_ratio(box_e, floor_e=0.0, h=2.0, half=0.25):
-    scene = sim.Scene([sim.Body.box(2 * half, 2 * half, position=(0.0, h + half),
-                                    restitution=box_e)], floor_restitution=floor_e)
+    scene = sim.Scene(
+        [sim.Body.box(2 * half, 2 * half, position=(0.0, h + half), restitution=box_e)],
+        floor_restitution=floor_e,
+    )
     runner = Box2dRunner(scene, dt=DT)
     heights = []
     for _ in range(180):
         runner.step()
         heights.append(runner.positions[0, 1] - half)
     first = int(np.argmin(heights[:60]))
-    return max(heights[first:first + 90]) / (max(box_e, floor_e) ** 2 * h)
+    return max(heights[first : first + 90]) / (max(box_e, floor_e) ** 2 * h)
 
 
 def test_bounce_height_is_e2h_less_about_six_percent():
@@ -195,8 +206,10 @@ def test_bounce_height_is_e2h_less_about_six_percent():
 def test_slow_impact_below_the_restitution_threshold_does_not_bounce():
     """b2_velocityThreshold is 1 m/s, sim's restitution_threshold default: a 3 cm drop (0.77 m/s)
     with e = 0.9 does not bounce."""
-    assert float(Box2D.b2_velocityThreshold) == sim.World(
-        sim.scenes.single_box()).restitution_threshold
+    assert (
+        float(Box2D.b2_velocityThreshold)
+        == sim.World(sim.scenes.single_box()).restitution_threshold
+    )
     scene = sim.Scene([sim.Body.box(0.5, 0.5, position=(0.0, 0.25 + 0.03), restitution=0.9)])
     runner = Box2dRunner(scene)
     heights = []
@@ -213,9 +226,12 @@ def test_momentum_is_conserved_in_a_free_collision():
     Angular momentum about the origin does not quite: +1.5 % (0.3781 -> 0.3839 kg m^2/s), since
     Box2D's position iterations move the overlapping bodies apart without touching their
     velocities (measured the same way: sim 4e-15, pymunk -1.4 %, pybullet -6 %)."""
-    bodies = [sim.Body.box(1.0, 1.0, position=(0.0, 0.0), velocity=(2.0, 0.0)),
-              sim.Body.box(1.0, 0.5, position=(2.0, 0.2), velocity=(-1.0, 0.0), density=3.0,
-                           angular_velocity=0.5)]
+    bodies = [
+        sim.Body.box(1.0, 1.0, position=(0.0, 0.0), velocity=(2.0, 0.0)),
+        sim.Body.box(
+            1.0, 0.5, position=(2.0, 0.2), velocity=(-1.0, 0.0), density=3.0, angular_velocity=0.5
+        ),
+    ]
     scene = _free(bodies, gravity=(0.0, 0.0))
     m = np.array([b.mass for b in bodies])
     inertia = np.array([b.inertia for b in bodies])
@@ -223,8 +239,9 @@ def test_momentum_is_conserved_in_a_free_collision():
     def momenta(r):
         p, v = r.positions, r.velocities
         linear = (m[:, None] * v).sum(axis=0)
-        angular = float((inertia * r.angular_velocities
-                         + m * (p[:, 0] * v[:, 1] - p[:, 1] * v[:, 0])).sum())
+        angular = float(
+            (inertia * r.angular_velocities + m * (p[:, 0] * v[:, 1] - p[:, 1] * v[:, 0])).sum()
+        )
         return linear, angular
 
     runner = Box2dRunner(scene, dt=DT)
@@ -232,7 +249,7 @@ def test_momentum_is_conserved_in_a_free_collision():
     v0 = runner.velocities
     runner.step(120)
     p1, l1 = momenta(runner)
-    assert np.abs(runner.velocities - v0).max() > 0.5                 # they did collide
+    assert np.abs(runner.velocities - v0).max() > 0.5  # they did collide
     np.testing.assert_allclose(p1, p0, rtol=0, atol=1e-5 * np.hypot(*p0))
     assert l1 == pytest.approx(l0, rel=0.03)
 
@@ -255,8 +272,12 @@ def test_tall_box_tips_past_critical_angle(offset_deg, falls):
 def test_five_box_column_holds_10_s_whatever_the_vertex_start():
     box = np.array([(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)])
     for k in (0, 1, 3):
-        scene = sim.Scene([sim.Body(vertices=np.roll(box, k, axis=0), position=(0.0, 0.5 + i),
-                                    friction=0.6) for i in range(5)])
+        scene = sim.Scene(
+            [
+                sim.Body(vertices=np.roll(box, k, axis=0), position=(0.0, 0.5 + i), friction=0.6)
+                for i in range(5)
+            ]
+        )
         runner = Box2dRunner(scene, dt=DT)
         start = runner.positions
         runner.step(600)
@@ -280,7 +301,7 @@ def test_box_settles_on_a_tilted_static_plank_at_the_planks_angle():
     box = sim.Body.box(0.5, 0.5, position=(0.0, 1.8), friction=0.8)
     runner = Box2dRunner(sim.Scene([box], static_bodies=[plank]), dt=DT)
     runner.step(180)
-    normal = np.array([-np.sin(0.3), np.cos(0.3)])          # the plank's top face, outward
+    normal = np.array([-np.sin(0.3), np.cos(0.3)])  # the plank's top face, outward
     top = np.array([0.0, 1.0]) + 0.1 * normal
     assert runner.angles[0] == pytest.approx(0.3, abs=0.01)
     assert (runner.positions[0] - top) @ normal == pytest.approx(0.25, abs=0.01)
@@ -291,8 +312,9 @@ def test_contacts_of_a_resting_box_carry_its_weight_at_the_floor():
     x = +-0.51 for a 1 m box), normal straight down from the box to the floor, impulses summing
     to m g dt (measured rel 7e-8)."""
     floor_y = 0.3
-    scene = sim.Scene([sim.Body.box(1.0, 1.0, position=(0.0, floor_y + 0.5), density=2.0)],
-                      floor_y=floor_y)
+    scene = sim.Scene(
+        [sim.Body.box(1.0, 1.0, position=(0.0, floor_y + 0.5), density=2.0)], floor_y=floor_y
+    )
     runner = Box2dRunner(scene, dt=DT)
     runner.step(60)
     c = runner.contacts()
@@ -310,8 +332,10 @@ def test_contacts_of_a_resting_box_carry_its_weight_at_the_floor():
 
 def test_contacts_name_static_bodies_after_the_dynamic_ones():
     ledge = sim.Body.box(2.0, 0.2, position=(0.0, 1.0), name="ledge")
-    scene = sim.Scene([sim.Body.box(1.0, 1.0, position=(5.0, 0.5)),
-                       sim.Body.box(0.5, 0.5, position=(0.0, 1.35))], static_bodies=[ledge])
+    scene = sim.Scene(
+        [sim.Body.box(1.0, 1.0, position=(5.0, 0.5)), sim.Body.box(0.5, 0.5, position=(0.0, 1.35))],
+        static_bodies=[ledge],
+    )
     c = Box2dRunner(scene, dt=DT).step(30).contacts()
     pairs = {tuple(sorted(p)) for p in zip(c["body_a"].tolist(), c["body_b"].tolist())}
     assert pairs == {(-1, 0), (1, 2)}
@@ -325,7 +349,7 @@ def test_sleeping_after_half_a_second_and_never_when_off():
     assert not on.asleep.any()
     on.step(28)
     off.step(28)
-    assert not on.asleep.any()                                 # 0.47 s: not yet
+    assert not on.asleep.any()  # 0.47 s: not yet
     on.step(4)
     off.step(4)
     assert on.asleep.all() and not off.asleep.any()
@@ -351,28 +375,40 @@ def test_polygon_vertex_limit_is_a_value_error_naming_the_reason():
     assert MAX_POLYGON_VERTICES == int(Box2D.b2_maxPolygonVertices) == 16
     ok = sim.Scene([sim.Body.regular(MAX_POLYGON_VERTICES, 0.5, position=(0.0, 1.0))])
     Box2dRunner(ok).step(10)
-    too_many = sim.Scene([sim.Body.box(1.0, 1.0, position=(3.0, 0.5)),
-                          sim.Body.regular(MAX_POLYGON_VERTICES + 1, 0.5, position=(0.0, 1.0),
-                                           name="disc")])
-    with pytest.raises(ValueError, match=r"box2d: body 1 \(disc\) has 17 vertices; Box2D 2.3 "
-                                         r"allows at most 16"):
+    too_many = sim.Scene(
+        [
+            sim.Body.box(1.0, 1.0, position=(3.0, 0.5)),
+            sim.Body.regular(MAX_POLYGON_VERTICES + 1, 0.5, position=(0.0, 1.0), name="disc"),
+        ]
+    )
+    with pytest.raises(
+        ValueError,
+        match=r"box2d: body 1 \(disc\) has 17 vertices; Box2D 2.3 "
+        r"allows at most 16",
+    ):
         Box2dRunner(too_many)
     wall = sim.Body.regular(20, 1.0, position=(5.0, 1.0), name="pillar")
     with pytest.raises(ValueError, match=r"static body 0 \(pillar\) has 20 vertices"):
-        Box2dRunner(sim.Scene([sim.Body.box(1.0, 1.0, position=(0.0, 0.5))],
-                              static_bodies=[wall]))
+        Box2dRunner(sim.Scene([sim.Body.box(1.0, 1.0, position=(0.0, 0.5))], static_bodies=[wall]))
 
 
-@pytest.mark.parametrize("vertices", [
-    [(-0.005, -0.005), (0.005, -0.005), (0.005, 0.005), (-0.005, 0.005)],    # 1 cm box
-    [(-0.01, -0.5), (0.01, -0.5), (0.01, 0.5), (-0.01, 0.5)],                # 2 cm thin plank
-    [(0.0, 0.0), (1.0, 0.0), (1.0, 1e-3)],                                   # needle
-    [(0.0, 0.0), (1e-4, 0.0), (0.0, 1e-4)],                                  # 0.1 mm triangle
-], ids=["1cm_box", "thin_plank", "needle", "tiny_triangle"])
+@pytest.mark.parametrize(
+    "vertices",
+    [
+        [(-0.005, -0.005), (0.005, -0.005), (0.005, 0.005), (-0.005, 0.005)],  # 1 cm box
+        [(-0.01, -0.5), (0.01, -0.5), (0.01, 0.5), (-0.01, 0.5)],  # 2 cm thin plank
+        [(0.0, 0.0), (1.0, 0.0), (1.0, 1e-3)],  # needle
+        [(0.0, 0.0), (1e-4, 0.0), (0.0, 1e-4)],  # 0.1 mm triangle
+    ],
+    ids=["1cm_box", "thin_plank", "needle", "tiny_triangle"],
+)
 def test_polygons_too_small_for_the_skin_are_refused_with_the_reason(vertices):
     scene = sim.Scene([sim.Body(vertices=vertices, position=(0.0, 1.0), name="chip")])
-    with pytest.raises(ValueError, match=r"box2d: body 0 \(chip\) is too small or too thin for "
-                                         r"Box2D's 0.01 m polygon skin"):
+    with pytest.raises(
+        ValueError,
+        match=r"box2d: body 0 \(chip\) is too small or too thin for "
+        r"Box2D's 0.01 m polygon skin",
+    ):
         Box2dRunner(scene)
 
 
@@ -381,11 +417,15 @@ def test_a_box2d_assertion_becomes_a_value_error(monkeypatch):
     b2_epsilon" for a 0.1 mm triangle). The size check refuses them first; should one get past
     it, the runner still turns the assertion into a ValueError naming the body."""
     import study.peers.box2d_runner as module
+
     tiny = np.array([(0.0, 0.0), (1e-4, 0.0), (0.0, 1e-4)])
     monkeypatch.setattr(module, "box2d_polygon", lambda local, where: tiny)
     scene = sim.Scene([sim.Body.box(1.0, 1.0, position=(0.0, 0.5), name="crate")])
-    with pytest.raises(ValueError, match=r"box2d: body 0 \(crate\): Box2D refused the polygon "
-                                         r"\(.*area > b2_epsilon"):
+    with pytest.raises(
+        ValueError,
+        match=r"box2d: body 0 \(crate\): Box2D refused the polygon "
+        r"\(.*area > b2_epsilon",
+    ):
         Box2dRunner(scene)
 
 
@@ -396,8 +436,12 @@ def test_collinear_vertices_are_dropped_by_box2d_without_changing_the_shape():
 
 
 def test_body_sizes_are_recorded_against_box2ds_recommended_range():
-    scene = sim.Scene([sim.Body.box(0.05, 0.05, position=(0.0, 0.025)),
-                       sim.Body.box(3.0, 4.0, position=(2.0, 2.0))])
+    scene = sim.Scene(
+        [
+            sim.Body.box(0.05, 0.05, position=(0.0, 0.025)),
+            sim.Body.box(3.0, 4.0, position=(2.0, 2.0)),
+        ]
+    )
     sizes = Box2dRunner(scene).settings["body_size_m"]
     assert sizes["min"] == pytest.approx(0.05 * math.sqrt(2))
     assert sizes["max"] == pytest.approx(5.0)
@@ -408,14 +452,28 @@ def test_settings_are_json_and_record_what_matters():
     runner = Box2dRunner(sim.scenes.stack(2), dt=1 / 120, iterations=20, position_iterations=5)
     s = runner.settings
     json.dumps(jsonable(s))
-    json.dumps(s)                                              # already plain
+    json.dumps(s)  # already plain
     assert s["engine"] == "box2d" and s["system"] == "box2d" and s["box2d_version"] == "2.3.10"
     assert s["dt"] == 1 / 120 and s["iterations"] == 20 and s["position_iterations"] == 5
-    for key in ("b2_linearSlop", "b2_angularSlop", "b2_linearSleepTolerance",
-                "b2_angularSleepTolerance", "b2_timeToSleep", "warm_starting", "continuous",
-                "friction_mixing", "restitution_mixing", "b2_velocityThreshold",
-                "b2_maxPolygonVertices", "b2_polygonRadius", "b2_maxTranslation",
-                "b2_maxRotation", "precision", "floor", "sleeping"):
+    for key in (
+        "b2_linearSlop",
+        "b2_angularSlop",
+        "b2_linearSleepTolerance",
+        "b2_angularSleepTolerance",
+        "b2_timeToSleep",
+        "warm_starting",
+        "continuous",
+        "friction_mixing",
+        "restitution_mixing",
+        "b2_velocityThreshold",
+        "b2_maxPolygonVertices",
+        "b2_polygonRadius",
+        "b2_maxTranslation",
+        "b2_maxRotation",
+        "precision",
+        "floor",
+        "sleeping",
+    ):
         assert key in s, key
     assert s["b2_linearSlop"] == pytest.approx(0.005) and s["b2_timeToSleep"] == 0.5
     assert s["warm_starting"] is True and s["continuous"] is True

@@ -4,9 +4,11 @@ freeze off, pymunk, pybullet, box2d) against the same known answers and against 
 Where a peer cannot reach sim's answer the test says so with the measured figure or the exact
 discrete answer: sim integrates over 4 substeps per step (Bullet, Chipmunk and Box2D over one),
 pymunk moves positions before velocities (free fall trails by g dt t, a launched body runs v0 dt
-further), Bullet's bounce overshoots e^2 h by ~10 % (tests/adapters/test_pybullet_runner.py), and Box2D
+further), Bullet's bounce overshoots e^2 h by ~10 % (tests/adapters/test_pybullet_runner.py), and
+Box2D
 computes in float32 and its bounce falls ~6 % short (tests/adapters/test_box2d_runner.py).
 """
+
 import ast
 import json
 import math
@@ -20,8 +22,16 @@ import sim
 from conftest import tilted_box
 from experiments import peer_agreement
 from study.metadata import jsonable
-from study.peers import (DEFAULT_ITERATIONS, SIM_DEFAULT_SUBSTEPS, SYSTEMS, Runner,
-                               SimRunner, engine_of, make_runner, solver_summary)
+from study.peers import (
+    DEFAULT_ITERATIONS,
+    SIM_DEFAULT_SUBSTEPS,
+    SYSTEMS,
+    Runner,
+    SimRunner,
+    engine_of,
+    make_runner,
+    solver_summary,
+)
 
 DT = 1 / 60
 G = 9.81
@@ -46,7 +56,7 @@ def test_every_system_satisfies_the_runner_interface(system):
     try:
         runner = _build(system, scene)
     except NotImplementedError:
-        assert system.startswith("sim-") and system != "sim-off"   # policies still to land
+        assert system.startswith("sim-") and system != "sim-off"  # policies still to land
         return
     with runner:
         assert isinstance(runner, Runner)
@@ -54,18 +64,23 @@ def test_every_system_satisfies_the_runner_interface(system):
         assert runner.settings["system"] == system
         assert runner.settings["dt"] == DT and runner.dt == DT
         assert runner.settings["iterations"] == DEFAULT_ITERATIONS[engine_of(system)]
-        json.dumps(jsonable(runner.settings))                       # storable as metadata
+        json.dumps(jsonable(runner.settings))  # storable as metadata
         assert runner.step_count == 0 and runner.time == 0.0
         runner.step(3)
         assert runner.step_count == 3 and runner.time == pytest.approx(3 * DT)
         n = len(scene.bodies)
-        for name, shape in (("positions", (n, 2)), ("angles", (n,)), ("velocities", (n, 2)),
-                            ("angular_velocities", (n,)), ("asleep", (n,))):
+        for name, shape in (
+            ("positions", (n, 2)),
+            ("angles", (n,)),
+            ("velocities", (n, 2)),
+            ("angular_velocities", (n,)),
+            ("asleep", (n,)),
+        ):
             value = getattr(runner, name)
             assert isinstance(value, np.ndarray) and value.shape == shape, name
         assert runner.asleep.dtype == bool
         if system in SYSTEMS_OFF:
-            assert not runner.asleep.any()              # sleeping off: nobody sleeps
+            assert not runner.asleep.any()  # sleeping off: nobody sleeps
 
 
 @pytest.mark.parametrize("system", SYSTEMS_OFF)
@@ -91,30 +106,48 @@ def test_sim_runs_at_the_worlds_own_defaults_and_records_every_setting():
     """No iterations given: sim.World's own defaults (1 biased sweep per substep, 4 substeps),
     and ``settings`` holds the soft step's knobs as the World has them."""
     import inspect
+
     defaults = inspect.signature(sim.World).parameters
     runner = _build("sim-off", sim.scenes.stack(2))
     w, s = runner.world, runner.settings
     assert DEFAULT_ITERATIONS["sim"] == defaults["iterations"].default == w.iterations
     assert SIM_DEFAULT_SUBSTEPS == defaults["substeps"].default == w.substeps
-    for key in ("substeps", "relax_iterations", "contact_hertz", "damping_ratio", "push_speed",
-                "load_time", "slop", "speculative_distance", "restitution_threshold",
-                "warm_starting", "continuous", "overlap_tolerance", "initial_iterations"):
+    for key in (
+        "substeps",
+        "relax_iterations",
+        "contact_hertz",
+        "damping_ratio",
+        "push_speed",
+        "load_time",
+        "slop",
+        "speculative_distance",
+        "restitution_threshold",
+        "warm_starting",
+        "continuous",
+        "overlap_tolerance",
+        "initial_iterations",
+    ):
         assert s[key] == getattr(w, key) == defaults[key].default, key
     assert s["fast_paths"] == w.fast_paths
     for removed in ("position_iterations", "baumgarte", "max_correction"):
         assert removed not in s
     assert s["contact_hertz_base"] > 0
-    assert solver_summary(s) == {"substeps": w.substeps, "iterations": w.iterations,
-                                 "relax_iterations": w.relax_iterations,
-                                 "contact_sweeps_per_step":
-                                     w.substeps * (w.iterations + w.relax_iterations)}
+    assert solver_summary(s) == {
+        "substeps": w.substeps,
+        "iterations": w.iterations,
+        "relax_iterations": w.relax_iterations,
+        "contact_sweeps_per_step": w.substeps * (w.iterations + w.relax_iterations),
+    }
     other = _build("sim-off", sim.scenes.stack(2), substeps=2, damping_ratio=10.0)
     assert other.settings["substeps"] == 2 and other.settings["damping_ratio"] == 10.0
-    assert other.settings["contact_hertz_base"] == s["contact_hertz_base"] / 2   # substep rate
+    assert other.settings["contact_hertz_base"] == s["contact_hertz_base"] / 2  # substep rate
     with _build("pymunk", sim.scenes.stack(2)) as peer:
-        assert solver_summary(peer.settings)["contact_sweeps_per_step"] == peer.settings[
-            "iterations"] == DEFAULT_ITERATIONS["pymunk"]
-    with _build("box2d", sim.scenes.stack(2)) as peer:                # 8 velocity + 3 position
+        assert (
+            solver_summary(peer.settings)["contact_sweeps_per_step"]
+            == peer.settings["iterations"]
+            == DEFAULT_ITERATIONS["pymunk"]
+        )
+    with _build("box2d", sim.scenes.stack(2)) as peer:  # 8 velocity + 3 position
         assert solver_summary(peer.settings)["contact_sweeps_per_step"] == 11
         assert peer.settings["iterations"] == DEFAULT_ITERATIONS["box2d"] == 8
 
@@ -131,7 +164,7 @@ def test_factory_rejects_unknown_systems_and_sleeping_by_setting():
 @pytest.mark.parametrize("system", ["pymunk-sleep", "pybullet-sleep", "box2d-sleep"])
 def test_sleeping_peers_put_a_resting_row_to_sleep(system):
     with _build(system, sim.scenes.rest_row(3)) as runner:
-        runner.step(150)                                # 2.5 s: past both engines' timers
+        runner.step(150)  # 2.5 s: past both engines' timers
         assert runner.asleep.all()
         assert runner.settings["sleeping"]
 
@@ -142,11 +175,21 @@ def test_peers_never_leak_into_sim():
     for path in (ROOT / "sim").rglob("*.py"):
         tree = ast.parse(path.read_text())
         for node in ast.walk(tree):
-            names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
-                     [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+            names = (
+                [a.name for a in node.names]
+                if isinstance(node, ast.Import)
+                else [node.module or ""]
+                if isinstance(node, ast.ImportFrom)
+                else []
+            )
             for name in names:
-                assert name.split(".")[0] not in ("study", "experiments", "pymunk",
-                                                  "pybullet", "Box2D"), path
+                assert name.split(".")[0] not in (
+                    "study",
+                    "experiments",
+                    "pymunk",
+                    "pybullet",
+                    "Box2D",
+                ), path
 
 
 # ---- the same known answers in every engine -------------------------------------------------
@@ -179,11 +222,11 @@ def test_free_fall(system):
     n = 60
     with _build(system, scene) as runner:
         runner.step(n)
-        assert runner.velocities[0, 1] == pytest.approx(-G * n * DT,
-                                                        rel=ROUND_OFF.get(system, 1e-9))
+        assert runner.velocities[0, 1] == pytest.approx(
+            -G * n * DT, rel=ROUND_OFF.get(system, 1e-9)
+        )
         expected = fall_height(10.0, n, DT, substeps_of(runner), explicit=system == "pymunk")
-        assert runner.positions[0, 1] == pytest.approx(expected,
-                                                       rel=ROUND_OFF.get(system, 1e-12))
+        assert runner.positions[0, 1] == pytest.approx(expected, rel=ROUND_OFF.get(system, 1e-12))
 
 
 def test_free_fall_formula_can_tell_the_integrators_apart():
@@ -191,8 +234,11 @@ def test_free_fall_formula_can_tell_the_integrators_apart():
     wrong integrator, or sim with other substeps, would fail test_free_fall): after 1 s at dt
     1/60, Bullet's semi-implicit step is g dt t (1 - 1/4)/2 = 0.061 m below sim's 4 substeps,
     Chipmunk's explicit one g dt t (1 + 1/4)/2 = 0.102 m above."""
-    sim4, bullet, chipmunk = (fall_height(10.0, 60, DT, 4), fall_height(10.0, 60, DT),
-                              fall_height(10.0, 60, DT, explicit=True))
+    sim4, bullet, chipmunk = (
+        fall_height(10.0, 60, DT, 4),
+        fall_height(10.0, 60, DT),
+        fall_height(10.0, 60, DT, explicit=True),
+    )
     assert sim4 - bullet == pytest.approx(G * DT * 1.0 * (1 - 1 / 4) / 2, rel=1e-9)
     assert chipmunk - sim4 == pytest.approx(G * DT * 1.0 * (1 + 1 / 4) / 2, rel=1e-9)
     assert fall_height(10.0, 60, DT, 1) == bullet
@@ -207,24 +253,32 @@ def test_resting_box_stays_within_the_slop(system):
         assert abs(runner.angles[0]) < 1e-3
 
 
-SIM_STOP_TRANSIENT = ("measured: sim-off still moves at 2.4e-6 m/s 2 s after the launch (1.2 s "
-                      "after it stopped) and ends 1.75e-4 m short of its integrator's discrete "
-                      "answer (1.14037 vs 1.14055 m): friction pitches the box forward as it "
-                      "stops, and the soft step's carried load (load_time 1/3 s) lets the "
-                      "contacts' load shift back only slowly (with load_time 0.03 s: 9e-9 m/s, "
-                      "still 1.6e-4 m short)")
+SIM_STOP_TRANSIENT = (
+    "measured: sim-off still moves at 2.4e-6 m/s 2 s after the launch (1.2 s "
+    "after it stopped) and ends 1.75e-4 m short of its integrator's discrete "
+    "answer (1.14037 vs 1.14055 m): friction pitches the box forward as it "
+    "stops, and the soft step's carried load (load_time 1/3 s) lets the "
+    "contacts' load shift back only slowly (with load_time 0.03 s: 9e-9 m/s, "
+    "still 1.6e-4 m short)"
+)
 
 
-@pytest.mark.parametrize("system", [
-    pytest.param(s, marks=pytest.mark.xfail(strict=True, reason=SIM_STOP_TRANSIENT))
-    if s == "sim-off" else s for s in SYSTEMS_OFF])
+@pytest.mark.parametrize(
+    "system",
+    [
+        pytest.param(s, marks=pytest.mark.xfail(strict=True, reason=SIM_STOP_TRANSIENT))
+        if s == "sim-off"
+        else s
+        for s in SYSTEMS_OFF
+    ],
+)
 def test_slide_distance(system):
     speed, mu = 3.0, 0.4
     with _build(system, sim.scenes.sliding_box(speed=speed, friction=mu)) as runner:
         x0 = runner.positions[0, 0]
         runner.step(120)
         assert abs(runner.velocities[0, 0]) < 1e-6
-        assert runner.positions[0, 0] - x0 == pytest.approx(speed ** 2 / (2 * mu * G), rel=0.03)
+        assert runner.positions[0, 0] - x0 == pytest.approx(speed**2 / (2 * mu * G), rel=0.03)
 
 
 def slide_distance(v0, mu, dt, substeps=1, explicit=False):
@@ -254,16 +308,20 @@ def test_slide_final_positions_agree_across_systems():
             x0 = runner.positions[0, 0]
             runner.step(120)
             final[system] = runner.positions[0] - (x0, 0.0)
-            expected[system] = slide_distance(v0, mu, DT, substeps_of(runner),
-                                              explicit=system == "pymunk")
+            expected[system] = slide_distance(
+                v0, mu, DT, substeps_of(runner), explicit=system == "pymunk"
+            )
     assert final["pybullet"][0] - final["sim-off"][0] == pytest.approx(
-        expected["pybullet"] - expected["sim-off"], abs=1e-4)
+        expected["pybullet"] - expected["sim-off"], abs=1e-4
+    )
     assert abs(final["pybullet"][1] - final["sim-off"][1]) < 1e-4
     assert final["pymunk"][0] - final["sim-off"][0] == pytest.approx(
-        expected["pymunk"] - expected["sim-off"], abs=1e-3)
+        expected["pymunk"] - expected["sim-off"], abs=1e-3
+    )
     # the expectation itself: v0 (dt - h)/2 apart to within one substep's travel
     assert expected["sim-off"] - expected["pybullet"] == pytest.approx(
-        v0 * (DT - DT / 4) / 2, abs=v0 * DT / 4)
+        v0 * (DT - DT / 4) / 2, abs=v0 * DT / 4
+    )
 
 
 def test_box2d_slides_where_bullet_does():
@@ -289,15 +347,14 @@ def test_bounce_height(system):
     continuous collision loses the rest of the impact step); pybullet overshoots by ~10 %
     (measured +10 % for e = 0.7), so its bound is the documented 3-16 %."""
     e, h, half = 0.7, 2.0, 0.25
-    scene = sim.Scene([sim.Body.box(2 * half, 2 * half, position=(0.0, h + half),
-                                    restitution=e)])
+    scene = sim.Scene([sim.Body.box(2 * half, 2 * half, position=(0.0, h + half), restitution=e)])
     with _build(system, scene) as runner:
         heights = []
         for _ in range(180):
             runner.step()
             heights.append(runner.positions[0, 1] - half)
     first = int(np.argmin(heights[:60]))
-    ratio = max(heights[first:first + 90]) / (e * e * h)
+    ratio = max(heights[first : first + 90]) / (e * e * h)
     if system == "pybullet":
         assert 1.03 < ratio < 1.16
     else:
@@ -331,8 +388,8 @@ def test_seed_fig3_outcome_agrees():
     for system in SYSTEMS_OFF:
         with _build(system, sim.scenes.seed_fig3()) as runner:
             runner.step(240)
-            assert runner.positions[0, 1] < 0.5, system          # on the floor, not on B (1 m)
-            assert runner.positions[0, 0] > 1.0, system          # off B's right edge
+            assert runner.positions[0, 1] < 0.5, system  # on the floor, not on B (1 m)
+            assert runner.positions[0, 0] > 1.0, system  # off B's right edge
 
 
 # ---- the table ------------------------------------------------------------------------------
@@ -346,12 +403,19 @@ def test_peer_agreement_quick_writes_the_table(tmp_path):
         rows = table[table["scene"] == label]
         assert set(rows["system"]) == set(peer_agreement.SYSTEMS), label
         peers = rows[rows["system"] != "sim-off"]
-        assert set(peers.loc[peers["metric"] == "final_pose_diff_m", "system"]) == {"pymunk",
-                                                                                   "pybullet"}
+        assert set(peers.loc[peers["metric"] == "final_pose_diff_m", "system"]) == {
+            "pymunk",
+            "pybullet",
+        }
     # every known answer that all three must reach
-    for scene, metric in (("single_box", "rest_drift_m"), ("sliding_box", "slide_distance_m"),
-                          ("tipping_past", "tipped"), ("tipping_short", "tipped"),
-                          ("stack5", "top_box_drift_m"), ("seed_fig3", "fell_off")):
+    for scene, metric in (
+        ("single_box", "rest_drift_m"),
+        ("sliding_box", "slide_distance_m"),
+        ("tipping_past", "tipped"),
+        ("tipping_short", "tipped"),
+        ("stack5", "top_box_drift_m"),
+        ("seed_fig3", "fell_off"),
+    ):
         rows = table[(table["scene"] == scene) & (table["metric"] == metric)]
         assert len(rows) == 3 and rows["agree"].all(), (scene, metric)
     drift = table[table["metric"] == "out_of_plane_drift"]

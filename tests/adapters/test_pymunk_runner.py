@@ -4,6 +4,7 @@ If the peer were built wrong (friction or restitution mixed differently, a box's
 offset, a vertex order Chipmunk handles badly), every comparison with sim would measure the
 mistake instead of the engines; these tests pin each of those down.
 """
+
 import math
 
 import numpy as np
@@ -36,7 +37,8 @@ def test_free_fall_matches_g_t_and_chipmunks_integration_order():
         world = sim.World(scene, dt=DT, substeps=substeps)
         world.step(n)
         assert world.positions[0, 1] - runner.positions[0, 1] == pytest.approx(
-            -G * DT * 1.0 * (1 + 1 / substeps) / 2, rel=1e-9)
+            -G * DT * 1.0 * (1 + 1 / substeps) / 2, rel=1e-9
+        )
 
 
 def test_box_at_rest_stays():
@@ -48,7 +50,7 @@ def test_box_at_rest_stays():
     runner.step(30)
     assert np.hypot(*(runner.positions - start).T).max() < slop
     settled = runner.positions
-    for _ in range(5):                          # 5 s
+    for _ in range(5):  # 5 s
         runner.step(60)
         assert np.hypot(*(runner.positions - settled).T).max() < 1e-3
         assert np.hypot(*(runner.positions - start).T).max() < slop
@@ -59,7 +61,7 @@ def test_friction_slide_distance():
     speed, mu = 3.0, 0.4
     runner = PymunkRunner(sim.scenes.sliding_box(speed=speed, friction=mu), dt=DT)
     x0 = runner.positions[0, 0]
-    runner.step(120)                           # stops after v/(mu g) = 0.76 s
+    runner.step(120)  # stops after v/(mu g) = 0.76 s
     assert abs(runner.velocities[0, 0]) < 1e-6
     expected = speed**2 / (2 * mu * G)
     assert runner.positions[0, 0] - x0 == pytest.approx(expected, rel=0.05)
@@ -68,23 +70,26 @@ def test_friction_slide_distance():
 @pytest.mark.parametrize("box_e, floor_e", [(0.7, 0.0), (0.0, 0.7)])
 def test_bounce_height_uses_max_restitution(box_e, floor_e):
     """One of the pair has restitution 0: Chipmunk's default product would not bounce at all."""
-    h = 2.0                                     # m, bottom face above the floor
-    scene = sim.Scene([sim.Body.box(1.0, 1.0, position=(0.0, h + 0.5), restitution=box_e)],
-                      floor_restitution=floor_e)
+    h = 2.0  # m, bottom face above the floor
+    scene = sim.Scene(
+        [sim.Body.box(1.0, 1.0, position=(0.0, h + 0.5), restitution=box_e)],
+        floor_restitution=floor_e,
+    )
     runner = PymunkRunner(scene, dt=DT)
     bottom = []
     for _ in range(180):
         runner.step()
         bottom.append(runner.positions[0, 1] - 0.5)
     bottom = np.array(bottom)
-    impact = int(np.argmin(bottom[:60]))        # falls 2 m in 0.64 s
-    apex = bottom[impact:impact + 90].max()
+    impact = int(np.argmin(bottom[:60]))  # falls 2 m in 0.64 s
+    apex = bottom[impact : impact + 90].max()
     assert apex == pytest.approx(0.7**2 * h, rel=0.15)
 
 
 def test_friction_is_stored_as_sqrt_so_pairs_mix_by_geometric_mean():
-    scene = sim.Scene([sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=0.25)],
-                      floor_friction=0.64)
+    scene = sim.Scene(
+        [sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=0.25)], floor_friction=0.64
+    )
     runner = PymunkRunner(scene)
     frictions = sorted(s.friction for s in runner.space.shapes)
     assert frictions[0] * frictions[1] == pytest.approx(math.sqrt(0.25 * 0.64), rel=1e-12)
@@ -100,8 +105,11 @@ def test_box_vertices_are_create_box_order_whatever_the_start():
     noisy = v + np.array([[0.0, -1e-17], [0.0, 0.0], [1e-17, 0.0], [0.0, 0.0]])
     np.testing.assert_allclose(canonical_vertices(noisy), reference, atol=1e-15)
     runner = PymunkRunner(sim.scenes.single_box())
-    shape = next(iter(runner.space.shapes - {s for s in runner.space.shapes
-                                             if isinstance(s, pymunk.Segment)}))
+    shape = next(
+        iter(
+            runner.space.shapes - {s for s in runner.space.shapes if isinstance(s, pymunk.Segment)}
+        )
+    )
     np.testing.assert_array_equal(np.array([tuple(p) for p in shape.get_vertices()]), reference)
 
 
@@ -120,6 +128,7 @@ def _raw_column(id_start, height=5, dt=DT, steps=600):
     space = pymunk.Space()
     if id_start:
         from pymunk._chipmunk import lib
+
         lib.cpSpaceSetShapeIDCounter(space._space, id_start)
     space.gravity, space.iterations, space.collision_slop = (0.0, -G), 10, 0.005
     floor = pymunk.Segment(space.static_body, (-1000.0, 0.0), (1000.0, 0.0), 0.0)
@@ -149,8 +158,12 @@ def test_column_result_does_not_depend_on_vertex_start():
     box = np.array([(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)])
     finals = []
     for k in range(4):
-        scene = sim.Scene([sim.Body(vertices=np.roll(box, k, axis=0), position=(0.0, 0.5 + i),
-                                    friction=0.6) for i in range(5)])
+        scene = sim.Scene(
+            [
+                sim.Body(vertices=np.roll(box, k, axis=0), position=(0.0, 0.5 + i), friction=0.6)
+                for i in range(5)
+            ]
+        )
         runner = PymunkRunner(scene, dt=DT)
         assert min(s._hashid for s in runner.space.shapes) >= SHAPE_ID_START
         runner.step(300)
@@ -159,25 +172,38 @@ def test_column_result_does_not_depend_on_vertex_start():
         np.testing.assert_array_equal(f, finals[0])
 
 
-@pytest.mark.parametrize("scene", [sim.scenes.seed_fig1(), sim.scenes.drop(5, seed=1)],
-                         ids=["seed_fig1", "drop5"])
+@pytest.mark.parametrize(
+    "scene", [sim.scenes.seed_fig1(), sim.scenes.drop(5, seed=1)], ids=["seed_fig1", "drop5"]
+)
 def test_initial_pose_and_motion_match_sim(scene):
     world = sim.World(scene)
     runner = PymunkRunner(scene)
     np.testing.assert_allclose(runner.positions, world.positions, rtol=0, atol=1e-12)
     np.testing.assert_allclose(runner.angles, world.angles, rtol=0, atol=1e-12)
     np.testing.assert_allclose(runner.velocities, world.velocities, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(runner.angular_velocities, world.angular_velocities, rtol=0,
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        runner.angular_velocities, world.angular_velocities, rtol=0, atol=1e-12
+    )
 
 
 def test_off_centre_body_frame_reports_centre_of_mass():
     """A body whose vertices are not centred: sim's position is the body-frame origin."""
     tri = [(0.0, 0.0), (2.0, 0.0), (0.0, 1.0)]
-    scene = sim.Scene([sim.Body(vertices=tri, position=(1.0, 3.0), angle=0.4,
-                                velocity=(0.5, 0.0), angular_velocity=0.3)], floor_y=None)
-    np.testing.assert_allclose(PymunkRunner(scene).positions, sim.World(scene).positions,
-                               rtol=0, atol=1e-12)
+    scene = sim.Scene(
+        [
+            sim.Body(
+                vertices=tri,
+                position=(1.0, 3.0),
+                angle=0.4,
+                velocity=(0.5, 0.0),
+                angular_velocity=0.3,
+            )
+        ],
+        floor_y=None,
+    )
+    np.testing.assert_allclose(
+        PymunkRunner(scene).positions, sim.World(scene).positions, rtol=0, atol=1e-12
+    )
     body = next(iter(PymunkRunner(scene).space.bodies))
     assert body.mass == pytest.approx(scene.bodies[0].mass, rel=1e-12)
     assert body.moment == pytest.approx(scene.bodies[0].inertia, rel=1e-12)
@@ -187,7 +213,7 @@ def test_sleeping_on_sleeps_and_off_never():
     on = PymunkRunner(sim.scenes.rest_row(3), dt=DT, sleeping=True, sleep_time=0.5)
     off = PymunkRunner(sim.scenes.rest_row(3), dt=DT, sleeping=False)
     assert not on.asleep.any()
-    for _ in range(12):                        # 2 s
+    for _ in range(12):  # 2 s
         on.step(10)
         off.step(10)
         assert not off.asleep.any()

@@ -1,6 +1,7 @@
 """experiments.bench_fast_paths: quick mode end to end into a temporary folder, the PAYS rule on
 known numbers, and that it reads sim through the public API only (World, profile, inspect).
 No speed is asserted (speed lives in the results)."""
+
 import ast
 import json
 import pathlib
@@ -29,13 +30,16 @@ def test_uses_only_public_names_of_sim():
 
 
 def _table(friction_saving, sat_bound, rotation_bound, statics_saving):
-    rows = [("friction", "columns(mu=0.0)", "fast_paths=True", friction_saving),
-            ("friction", "columns(mu=0.6)", "fast_paths=True", 0.01),
-            ("box_sat", "pyramid(40)", "narrowphase stage", sat_bound),
-            ("rotation", "rest_row(1000)", "broadphase stage", rotation_bound),
-            ("statics", "rest_row(1000)", "ledges", statics_saving)]
-    return pd.DataFrame([{"part": p, "scene": s, "variant": v, "saving_share_of_step": x}
-                         for p, s, v, x in rows])
+    rows = [
+        ("friction", "columns(mu=0.0)", "fast_paths=True", friction_saving),
+        ("friction", "columns(mu=0.6)", "fast_paths=True", 0.01),
+        ("box_sat", "pyramid(40)", "narrowphase stage", sat_bound),
+        ("rotation", "rest_row(1000)", "broadphase stage", rotation_bound),
+        ("statics", "rest_row(1000)", "ledges", statics_saving),
+    ]
+    return pd.DataFrame(
+        [{"part": p, "scene": s, "variant": v, "saving_share_of_step": x} for p, s, v, x in rows]
+    )
 
 
 def test_verdicts_follow_the_five_percent_rule():
@@ -53,8 +57,10 @@ def test_verdicts_follow_the_five_percent_rule():
 def quick(tmp_path_factory):
     folder = tmp_path_factory.mktemp("bench_fast_paths")
     bfp.main(["--quick"], data_dir=folder)
-    return (pd.read_csv(folder / "bench_fast_paths.csv"),
-            json.loads((folder / "bench_fast_paths.json").read_text()))
+    return (
+        pd.read_csv(folder / "bench_fast_paths.csv"),
+        json.loads((folder / "bench_fast_paths.json").read_text()),
+    )
 
 
 def test_quick_run_measures_every_candidate(quick):
@@ -62,16 +68,17 @@ def test_quick_run_measures_every_candidate(quick):
     assert set(table["part"]) == {"friction", "box_sat", "statics", "rotation"}
     assert (table["ms_per_step_median"] > 0).all()
     friction = table[table["part"] == "friction"]
-    assert len(friction) == 4 and set(friction["variant"]) == {"fast_paths=False",
-                                                                "fast_paths=True"}
+    assert len(friction) == 4 and set(friction["variant"]) == {
+        "fast_paths=False",
+        "fast_paths=True",
+    }
     for part, stage in (("box_sat", "narrowphase"), ("rotation", "broadphase")):
         rows = table[table["part"] == part]
         assert stage in STAGES
         share = rows["saving_share_of_step"].dropna()
-        assert len(share) == 1 and 0 < share.iloc[0] < 1          # a stage is part of a step
+        assert len(share) == 1 and 0 < share.iloc[0] < 1  # a stage is part of a step
     p = meta["parameters"]
-    assert [v["candidate"] for v in p["verdicts"]] == ["friction", "box_sat", "rotation",
-                                                       "statics"]
+    assert [v["candidate"] for v in p["verdicts"]] == ["friction", "box_sat", "rotation", "statics"]
     assert p["pays"] == bfp.PAYS
     assert p["system_settings"]["sim-off"]["substeps"] == p["substeps"] >= 1
     assert meta["script"] == "bench_fast_paths" and meta["git"]["commit"]

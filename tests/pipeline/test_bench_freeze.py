@@ -3,6 +3,7 @@
 Timings are only checked for being finite and positive: wall-clock targets are measured by the
 experiment, never asserted here. What is asserted are behaviours: which bodies were frozen while
 being timed, and how many steps a resting row takes to freeze."""
+
 import json
 import math
 
@@ -14,9 +15,19 @@ from study import cost_fit, protocols
 from experiments import bench_freeze
 
 PARTS = ("frozen_cost", "per_body_cost", "time_to_freeze", "in_flight_overhead")
-FIT_METRICS = ("fit_a", "fit_b", "fit_c", "fit_a_stderr", "fit_b_stderr", "fit_c_stderr",
-               "fit_b_over_a", "fit_rms_residual", "fit_max_abs_residual", "fit_r2",
-               "fit_points")
+FIT_METRICS = (
+    "fit_a",
+    "fit_b",
+    "fit_c",
+    "fit_a_stderr",
+    "fit_b_stderr",
+    "fit_c_stderr",
+    "fit_b_over_a",
+    "fit_rms_residual",
+    "fit_max_abs_residual",
+    "fit_r2",
+    "fit_points",
+)
 
 
 @pytest.fixture(scope="module")
@@ -24,7 +35,7 @@ def quick_run(tmp_path_factory):
     folder = tmp_path_factory.mktemp("bench_freeze")
     bench_freeze.main(["--quick"], data_dir=folder)
     table = pd.read_csv(folder / "bench_freeze.csv")
-    table["flag"] = table["flag"].fillna("")           # an empty flag reads back as NaN
+    table["flag"] = table["flag"].fillna("")  # an empty flag reads back as NaN
     meta = json.loads((folder / "bench_freeze.json").read_text())
     return table, meta, folder
 
@@ -40,8 +51,18 @@ def _rows(table, part, metric, system=None, scene=None):
 
 def test_every_part_has_rows_and_the_columns(quick_run):
     table, _, folder = quick_run
-    assert list(table.columns) == ["part", "scene", "system", "bodies", "n_awake", "n_frozen",
-                                   "metric", "value", "unit", "flag"]
+    assert list(table.columns) == [
+        "part",
+        "scene",
+        "system",
+        "bodies",
+        "n_awake",
+        "n_frozen",
+        "metric",
+        "value",
+        "unit",
+        "flag",
+    ]
     for part in PARTS:
         assert (table["part"] == part).sum() > 0, part
     assert set(table["part"]) == set(PARTS)
@@ -71,9 +92,9 @@ def test_frozen_cost_times_fully_frozen_scenes(quick_run):
         before = _rows(table, "frozen_cost", "n_awake_before", system, scene)["value"].item()
         after = _rows(table, "frozen_cost", "n_awake_after", system, scene)["value"].item()
         if system == "sim-off":
-            assert before == after == n                 # the reference solves every body
+            assert before == after == n  # the reference solves every body
         else:
-            assert before == after == 0, system         # timed only once nothing was solved
+            assert before == after == 0, system  # timed only once nothing was solved
             steps = _rows(table, "frozen_cost", "steps_to_all_frozen", system, scene)["value"]
             assert steps.map(math.isfinite).all()
 
@@ -83,11 +104,11 @@ def test_per_body_cost_mixes_and_fit(quick_run):
     cfg = bench_freeze.QUICK
     med = _rows(table, "per_body_cost", "ms_per_step_median")
     assert len(med) == len(cfg["mix_frozen"]) * len(cfg["mix_awake"]) * 2
-    assert (med["flag"] == "").all()                    # awake counts and flight checks held
+    assert (med["flag"] == "").all()  # awake counts and flight checks held
     ext = _rows(table, "per_body_cost", "n_awake_before", "sim-extended")
-    assert (ext["value"] == ext["n_awake"]).all()       # the row frozen, the flyers awake
+    assert (ext["value"] == ext["n_awake"]).all()  # the row frozen, the flyers awake
     lowest = _rows(table, "per_body_cost", "lowest_flying_y")["value"]
-    assert (lowest > 100).all()                         # still in flight after the timing
+    assert (lowest > 100).all()  # still in flight after the timing
     for system in bench_freeze.MIX_SYSTEMS:
         fit = _rows(table, "per_body_cost", "fit_a", system)
         assert len(fit) == 1 and (fit["scene"] == "fit").all()
@@ -98,8 +119,9 @@ def test_per_body_cost_mixes_and_fit(quick_run):
         for key in ("a", "b", "c", "b_over_a", "rms_residual", "r2"):
             assert key in meta["fits"][system]
     assert _rows(table, "per_body_cost", "fit_a", "sim-off")["value"].item() > 0
-    assert math.isfinite(_rows(table, "per_body_cost", "fit_b_over_b_off",
-                               "sim-extended")["value"].item())
+    assert math.isfinite(
+        _rows(table, "per_body_cost", "fit_b_over_b_off", "sim-extended")["value"].item()
+    )
 
 
 def test_time_to_freeze_rows_and_rest_row_behaviour(quick_run):
@@ -109,7 +131,7 @@ def test_time_to_freeze_rows_and_rest_row_behaviour(quick_run):
     assert len(steps) == len(cfg["ttf_scenes"]) * len(bench_freeze.FREEZING)
     never = steps["flag"] == "never"
     assert steps.loc[~never, "value"].map(math.isfinite).all()
-    assert steps.loc[never, "value"].isna().all()       # "never" is NaN plus the flag
+    assert steps.loc[never, "value"].isna().all()  # "never" is NaN plus the flag
     assert (steps.loc[~never, "value"] >= 1).all()
     for metric in ("n_awake_at_end", "max_displacement", "cap_steps"):
         assert _rows(table, "time_to_freeze", metric)["value"].map(math.isfinite).all(), metric
@@ -151,5 +173,5 @@ def test_fit_recovers_a_known_plane():
 
 def test_flight_budget_keeps_boxes_above_the_floor():
     n = protocols.flight_budget(100.0, clearance=10.0)
-    fallen = lambda k: 9.81 * protocols.DT ** 2 * k * (k + 1) / 2
+    fallen = lambda k: 9.81 * protocols.DT**2 * k * (k + 1) / 2
     assert fallen(n) <= 90.0 < fallen(n + 1)

@@ -1,6 +1,7 @@
 """experiments.bench_kernels: the instruction counter on known assembly (so a broken counter
 fails), and the benchmark in quick mode, which must find packed double-precision arithmetic in
 every batch kernel on this machine. No speed is asserted (speed lives in the results)."""
+
 import json
 import math
 
@@ -43,7 +44,7 @@ PACKED = """
 def test_counter_finds_no_packed_instruction_in_scalar_code():
     counts = bench_kernels.count_instructions(SCALAR_ONLY)
     assert counts["packed"] == 0
-    assert counts["scalar"] == 5                 # vmulsd, vaddsd, vfmadd231sd, vmaxsd, mulsd
+    assert counts["scalar"] == 5  # vmulsd, vaddsd, vfmadd231sd, vmaxsd, mulsd
     assert math.isnan(counts["doubles_per_packed"])
 
 
@@ -61,7 +62,8 @@ def quick(tmp_path_factory):
     folder = tmp_path_factory.mktemp("bench_kernels")
     bench_kernels.main(["--quick"], data_dir=folder)
     return pd.read_csv(folder / "bench_kernels.csv"), json.loads(
-        (folder / "bench_kernels.json").read_text())
+        (folder / "bench_kernels.json").read_text()
+    )
 
 
 def test_every_batch_kernel_uses_packed_instructions_on_this_machine(quick):
@@ -71,7 +73,7 @@ def test_every_batch_kernel_uses_packed_instructions_on_this_machine(quick):
     assert (table["packed"] > table["scalar"]).all()
     assert (table["doubles_per_packed"] >= 2).all()
     features = meta["parameters"]["cpu_features"]
-    if features["avx512f"]:                       # this machine: 8 doubles per instruction
+    if features["avx512f"]:  # this machine: 8 doubles per instruction
         assert (table["packed_zmm"] > 0).all()
     assert features["numba_slp_vectorize"]
 

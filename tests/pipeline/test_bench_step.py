@@ -1,6 +1,7 @@
 """experiments.bench_step end to end on --quick sizes, into a temporary results folder, and its
 pieces (settings columns, the target check) on known inputs. No speed is asserted here: speed
 lives in the benchmark's results."""
+
 import json
 import math
 
@@ -23,8 +24,12 @@ def quick(tmp_path_factory):
 def test_quick_run_writes_every_row_and_the_metadata(quick):
     table = pd.read_csv(quick / "bench_step.csv")
     q = bench_step.QUICK
-    expected = {(scene, p, system) for scene in ("rest_row", "pyramid", "drop") for p in q[scene]
-                for system in ("sim-off", "pymunk")}
+    expected = {
+        (scene, p, system)
+        for scene in ("rest_row", "pyramid", "drop")
+        for p in q[scene]
+        for system in ("sim-off", "pymunk")
+    }
     assert set(zip(table["scene"], table["param"], table["system"])) == expected
     assert len(table) == len(expected)
     for column in ("ms_per_step_median", "ms_per_step_min"):
@@ -39,20 +44,31 @@ def test_quick_run_writes_every_row_and_the_metadata(quick):
     sim_rows = table[table["system"] == "sim-off"]
     assert (sim_rows["speedup_vs_pymunk"] > 0).all()
     assert table.loc[table["system"] == "pymunk", "speedup_vs_pymunk"].isna().all()
-    assert (resting["max_displacement_m"] < 0.5).all()       # resting scenes stayed put
-    assert (settling["bodies_in_bin"] == settling["param"]).all()   # the drop stayed in its bin
+    assert (resting["max_displacement_m"] < 0.5).all()  # resting scenes stayed put
+    assert (settling["bodies_in_bin"] == settling["param"]).all()  # the drop stayed in its bin
     assert (sim_rows["contacts"] > 0).all() and (sim_rows["batches"] > 0).all()
 
     meta = json.loads((quick / "bench_step.json").read_text())
-    for key in ("script", "scenes", "parameters", "seed", "git", "packages", "python",
-                "platform", "cpu", "cpu_count", "date_utc"):
+    for key in (
+        "script",
+        "scenes",
+        "parameters",
+        "seed",
+        "git",
+        "packages",
+        "python",
+        "platform",
+        "cpu",
+        "cpu_count",
+        "date_utc",
+    ):
         assert key in meta
     assert meta["script"] == "bench_step"
     assert {"commit", "dirty"} <= set(meta["git"])
     assert meta["packages"]["pymunk"] == "7.3.1"
     assert len(meta["scenes"]) == len(q["rest_row"]) + len(q["pyramid"]) + len(q["drop"])
-    assert meta["parameters"]["targets"] == {}             # no target scene in quick sizes
-    assert not list(quick.glob("*.tmp"))                    # atomic writes left no temp files
+    assert meta["parameters"]["targets"] == {}  # no target scene in quick sizes
+    assert not list(quick.glob("*.tmp"))  # atomic writes left no temp files
 
 
 def test_each_system_runs_at_its_own_defaults_and_the_rows_say_so(quick):
@@ -90,21 +106,28 @@ def test_profile_has_every_stage_of_every_scene_and_adds_up(quick):
 def test_solver_summary_counts_the_passes_over_the_contacts():
     sim_settings = {"substeps": 4, "iterations": 1, "relax_iterations": 1}
     assert solver_summary(sim_settings) == {
-        "substeps": 4, "iterations": 1, "relax_iterations": 1, "contact_sweeps_per_step": 8}
+        "substeps": 4,
+        "iterations": 1,
+        "relax_iterations": 1,
+        "contact_sweeps_per_step": 8,
+    }
     assert solver_summary({"iterations": 10})["contact_sweeps_per_step"] == 10
 
 
 def test_targets_are_judged_against_three_times_pymunk():
-    table = pd.DataFrame({"scene": ["pyramid", "rest_row", "drop", "pyramid"],
-                          "param": [40, 5000, 200, 10],
-                          "label": ["pyramid(40)", "rest_row(5000)", "drop(200,seed=0)",
-                                    "pyramid(10)"],
-                          "system": ["sim-off"] * 4,
-                          "speedup_vs_pymunk": [3.2, 2.9, np.nan, 1.0]})
+    table = pd.DataFrame(
+        {
+            "scene": ["pyramid", "rest_row", "drop", "pyramid"],
+            "param": [40, 5000, 200, 10],
+            "label": ["pyramid(40)", "rest_row(5000)", "drop(200,seed=0)", "pyramid(10)"],
+            "system": ["sim-off"] * 4,
+            "speedup_vs_pymunk": [3.2, 2.9, np.nan, 1.0],
+        }
+    )
     out = bench_step.targets(table)
     assert set(out) == {"pyramid(40)", "rest_row(5000)", "drop(200,seed=0)"}
     assert out["pyramid(40)"]["met"] and not out["rest_row(5000)"]["met"]
-    assert not out["drop(200,seed=0)"]["met"]               # a missing ratio is not a pass
+    assert not out["drop(200,seed=0)"]["met"]  # a missing ratio is not a pass
 
 
 def test_metadata_survives_missing_git_and_packages(monkeypatch):
@@ -112,6 +135,7 @@ def test_metadata_survives_missing_git_and_packages(monkeypatch):
 
     def no_git(*args, **kwargs):
         raise FileNotFoundError("git")
+
     monkeypatch.setattr(metadata.subprocess, "run", no_git)
     monkeypatch.setattr(metadata, "PACKAGES", ("numpy", "no-such-package-freeze2d"))
     meta = metadata.collect(None, {"x": 1}, script="t")

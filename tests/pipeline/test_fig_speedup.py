@@ -6,6 +6,7 @@ policy or a broken harness would change: which bodies were frozen while being ti
 system froze a resting row, that sim-paper freezes only a pyramid's two lowest rows, that a fully
 frozen sim step is several times cheaper than solving the same row (a margin of ~20x is measured:
 only a harness timing the wrong thing fails it), and that pybullet's cap gives marked NaN rows."""
+
 import json
 import math
 
@@ -18,10 +19,28 @@ from study import paths
 from experiments import fig_speedup
 from study.common import SYSTEMS
 
-COLUMNS = ["family", "size", "scene", "bodies", "system", "engine", "reference",
-           "ms_per_step_median", "ms_per_step_min", "speedup", "speedup_paired",
-           "speedup_vs_sim_off", "n_awake_before", "n_awake_after", "steps_to_all_frozen",
-           "settle_steps", "steps_per_repeat", "repeats", "max_displacement_m", "flag"]
+COLUMNS = [
+    "family",
+    "size",
+    "scene",
+    "bodies",
+    "system",
+    "engine",
+    "reference",
+    "ms_per_step_median",
+    "ms_per_step_min",
+    "speedup",
+    "speedup_paired",
+    "speedup_vs_sim_off",
+    "n_awake_before",
+    "n_awake_after",
+    "steps_to_all_frozen",
+    "settle_steps",
+    "steps_per_repeat",
+    "repeats",
+    "max_displacement_m",
+    "flag",
+]
 FREEZING = ("sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep", "pybullet-sleep")
 
 
@@ -58,7 +77,7 @@ def test_table_has_every_scene_and_system(quick_run):
     refs = table[table["system"] == table["reference"]]
     assert (refs["speedup"] == 1.0).all()
     settle = int(round(cfg["settle_s"] / fig_speedup.DT))
-    assert (table["settle_steps"] == settle).all()        # every system timed at the same age
+    assert (table["settle_steps"] == settle).all()  # every system timed at the same age
 
 
 def test_resting_rows_are_timed_fully_frozen(quick_run):
@@ -72,11 +91,11 @@ def test_resting_rows_are_timed_fully_frozen(quick_run):
                 assert before == after == 0, (scene, system)
                 assert _get(table, scene, system, "flag") == "all frozen"
             else:
-                assert before == after == n, (scene, system)     # sleeping off solves all
+                assert before == after == n, (scene, system)  # sleeping off solves all
         steps = lambda system: _get(table, scene, system, "steps_to_all_frozen")
         assert steps("sim-paper") <= 3 and steps("sim-extended") <= 3
-        assert steps("sim-sleep") >= 30 and steps("pymunk-sleep") >= 30     # 0.5 s timers
-        assert steps("pybullet-sleep") >= 120                                # Bullet's 2 s
+        assert steps("sim-sleep") >= 30 and steps("pymunk-sleep") >= 30  # 0.5 s timers
+        assert steps("pybullet-sleep") >= 120  # Bullet's 2 s
 
 
 def test_paper_freezes_only_the_two_lowest_pyramid_rows(quick_run):
@@ -103,8 +122,18 @@ def test_pybullet_cap_gives_marked_nan_rows():
     systems = fig_speedup.systems_for(scene)
     assert "pybullet" not in systems and "pybullet-sleep" not in systems and len(systems) == 6
     assert fig_speedup.systems_for(sim.scenes.rest_row(10)) == SYSTEMS
-    fake = [{"froze_at": None, "before": 0, "after": 0, "times": [1.0, 2.0, 3.0], "steps": 10,
-             "age": 5, "moved": 0.0} for _ in systems]
+    fake = [
+        {
+            "froze_at": None,
+            "before": 0,
+            "after": 0,
+            "times": [1.0, 2.0, 3.0],
+            "steps": 10,
+            "age": 5,
+            "moved": 0.0,
+        }
+        for _ in systems
+    ]
     rows = pd.DataFrame(fig_speedup.scene_rows(scene, fake, systems, 3))
     assert list(rows.columns) == COLUMNS and len(rows) == len(SYSTEMS)
     skipped = rows[rows["engine"] == "pybullet"]
@@ -121,8 +150,10 @@ def test_figure_table_and_numbers(quick_run):
     assert set(SYSTEMS) <= set(paper.columns)
     written = json.loads((folder / "generated" / "fig_speedup.json").read_text())
     assert written["numbers"] == json.loads(json.dumps(numbers)) and written["quick"] is True
-    for family, sizes in (("rest_row", fig_speedup.QUICK["rest_row"]),
-                          ("pyramid", fig_speedup.QUICK["pyramid"])):
+    for family, sizes in (
+        ("rest_row", fig_speedup.QUICK["rest_row"]),
+        ("pyramid", fig_speedup.QUICK["pyramid"]),
+    ):
         fam = numbers[family]
         assert fam["largest_scene"] == f"{family}({max(sizes)})"
         assert set(fam["speedup"]) == set(SYSTEMS)

@@ -5,6 +5,7 @@ Asserted are the freezing behaviours the figure shows: the resting row frozen wi
 paper and extended, after the 0.5 s timers by sim-sleep and pymunk-sleep and after Bullet's 2 s by
 pybullet-sleep; sim-paper never freezing a pyramid above its two lowest rows; extended freezing
 every quick scene; "never" runs kept with NaN, their flag and the awake count, and drawn."""
+
 import json
 import math
 
@@ -35,8 +36,9 @@ def _steps(table):
 
 
 def _one(table, scene, system, metric="steps_to_all_frozen"):
-    return table[(table["scene"] == scene) & (table["system"] == system)
-                 & (table["metric"] == metric)]["value"].item()
+    return table[
+        (table["scene"] == scene) & (table["system"] == system) & (table["metric"] == metric)
+    ]["value"].item()
 
 
 def test_every_run_is_kept_and_never_is_marked(quick_run):
@@ -66,7 +68,7 @@ def test_paper_pyramid_and_extended_everywhere(quick_run):
     table, numbers, _ = quick_run
     scene = "pyramid(5)"
     assert math.isnan(_one(table, scene, "sim-paper"))
-    assert _one(table, scene, "sim-paper", "n_awake_at_end") == 15 - (5 + 4)   # rows 3.. awake
+    assert _one(table, scene, "sim-paper", "n_awake_at_end") == 15 - (5 + 4)  # rows 3.. awake
     assert numbers["sim-extended"]["n_never"] == 0
     assert scene in numbers["sim-paper"]["never"]
 
@@ -76,7 +78,7 @@ def test_figure_table_and_numbers(quick_run):
     svg = (folder / "figures" / "fig_time_to_rest.svg").read_text()
     assert svg.startswith("<?xml") and svg.count("<path") > 50, "figure is empty"
     n_never = int((_steps(table)["flag"] == "never").sum())
-    assert n_never > 0                                   # the quick set has never-runs to draw
+    assert n_never > 0  # the quick set has never-runs to draw
     paper = pd.read_csv(folder / "generated" / "fig_time_to_rest.csv")
     assert len(paper) == len(fig_time_to_rest.QUICK["scenes"])
     cells = paper[list(fig_time_to_rest.SYSTEMS)].astype(str)

@@ -5,6 +5,7 @@ its analysis.
 
 Wall-clock speed-ups are checked only where a wrong result could not come from machine load (the
 ratio of minima, for a setting that freezes the whole scene within a step)."""
+
 import json
 import math
 
@@ -25,34 +26,43 @@ def _com(body):
     """World centre of mass of a scene body (what every runner reports as its position)."""
     _, centroid, _ = mass_properties(body.vertices, body.density)
     c, s = math.cos(body.angle), math.sin(body.angle)
-    return np.array(body.position) + np.array([c * centroid[0] - s * centroid[1],
-                                               s * centroid[0] + c * centroid[1]])
+    return np.array(body.position) + np.array(
+        [c * centroid[0] - s * centroid[1], s * centroid[0] + c * centroid[1]]
+    )
 
 
 def _pose(scene):
-    return (np.array([_com(b) for b in scene.bodies]),
-            np.array([b.angle for b in scene.bodies], dtype=float))
+    return (
+        np.array([_com(b) for b in scene.bodies]),
+        np.array([b.angle for b in scene.bodies], dtype=float),
+    )
 
 
 def test_overlap_matches_sims_separating_axis_kernel():
     rng = np.random.default_rng(7)
     overlapping = 0
     for _ in range(200):
-        bodies = [sim.Body(vertices=sim.scenes.random_convex(rng, 0.5),
-                           position=tuple(rng.uniform(-0.6, 0.6, 2) + (0.0, 5.0)),
-                           angle=float(rng.uniform(-3, 3))) for _ in range(2)]
+        bodies = [
+            sim.Body(
+                vertices=sim.scenes.random_convex(rng, 0.5),
+                position=tuple(rng.uniform(-0.6, 0.6, 2) + (0.0, 5.0)),
+                angle=float(rng.uniform(-3, 3)),
+            )
+            for _ in range(2)
+        ]
         scene = sim.Scene(bodies=bodies, floor_y=None)
         polygons = exp.Polygons(scene)
         positions, angles = _pose(scene)
         got = exp.deepest_overlap(polygons, positions, angles)
         w = polygons.world(positions, angles)
-        a = np.ascontiguousarray(w[0][:len(bodies[0].vertices)])
-        b = np.ascontiguousarray(w[1][:len(bodies[1].vertices)])
-        sep = max(max_separation(a, edge_normals(a), b)[1],
-                  max_separation(b, edge_normals(b), a)[1])
+        a = np.ascontiguousarray(w[0][: len(bodies[0].vertices)])
+        b = np.ascontiguousarray(w[1][: len(bodies[1].vertices)])
+        sep = max(
+            max_separation(a, edge_normals(a), b)[1], max_separation(b, edge_normals(b), a)[1]
+        )
         assert got == pytest.approx(max(0.0, -sep), abs=1e-12)
         overlapping += sep < 0
-    assert 20 < overlapping < 180            # both cases were exercised
+    assert 20 < overlapping < 180  # both cases were exercised
 
 
 def test_overlap_of_known_poses():
@@ -116,8 +126,9 @@ def test_solver_grid_and_reference_check():
         exp.solver_grid(1, [-1])
     # sim's reference must run more sweeps per substep than any swept setting
     with pytest.raises(ValueError, match="finer than every swept"):
-        exp.check_reference({**exp.FULL, "reference_iterations": {**exp.FULL[
-            "reference_iterations"], "sim": 8}})
+        exp.check_reference(
+            {**exp.FULL, "reference_iterations": {**exp.FULL["reference_iterations"], "sim": 8}}
+        )
     exp.check_reference(exp.FULL)
     exp.check_reference(exp.QUICK)
 
@@ -130,14 +141,16 @@ def test_bad_scene_input_is_refused():
 
 
 def test_grid_is_log_spaced_around_the_default():
-    assert exp.grid(0.5, 0.5, range(-2, 3)) == pytest.approx([0.05, 0.158113883, 0.5, 1.58113883,
-                                                              5.0])
-    assert exp.grid(0.05, 1.0, [0])[0] == 0.05      # the default exactly
+    assert exp.grid(0.5, 0.5, range(-2, 3)) == pytest.approx(
+        [0.05, 0.158113883, 0.5, 1.58113883, 5.0]
+    )
+    assert exp.grid(0.05, 1.0, [0])[0] == 0.05  # the default exactly
 
 
 def test_pareto_front():
-    pts = pd.DataFrame({"speedup": [1.0, 2.0, 3.0, 4.0, 0.5, 5.0],
-                        "err": [5.0, 3.0, 4.0, 1.0, 0.5, math.nan]})
+    pts = pd.DataFrame(
+        {"speedup": [1.0, 2.0, 3.0, 4.0, 0.5, 5.0], "err": [5.0, 3.0, 4.0, 1.0, 0.5, math.nan]}
+    )
     front = analysis.pareto(pts, "err")
     assert list(zip(front["speedup"], front["err"])) == [(0.5, 0.5), (4.0, 1.0)]
 
@@ -166,14 +179,16 @@ def test_table_has_every_run(quick_run):
                 assert len(rows) == 1 and rows["system"].iloc[0] == off, (scene, engine, role)
         for system, parameter, _, default, _, _ in exp.SWEEPS:
             rows = t[(t["system"] == system) & (t["parameter"] == parameter)]
-            assert len(rows) == 3, (scene, system, parameter)        # k = -2, 0, 2
+            assert len(rows) == 3, (scene, system, parameter)  # k = -2, 0, 2
             assert rows.loc[rows["is_default"], "value"].tolist() == pytest.approx([default])
             assert rows["value"].is_monotonic_increasing
         # sim-off's solver knobs, on the same axes: every other grid point in quick
         solver = t[t["role"] == "solver"]
         assert set(solver["system"]) == {"sim-off"}
-        for parameter, values, default in (("substeps", [1, 4, 16], exp.SIM_SUBSTEPS),
-                                           ("iterations", [1, 4], exp.SIM_ITERATIONS)):
+        for parameter, values, default in (
+            ("substeps", [1, 4, 16], exp.SIM_SUBSTEPS),
+            ("iterations", [1, 4], exp.SIM_ITERATIONS),
+        ):
             rows = solver[solver["parameter"] == parameter]
             assert rows["value"].tolist() == values, parameter
             assert rows.loc[rows["is_default"], "value"].tolist() == [default]
@@ -197,11 +212,14 @@ def test_timings_and_replays(quick_run):
     for _, row in timed.iterrows():
         times = [float(x) for x in row["wall_s_all"].split()]
         assert len(times) == row["repeats"]
-        assert min(times) == pytest.approx(row["wall_s_min"], rel=1e-5)      # 6 digits in csv
+        assert min(times) == pytest.approx(row["wall_s_min"], rel=1e-5)  # 6 digits in csv
     # every engine is deterministic: the timed run ended exactly where the measured one did
     assert (timed["replay_difference_m"] == 0.0).all()
-    assert table.loc[~table["role"].isin(["baseline", "sweep", "solver"]),
-                     "wall_s_median"].isna().all()
+    assert (
+        table.loc[~table["role"].isin(["baseline", "sweep", "solver"]), "wall_s_median"]
+        .isna()
+        .all()
+    )
     # 16 substeps do four times the default's solver work, 1 a quarter: the ratio of minima
     for scene, t in timed[timed["role"] == "solver"].groupby("scene"):
         walls = t[t["parameter"] == "substeps"].set_index("value")["wall_s_min"]
@@ -242,8 +260,9 @@ def test_physics_of_the_results(quick_run):
     never = t[(t["system"] == "sim-sleep") & (t["parameter"] == "sleep_time") & (t["value"] == 5.0)]
     base = t[(t["system"] == "sim-off") & (t["role"] == "baseline")]
     assert never["awake_fraction"].iloc[0] == 1.0
-    assert never["pose_error_max_m"].iloc[0] == pytest.approx(base["pose_error_max_m"].iloc[0],
-                                                              abs=1e-12)
+    assert never["pose_error_max_m"].iloc[0] == pytest.approx(
+        base["pose_error_max_m"].iloc[0], abs=1e-12
+    )
     # extended freezes the pyramid (placed at rest) at once, and then costs far less per run
     ext = t[(t["system"] == "sim-extended") & t["is_default"]]
     assert (ext["n_awake_final"] == 0).all() and (ext["awake_fraction"] < 0.1).all()
@@ -258,8 +277,9 @@ def test_solver_sweep_shares_the_axes(quick_run):
     for scene, t in table.groupby("scene"):
         base = t[(t["system"] == "sim-off") & (t["role"] == "baseline")].iloc[0]
         solver = t[t["role"] == "solver"]
-        assert (solver["awake_fraction"] == 1.0).all() and (solver["n_awake_final"] ==
-                                                             base["n_awake_final"]).all()
+        assert (solver["awake_fraction"] == 1.0).all() and (
+            solver["n_awake_final"] == base["n_awake_final"]
+        ).all()
         for _, row in solver[solver["is_default"]].iterrows():
             assert row["pose_error_max_m"] == base["pose_error_max_m"], (scene, row["parameter"])
             assert row["penetration_final_m"] == base["penetration_final_m"]
@@ -305,23 +325,30 @@ def test_analysis_draws_and_quotes(quick_run, monkeypatch, tmp_path):
     base = table[(table["scene"] == "landing(4,1,1)") & (table["role"] == "baseline")]
     for _, row in base.iterrows():
         assert comparison["pose_error_max_m"][row["system"]] == pytest.approx(
-            row["pose_error_max_m"])
+            row["pose_error_max_m"]
+        )
         assert comparison["exact_error_max_m"][row["system"]] == pytest.approx(
-            row["exact_error_max_m"])
+            row["exact_error_max_m"]
+        )
     peers = {p: comparison["pose_error_max_m"][p] for p in analysis.PEERS}
     assert comparison["best_peer"] == min(peers, key=peers.get)
     assert comparison["sim_off_within_best_peer"] == (
-        comparison["pose_error_max_m"]["sim-off"] <= min(peers.values()))
+        comparison["pose_error_max_m"]["sim-off"] <= min(peers.values())
+    )
     assert [x["value"] for x in landing["solver"]["substeps"]] == [1, 4, 16]
     assert set(comparison["reference_resolution_m"]) == set(exp.OFF.values())
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the issue's done-when, not met by solver v2 at 76478d2: sim-off's landing error at its "
-    "defaults is 4.1 mm against pybullet's 0.02 mm on the quick landing (full size: 15.6 mm "
-    "against sim's reference, 21 mm against the exact pose; pybullet ~1 mm): the impacts leave "
-    "the boxes sliding sideways, and neither substeps nor (since 76478d2) iterations converge "
-    "it; see experiments/fig_tradeoff.py"))
+@pytest.mark.xfail(
+    strict=True,
+    reason=(
+        "the issue's done-when, not met by solver v2 at 76478d2: sim-off's landing error at its "
+        "defaults is 4.1 mm against pybullet's 0.02 mm on the quick landing (full size: 15.6 mm "
+        "against sim's reference, 21 mm against the exact pose; pybullet ~1 mm): the impacts leave "
+        "the boxes sliding sideways, and neither substeps nor (since 76478d2) iterations converge "
+        "it; see experiments/fig_tradeoff.py"
+    ),
+)
 def test_sim_off_at_defaults_is_as_accurate_as_the_best_peer(quick_run):
     table, _, _ = quick_run
     base = table[(table["scene"] == "landing(4,1,1)") & (table["role"] == "baseline")]

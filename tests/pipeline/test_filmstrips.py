@@ -1,6 +1,7 @@
 """The seed's figures 1-3 (fig_states, fig_edge_as_floor, fig_overhang): experiment and analysis
 end to end into temporary folders. Asserted are the physical stories the figures tell, which a
 broken policy would change, and that each figure is a real drawing."""
+
 import json
 
 import pandas as pd
@@ -35,8 +36,11 @@ def _run(module, analysis, out):
 
 def test_fig_states_shows_the_three_states(out):
     table, numbers = _run(fig_states, a_states, out)
-    assert numbers["states"] == {"A": "rotation-stable", "B": "vertical-stable",
-                                 "C": "free (vertical-unstable)"}
+    assert numbers["states"] == {
+        "A": "rotation-stable",
+        "B": "vertical-stable",
+        "C": "free (vertical-unstable)",
+    }
     # every body ends frozen, A (at rest from the start) first; B (tipping back onto its face,
     # then sliding to a stop) and C (falling onto the floor) in the order their motions take
     # (measured: A 1, C 41, B 46)
@@ -54,7 +58,7 @@ def test_fig_edge_as_floor_lands_on_the_edge(out):
     assert causes[:2] == ["one_vertex_on_floor", "two_vertices_on_floor"]
     last = table[(table["kind"] == "body") & (table["step"] == table["step"].max())]
     a = last[(last["policy"] == "paper") & (last["name"] == "A")].iloc[0]
-    assert a["y"] == pytest.approx(1.0 + 0.4, abs=0.02)       # on B (1 m tall), A is 0.8 m
+    assert a["y"] == pytest.approx(1.0 + 0.4, abs=0.02)  # on B (1 m tall), A is 0.8 m
     for policy in ("paper", "extended"):
         assert numbers["final_position_error_m"][policy] < 0.05
 
@@ -78,6 +82,7 @@ def test_analysis_needs_the_data_first(out):
 def test_outline_round_trip():
     from study.filmstrip import outline_xy, record
     import sim
+
     t = record(sim.scenes.single_box(), ["off"], 1)
     xy = outline_xy(t.iloc[0]["outline"])
     assert xy.shape == (4, 2)

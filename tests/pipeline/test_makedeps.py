@@ -1,5 +1,6 @@
 """The Makefile's build graph comes from the imports (tools/makedeps.py): an edit to any module
 reruns exactly the experiments and analyses that run it, and nothing else."""
+
 import os
 import re
 import subprocess
@@ -15,22 +16,23 @@ import makedeps  # noqa: E402
 
 
 def _make_list(variable):
-    out = subprocess.run(["make", "-s", f"print-{variable}"], cwd=ROOT, capture_output=True,
-                         text=True, check=True).stdout
+    out = subprocess.run(
+        ["make", "-s", f"print-{variable}"], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout
     return out.split()
 
 
 def test_dependencies_follow_imports_through_other_modules():
     speedup = makedeps.dependencies("experiments.fig_speedup")
-    assert "study/protocols.py" in speedup               # a library module
-    assert "study/cost_fit.py" in speedup                # ... and what it imports
+    assert "study/protocols.py" in speedup  # a library module
+    assert "study/cost_fit.py" in speedup  # ... and what it imports
     assert "study/common.py" in speedup and "sim/world.py" in speedup
-    assert "sim/freeze/extended.py" in speedup                 # through sim/freeze/__init__
+    assert "sim/freeze/extended.py" in speedup  # through sim/freeze/__init__
     assert "experiments/fig_states.py" not in speedup
-    assert "experiments/bench_freeze.py" not in speedup        # a script: never a library
+    assert "experiments/bench_freeze.py" not in speedup  # a script: never a library
     table = makedeps.dependencies("analysis.table_extremes")
-    assert "study/extremes/axes.py" in table             # analysis importing a library
-    assert "study/extremes/__init__.py" in table         # (a package's __init__ runs)
+    assert "study/extremes/axes.py" in table  # analysis importing a library
+    assert "study/extremes/__init__.py" in table  # (a package's __init__ runs)
     assert "experiments/table_extremes.py" not in table
     # a relative import (study/metadata.py: from . import paths)
     assert "study/paths.py" in makedeps.dependencies("study.metadata")
@@ -43,24 +45,31 @@ def built_tree(tmp_path_factory):
     paper = tmp_path_factory.mktemp("paper")
     names = _make_list("ALL")
     later = time.time() + 3600
-    for i, (folder, suffix) in enumerate(((results / "data", ".csv"),
-                                          (paper / "generated", ".json"))):
+    for i, (folder, suffix) in enumerate(
+        ((results / "data", ".csv"), (paper / "generated", ".json"))
+    ):
         folder.mkdir(parents=True, exist_ok=True)
         for name in names:
             target = folder / f"{name}{suffix}"
             target.write_text("")
-            os.utime(target, (later + 60 * i, later + 60 * i))     # figures after their data
+            os.utime(target, (later + 60 * i, later + 60 * i))  # figures after their data
     return results, paper, names
 
 
 def _rebuilt(built_tree, edited):
     """(experiments rerun, analyses rerun) by `make -n figures` if ``edited`` were changed."""
     results, paper, _ = built_tree
-    out = subprocess.run(["make", "-n", "-W", edited, f"RESULTS_DIR={results}",
-                          f"PAPER_OUT={paper}", "figures"], cwd=ROOT, capture_output=True,
-                         text=True, check=True).stdout
-    return (set(re.findall(r"-m experiments\.(\w+)", out)),
-            set(re.findall(r"-m analysis\.(\w+)", out)))
+    out = subprocess.run(
+        ["make", "-n", "-W", edited, f"RESULTS_DIR={results}", f"PAPER_OUT={paper}", "figures"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    return (
+        set(re.findall(r"-m experiments\.(\w+)", out)),
+        set(re.findall(r"-m analysis\.(\w+)", out)),
+    )
 
 
 def test_an_up_to_date_tree_rebuilds_nothing(built_tree):
@@ -70,10 +79,12 @@ def test_an_up_to_date_tree_rebuilds_nothing(built_tree):
 def test_an_edit_to_a_library_module_reruns_what_imports_it(built_tree):
     users = {"bench_freeze", "fig_speedup", "fig_scaling", "fig_time_to_rest"}
     assert _rebuilt(built_tree, "study/protocols.py") == (users, users)
-    assert _rebuilt(built_tree, "study/cost_fit.py") == (users, users)   # via protocols
+    assert _rebuilt(built_tree, "study/cost_fit.py") == (users, users)  # via protocols
     # a script is imported by nothing: its edit reruns itself only
     assert _rebuilt(built_tree, "experiments/bench_freeze.py") == (
-        {"bench_freeze"}, {"bench_freeze"})
+        {"bench_freeze"},
+        {"bench_freeze"},
+    )
 
 
 def test_an_edit_to_the_solver_reruns_every_experiment(built_tree):
@@ -83,7 +94,9 @@ def test_an_edit_to_the_solver_reruns_every_experiment(built_tree):
 
 def test_an_edit_to_an_analysis_module_redraws_only_what_imports_it(built_tree):
     assert _rebuilt(built_tree, "analysis/filmstrip.py") == (
-        set(), {"fig_states", "fig_edge_as_floor", "fig_overhang"})
+        set(),
+        {"fig_states", "fig_edge_as_floor", "fig_overhang"},
+    )
     # an experiment script: its data, then its figure
     experiments, analyses = _rebuilt(built_tree, "experiments/table_extremes.py")
     assert experiments == {"table_extremes"} and analyses == {"table_extremes"}
@@ -118,19 +131,25 @@ def test_no_experiment_script_runs_another_nor_does_analysis():
 
     def runs(path, layer):
         own = str(path.relative_to(ROOT))
-        return {f for f in makedeps.dependencies(_module(path))
-                if f.startswith(layer) and f != own and not f.endswith("__init__.py")}
+        return {
+            f
+            for f in makedeps.dependencies(_module(path))
+            if f.startswith(layer) and f != own and not f.endswith("__init__.py")
+        }
 
     for path in sorted(ROOT.glob("experiments/*.py")):
         assert not runs(path, "experiments/"), (
             f"{path.name} imports the experiment script(s) {sorted(runs(path, 'experiments/'))}:"
-            f" move what it uses into study/")
+            f" move what it uses into study/"
+        )
     for path in sorted(ROOT.glob("analysis/**/*.py")):
         assert not runs(path, "experiments/"), (
             f"analysis/{path.name} imports {sorted(runs(path, 'experiments/'))}: analysis reads "
-            f"results and imports sim and study only")
+            f"results and imports sim and study only"
+        )
     for path in sorted(ROOT.glob("study/**/*.py")):
         for layer in ("experiments/", "analysis/"):
             assert not runs(path, layer), (
                 f"{path.relative_to(ROOT)} imports {sorted(runs(path, layer))}: the study "
-                f"library never imports the scripts above it")
+                f"library never imports the scripts above it"
+            )

@@ -3,6 +3,7 @@ recording and the PDF must exist and be non-trivial, and re-plotting must not re
 
 This is the slowest test (the whole pipeline on small sizes, a few minutes on 2 cores); it is the
 one that proves the README's `make reproduce` works from the Makefile down."""
+
 import json
 import os
 import subprocess
@@ -21,8 +22,13 @@ def _make(*args, timeout=900):
     env = {**os.environ, "PYTHONHASHSEED": "0"}
     env.pop("FREEZE2D_RESULTS", None)
     env.pop("FREEZE2D_PAPER_OUT", None)
-    return subprocess.run(["make", "-C", str(ROOT), *args, f"PY={sys.executable}"], env=env,
-                          capture_output=True, text=True, timeout=timeout)
+    return subprocess.run(
+        ["make", "-C", str(ROOT), *args, f"PY={sys.executable}"],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
 
 
 def _list(variable):
@@ -38,7 +44,9 @@ def quick_tree(tmp_path_factory):
     t0 = time.perf_counter()
     out = _make("reproduce", "QUICK=1", f"RESULTS_DIR={results}", f"PAPER_OUT={paper}")
     elapsed = time.perf_counter() - t0
-    assert out.returncode == 0, f"make reproduce QUICK=1 failed:\n{out.stdout[-3000:]}\n{out.stderr[-3000:]}"
+    assert out.returncode == 0, (
+        f"make reproduce QUICK=1 failed:\n{out.stdout[-3000:]}\n{out.stderr[-3000:]}"
+    )
     return results, paper, elapsed
 
 
@@ -61,7 +69,7 @@ def test_every_output_exists_and_is_nontrivial(quick_tree):
     for recording in _list("RECORDINGS"):
         rrd = results / "recordings" / f"{recording}.rrd"
         assert rrd.stat().st_size > 10_000, rrd
-    rows = results / "recordings" / "table_failures"          # one per row, every system
+    rows = results / "recordings" / "table_failures"  # one per row, every system
     for scenario in scenarios.SCENARIOS:
         assert (rows / f"{scenario}.rrd").stat().st_size > 10_000, scenario
         assert f"{scenario}.rrd" in (rows / "index.txt").read_text()

@@ -1,6 +1,7 @@
 """experiments.table_extremes end to end on --quick sizes into a temporary results tree, its
 analysis into a temporary paper tree, and the measuring code (rules, overlap, tunnelling) on
 cases whose answer is known."""
+
 import json
 import math
 
@@ -23,34 +24,39 @@ def quick_run(tmp_path_factory):
     results = tmp_path_factory.mktemp("results")
     paper = tmp_path_factory.mktemp("paper")
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(paths, "RESULTS", results)            # the incremental store goes here
+        mp.setattr(paths, "RESULTS", results)  # the incremental store goes here
         mp.setattr(paths, "DATA", results / "data")
         mp.setattr(paths, "FIGURES", paper / "figures")
         mp.setattr(paths, "GENERATED", paper / "generated")
         T.main(["--quick"], data_dir=results / "data")
         numbers = analysis.main([])
     table = pd.read_csv(results / "data" / f"{T.NAME}.csv")
-    for col in ("reason", "outcome", "ref_outcome", "error", "tunnelled", "chattering",
-                "decision"):
-        table[col] = table[col].astype(object).fillna("")    # all-empty reads back as NaN
+    for col in ("reason", "outcome", "ref_outcome", "error", "tunnelled", "chattering", "decision"):
+        table[col] = table[col].astype(object).fillna("")  # all-empty reads back as NaN
     meta = json.loads((results / "data" / f"{T.NAME}.json").read_text())
     return table, meta, numbers, results, paper
 
 
 def _row(table, axis, value, system):
-    r = table[(table["axis"] == axis) & np.isclose(table["value"], value)
-              & (table["system"] == system)]
+    r = table[
+        (table["axis"] == axis) & np.isclose(table["value"], value) & (table["system"] == system)
+    ]
     assert len(r) == 1, (axis, value, system)
     return r.iloc[0]
 
 
 def test_every_cell_once_with_the_columns(quick_run):
     table, meta, _, results, _ = quick_run
-    assert list(table.columns) == list(COLUMNS)        # the Row record's fields, in order
+    assert list(table.columns) == list(COLUMNS)  # the Row record's fields, in order
     # every applicable (axis, value, system) once: the no-presolve systems on the placed axes
     # only, the sim-only axes for sim only
-    expected = {(a, float(v), s) for a, values in T.QUICK["axes"].items() for v in values
-                for s in axes.ALL_SYSTEMS if axes.applies(a, s)}
+    expected = {
+        (a, float(v), s)
+        for a, values in T.QUICK["axes"].items()
+        for v in values
+        for s in axes.ALL_SYSTEMS
+        if axes.applies(a, s)
+    }
     assert {s for _, _, s in expected} == set(axes.ALL_SYSTEMS)
     got = list(zip(table["axis"], table["value"].astype(float), table["system"]))
     assert len(got) == len(set(got)) == len(expected)
@@ -161,8 +167,9 @@ def test_analysis_outputs(quick_run):
     for system in axes.NO_PRESOLVE_SYSTEMS:
         marks = set(summary[system])
         assert analysis.NOT_APPLICABLE in marks and len(marks) > 1
-    assert json.loads((paper / "generated" / f"{T.NAME}.json").read_text())["numbers"] == \
-        json.loads(json.dumps(numbers))
+    assert json.loads((paper / "generated" / f"{T.NAME}.json").read_text())[
+        "numbers"
+    ] == json.loads(json.dumps(numbers))
     # the default systems and the no-presolve ones are counted apart, and every cell once
     nop = numbers["no_presolve"]
     assert set(numbers["counts"]) == set(SYSTEMS)
@@ -182,21 +189,37 @@ def test_analysis_outputs(quick_run):
         for axis, entry in per_axis.items():
             for system in entry["breaks_first"]:
                 label = entry["first_degraded_or_failed"][system]
-                hits = [r for r in table[(table["axis"] == axis) & (table["system"] == system)]
-                        .itertuples() if analysis.value_label(axis, r.value) == label]
+                hits = [
+                    r
+                    for r in table[
+                        (table["axis"] == axis) & (table["system"] == system)
+                    ].itertuples()
+                    if analysis.value_label(axis, r.value) == label
+                ]
                 assert hits and hits[0].status in ("degraded", "failed")
     for entry in nop["per_axis"].values():
-        assert not any(s in entry["first_degraded_or_failed"] for s in SYSTEMS
-                       if s.startswith("sim-"))
+        assert not any(
+            s in entry["first_degraded_or_failed"] for s in SYSTEMS if s.startswith("sim-")
+        )
     # every refused cell is listed with its message
     assert len(numbers["rejected_cells"]) == int((table["status"] == "rejected").sum())
 
 
 # ---- the measuring code on known cases (no sweep) ----------------------------------------------
 def _result(**kw):
-    base = {"status_hint": "", "error": "", "finite": True, "exploded": False, "tunnelled": "",
-            "outcome": "stands", "energy_growth": 0.0, "ke_max_rel": 0.5,
-            "penetration_rel": 0.01, "drift_rel": 0.001, "chattering": ""}
+    base = {
+        "status_hint": "",
+        "error": "",
+        "finite": True,
+        "exploded": False,
+        "tunnelled": "",
+        "outcome": "stands",
+        "energy_growth": 0.0,
+        "ke_max_rel": 0.5,
+        "penetration_rel": 0.01,
+        "drift_rel": 0.001,
+        "chattering": "",
+    }
     return Measurement(**{**base, **kw})
 
 
@@ -208,20 +231,22 @@ def test_classify_rules():
     assert rules.classify(_result(energy_growth=0.06), ref)[0] == "degraded"
     assert rules.classify(_result(finite=False, error="non-finite"), ref)[0] == "failed"
     assert rules.classify(_result(ke_max_rel=2.5), ref)[0] == "failed"
-    assert rules.classify(_result(tunnelled="projectile passed through body 2"), ref)[0] \
-        == "failed"
+    assert rules.classify(_result(tunnelled="projectile passed through body 2"), ref)[0] == "failed"
     assert rules.classify(_result(outcome="collapsed"), ref)[0] == "failed"
     assert rules.classify(_result(chattering="a body woken 3 times"), ref)[0] == "failed"
     # an invalid reference is not compared with
     bad_ref = _result(tunnelled="projectile passed through the wall")
     assert rules.classify(_result(outcome="collapsed"), bad_ref)[0] == "stable"
-    assert rules.classify(_result(status_hint="rejected", error="ValueError: x"), ref) == \
-        ("rejected", "ValueError: x")
+    assert rules.classify(_result(status_hint="rejected", error="ValueError: x"), ref) == (
+        "rejected",
+        "ValueError: x",
+    )
 
 
 def test_deepest_overlap_known_depths():
-    scene = sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5)),
-                              sim.Body.box(0.5, 0.5, position=(3, 0.25))])
+    scene = sim.Scene(
+        bodies=[sim.Body.box(1, 1, position=(0, 0.5)), sim.Body.box(0.5, 0.5, position=(3, 0.25))]
+    )
     shapes = geometry.Shapes(scene)
     # box 1 pushed 0.1 m into box 0 from the right, and 0.02 m below the floor
     pos = np.array([[0.0, 0.5], [0.65, 0.23]])
@@ -248,19 +273,19 @@ def test_tunnelling_is_seen_through_and_not_over():
     scene = scenes.projectile_wall(100.0)
     judge = Judge(scene, geometry.Shapes(scene))
     judge.sample(_Pose([[-0.5, 2.0]]), 0.0)
-    judge.sample(_Pose([[1.2, 2.0]]), 0.1)                 # jumped through the wall
+    judge.sample(_Pose([[1.2, 2.0]]), 0.1)  # jumped through the wall
     assert "passed through the wall" in judge.tunnelled
     judge = Judge(scene, geometry.Shapes(scene))
     judge.sample(_Pose([[-0.5, 2.0]]), 0.0)
-    judge.sample(_Pose([[-0.4, 4.5]]), 0.1)                # rose above the wall's top
-    judge.sample(_Pose([[0.5, 4.5]]), 0.2)                 # passed over it
-    judge.sample(_Pose([[1.0, 3.0]]), 0.3)                 # and came down behind it
+    judge.sample(_Pose([[-0.4, 4.5]]), 0.1)  # rose above the wall's top
+    judge.sample(_Pose([[0.5, 4.5]]), 0.2)  # passed over it
+    judge.sample(_Pose([[1.0, 3.0]]), 0.3)  # and came down behind it
     assert judge.tunnelled == ""
     assert judge.outcome() == "passed"
 
 
 def test_tunnelling_over_several_steps_and_not_when_pushed_back():
-    scene = scenes.projectile_stack(100.0)             # body 2: the unit box centred at (0, 2.5)
+    scene = scenes.projectile_stack(100.0)  # body 2: the unit box centred at (0, 2.5)
     column = [[0.0, 0.5 + k] for k in range(5)]
 
     def judge_path(path):
@@ -277,26 +302,51 @@ def test_tunnelling_over_several_steps_and_not_when_pushed_back():
     assert judge_path([[-0.2, 2.4], [0.1, 2.3], [0.2, 2.2]]) == ""
     # in through the left face, out through the bottom: not counted
     assert judge_path([[-1.4, 2.4], [-0.2, 2.2], [-0.1, 1.6]]) == ""
-    assert geometry.clip_to_box(np.array([-2.0, 0.0]), np.array([2.0, 0.0]), np.array([0.5, 0.5])) \
-        == ((0, -1), (0, 1))
-    assert geometry.clip_to_box(np.array([-2.0, 1.0]), np.array([2.0, 1.0]), np.array([0.5, 0.5])) \
+    assert geometry.clip_to_box(
+        np.array([-2.0, 0.0]), np.array([2.0, 0.0]), np.array([0.5, 0.5])
+    ) == ((0, -1), (0, 1))
+    assert (
+        geometry.clip_to_box(np.array([-2.0, 1.0]), np.array([2.0, 1.0]), np.array([0.5, 0.5]))
         is None
+    )
 
 
-@pytest.mark.parametrize("builder,arg", [
-    ("mass_stack", 0), ("mass_stack", -1.0), ("mass_stack", math.nan), ("size_stack", 0.0),
-    ("size_stack", -1.0), ("size_stack", math.nan), ("plank_flat", 0), ("plank_upright", -3),
-    ("polygon_on_box", 2), ("polygon_on_box", 3.5), ("collinear_box", -1e-3),
-    ("projectile_wall", 0.0), ("impact", math.nan), ("knife_edge", math.inf), ("columns", 7),
-])
+@pytest.mark.parametrize(
+    "builder,arg",
+    [
+        ("mass_stack", 0),
+        ("mass_stack", -1.0),
+        ("mass_stack", math.nan),
+        ("size_stack", 0.0),
+        ("size_stack", -1.0),
+        ("size_stack", math.nan),
+        ("plank_flat", 0),
+        ("plank_upright", -3),
+        ("polygon_on_box", 2),
+        ("polygon_on_box", 3.5),
+        ("collinear_box", -1e-3),
+        ("projectile_wall", 0.0),
+        ("impact", math.nan),
+        ("knife_edge", math.inf),
+        ("columns", 7),
+    ],
+)
 def test_builders_refuse_out_of_range(builder, arg):
     with pytest.raises(ValueError):
         scenes.BUILDERS[builder](arg)
 
 
 def test_a_refused_scene_is_recorded_not_raised():
-    task = {"role": "run", "system": "sim-off", "scene": {"builder": "mass_stack", "args": [-1]},
-            "dt": 1 / 60, "iterations": None, "steps": 10, "sample_every": 1, "budget_s": 5.0}
+    task = {
+        "role": "run",
+        "system": "sim-off",
+        "scene": {"builder": "mass_stack", "args": [-1]},
+        "dt": 1 / 60,
+        "iterations": None,
+        "steps": 10,
+        "sample_every": 1,
+        "budget_s": 5.0,
+    }
     out = runs.simulate(task)
     assert out.status_hint == "rejected" and "mass ratio" in out.error
 
@@ -317,9 +367,11 @@ def test_the_reference_is_sims_default_solver_at_a_fine_step():
     substeps row share their scene's reference)."""
     assert (runs.REF_SUBSTEPS, runs.REF_ITERATIONS) == (4, 1)
     keys = set()
-    for axis, value, system in (("stack_height", 20, "sim-off"),
-                                ("stack_height", 20, "sim-paper (no presolve)"),
-                                ("stack_height", 20, "pymunk")):
+    for axis, value, system in (
+        ("stack_height", 20, "sim-off"),
+        ("stack_height", 20, "sim-paper (no presolve)"),
+        ("stack_height", 20, "pymunk"),
+    ):
         ref = runs.reference_task(runs.run_task(axis, value, system, T.FULL), T.FULL)
         assert ref["system"] == ref["runner"] == "sim-off"
         assert ref["settings"] == {"substeps": runs.REF_SUBSTEPS}
@@ -327,8 +379,10 @@ def test_the_reference_is_sims_default_solver_at_a_fine_step():
         assert ref["dt"] == pytest.approx(DT / T.FULL["fine"])
         keys.add(runs.task_key(ref))
     assert len(keys) == 1
-    refs = {runs.task_key(runs.reference_task(runs.run_task(a, v, "sim-off", T.FULL), T.FULL))
-            for a, v in (("dt", 1 / 60), ("iterations", 1), ("substeps", 1))}
+    refs = {
+        runs.task_key(runs.reference_task(runs.run_task(a, v, "sim-off", T.FULL), T.FULL))
+        for a, v in (("dt", 1 / 60), ("iterations", 1), ("substeps", 1))
+    }
     assert len(refs) == 1
 
 
@@ -348,8 +402,9 @@ def test_systems_and_axes_that_apply():
     assert axes.NO_PRESOLVE_SYSTEMS == tuple(f"{s} (no presolve)" for s in SYSTEMS[:4])
     for axis in axes.AXES:
         for system in SYSTEMS:
-            assert axes.applies(axis, system) == (axis not in axes.SIM_ONLY_AXES
-                                               or system.startswith("sim-"))
+            assert axes.applies(axis, system) == (
+                axis not in axes.SIM_ONLY_AXES or system.startswith("sim-")
+            )
         for system in axes.NO_PRESOLVE_SYSTEMS:
             assert axes.applies(axis, system) == (axis in axes.PLACED_AXES)
     assert set(axes.PLACED_AXES) <= set(axes.AXES) and set(axes.SIM_ONLY_AXES) <= set(axes.AXES)
@@ -368,24 +423,37 @@ def test_a_no_presolve_run_starts_sim_with_initial_iterations_zero():
 
 
 def _cells(rows):
-    return pd.DataFrame([{"axis": a, "value": v, "system": s, "status": st, "reason": r,
-                          "error": r if st == "rejected" else ""} for a, v, s, st, r in rows])
+    return pd.DataFrame(
+        [
+            {
+                "axis": a,
+                "value": v,
+                "system": s,
+                "status": st,
+                "reason": r,
+                "error": r if st == "rejected" else "",
+            }
+            for a, v, s, st, r in rows
+        ]
+    )
 
 
 def test_breaks_first_ignores_refusals_and_sim_only_axes():
     """A refused cell is not breaking (a clear error is an answer, not a wrong result); a sim-only
     axis compares nobody."""
     values = {"size_small": [1.0, 0.01, 1e-3], "substeps": [4, 1]}
-    table = _cells([
-        ("size_small", 1.0, "sim-off", "stable", ""),
-        ("size_small", 0.01, "sim-off", "stable", ""),
-        ("size_small", 1e-3, "sim-off", "rejected", "ValueError: too small"),
-        ("size_small", 1.0, "pymunk", "stable", ""),
-        ("size_small", 0.01, "pymunk", "stable", ""),
-        ("size_small", 1e-3, "pymunk", "failed", "outcome collapsed"),
-        ("substeps", 4, "sim-off", "stable", ""),
-        ("substeps", 1, "sim-off", "failed", "outcome collapsed"),
-    ])
+    table = _cells(
+        [
+            ("size_small", 1.0, "sim-off", "stable", ""),
+            ("size_small", 0.01, "sim-off", "stable", ""),
+            ("size_small", 1e-3, "sim-off", "rejected", "ValueError: too small"),
+            ("size_small", 1.0, "pymunk", "stable", ""),
+            ("size_small", 0.01, "pymunk", "stable", ""),
+            ("size_small", 1e-3, "pymunk", "failed", "outcome collapsed"),
+            ("substeps", 4, "sim-off", "stable", ""),
+            ("substeps", 1, "sim-off", "failed", "outcome collapsed"),
+        ]
+    )
     per_axis, counts = analysis.headline(table, ["sim-off", "pymunk"], values)
     assert per_axis["size_small"]["breaks_first"] == ["pymunk"]
     assert per_axis["size_small"]["first_degraded_or_failed"]["sim-off"] is None
@@ -396,16 +464,21 @@ def test_breaks_first_ignores_refusals_and_sim_only_axes():
 
 
 def test_systems_breaking_together_break_first_nowhere():
-    """"First" means before another system: where every system with a cell on the axis breaks at
+    """ "First" means before another system: where every system with a cell on the axis breaks at
     the same value, nobody breaks first and the value is reported as where they all break."""
     values = {"dt": [1 / 60, 1 / 15], "plank_flat": [1, 100]}
-    table = _cells([
-        ("dt", 1 / 60, "sim-off", "stable", ""), ("dt", 1 / 15, "sim-off", "failed", "outcome"),
-        ("dt", 1 / 60, "pymunk", "stable", ""), ("dt", 1 / 15, "pymunk", "degraded", "drift"),
-        ("plank_flat", 1, "sim-off", "stable", ""), ("plank_flat", 100, "sim-off", "stable", ""),
-        ("plank_flat", 1, "pymunk", "stable", ""),
-        ("plank_flat", 100, "pymunk", "degraded", "drift"),
-    ])
+    table = _cells(
+        [
+            ("dt", 1 / 60, "sim-off", "stable", ""),
+            ("dt", 1 / 15, "sim-off", "failed", "outcome"),
+            ("dt", 1 / 60, "pymunk", "stable", ""),
+            ("dt", 1 / 15, "pymunk", "degraded", "drift"),
+            ("plank_flat", 1, "sim-off", "stable", ""),
+            ("plank_flat", 100, "sim-off", "stable", ""),
+            ("plank_flat", 1, "pymunk", "stable", ""),
+            ("plank_flat", 100, "pymunk", "degraded", "drift"),
+        ]
+    )
     per_axis, _ = analysis.headline(table, ["sim-off", "pymunk"], values)
     assert per_axis["dt"]["breaks_first"] == [] and per_axis["dt"]["breaks_first_at"] is None
     assert per_axis["dt"]["breaks_together_at"] == "1/15 s"

@@ -1,10 +1,12 @@
-"""experiments.table_failures end to end on --quick sizes into a temporary folder, then its analysis.
+"""experiments.table_failures end to end on --quick sizes into a temporary folder, then its
+analysis.
 
 Timings are only checked for being finite and positive. What is asserted are facts the catalogue
 must show whatever the machine: the truth is what physics says, sim with freezing off gets every
 scenario right, the seed's admitted limits show up where the seed says they are (paper leaves a
 load floating on a removed support, and ignores three-body balance), the sleep thresholds stop a
 slow slide short, every scheduled danger met frozen bodies, and sim's runs are deterministic."""
+
 import json
 import math
 
@@ -16,12 +18,40 @@ from study import paths, scenarios
 from experiments import table_failures
 from study.common import REFERENCE, SYSTEMS
 
-COLUMNS = ["scenario", "system", "reference", "bodies", "seconds", "steps", "event_s", "expected",
-           "truth", "truth_is_expected", "outcome", "right", "changed", "engine_right",
-           "measure_name", "measure", "truth_measure", "pose_error_m", "pose_error_rad",
-           "pose_error_all_m", "truth_error_m", "frozen_fraction", "key_ever_frozen",
-           "asleep_at_event", "wall_ms_median", "wall_ms_min", "ms_per_step", "speedup",
-           "speedup_min", "repeats", "runs_per_repeat", "timed_pose_diff_m"]
+COLUMNS = [
+    "scenario",
+    "system",
+    "reference",
+    "bodies",
+    "seconds",
+    "steps",
+    "event_s",
+    "expected",
+    "truth",
+    "truth_is_expected",
+    "outcome",
+    "right",
+    "changed",
+    "engine_right",
+    "measure_name",
+    "measure",
+    "truth_measure",
+    "pose_error_m",
+    "pose_error_rad",
+    "pose_error_all_m",
+    "truth_error_m",
+    "frozen_fraction",
+    "key_ever_frozen",
+    "asleep_at_event",
+    "wall_ms_median",
+    "wall_ms_min",
+    "ms_per_step",
+    "speedup",
+    "speedup_min",
+    "repeats",
+    "runs_per_repeat",
+    "timed_pose_diff_m",
+]
 
 
 @pytest.fixture(scope="module")
@@ -59,7 +89,7 @@ def test_references_are_their_own_reference(quick_run):
             assert not rows["changed"].any()
             assert (rows["pose_error_m"] == 0).all() and (rows["speedup"] == 1).all()
             assert (rows["speedup_min"] == 1).all()
-            assert (rows["frozen_fraction"] == 0).all()     # sleeping off freezes nothing
+            assert (rows["frozen_fraction"] == 0).all()  # sleeping off freezes nothing
     # "right" and "changed" are consistent with the labels
     for r in table.itertuples():
         assert r.right == (r.outcome == r.truth)
@@ -68,8 +98,8 @@ def test_references_are_their_own_reference(quick_run):
 
 def test_the_seeds_admitted_limits_show(quick_run):
     table, _, _ = quick_run
-    assert table.loc[("support_removed", "sim-paper"), "outcome"] == "floating"   # limit 2
-    assert table.loc[("three_bodies", "sim-paper"), "outcome"] == "stood"         # limit 3
+    assert table.loc[("support_removed", "sim-paper"), "outcome"] == "floating"  # limit 2
+    assert table.loc[("three_bodies", "sim-paper"), "outcome"] == "stood"  # limit 3
     # extended was built to lift those limits
     for scenario in ("support_removed", "three_bodies", "wake_cascade", "load_on_overhang"):
         assert table.loc[(scenario, "sim-extended"), "right"], scenario
@@ -99,7 +129,7 @@ def test_timings_and_determinism(quick_run):
         assert table[col].map(math.isfinite).all() and (table[col] > 0).all(), col
     assert (table["wall_ms_min"] <= table["wall_ms_median"]).all()
     sim_rows = table[table["system"].str.startswith("sim-")]
-    assert (sim_rows["timed_pose_diff_m"] == 0).all()     # timed runs end where untimed ones do
+    assert (sim_rows["timed_pose_diff_m"] == 0).all()  # timed runs end where untimed ones do
 
 
 def test_analysis_draws_the_catalogue(quick_run, monkeypatch, tmp_path):
@@ -111,8 +141,11 @@ def test_analysis_draws_the_catalogue(quick_run, monkeypatch, tmp_path):
     table = pd.read_csv(tmp_path / "generated" / "table_failures.csv")
     assert list(table.columns) == ["scenario", "truth", *SYSTEMS]
     assert len(table) == len(scenarios.SCENARIOS)
-    assert table.loc[table["scenario"] == "support_removed", "sim-paper"].item().startswith(
-        "WRONG (floating)")
+    assert (
+        table.loc[table["scenario"] == "support_removed", "sim-paper"]
+        .item()
+        .startswith("WRONG (floating)")
+    )
     assert (table["sim-off"] == "ok").all()
     speed = pd.read_csv(tmp_path / "generated" / "table_failures_speedup.csv")
     assert len(speed) == len(scenarios.SCENARIOS)

@@ -1,6 +1,7 @@
 """Recordings of any run, read back with rerun's own API (rerun.chunk.RrdReader): every system's
 entities on one step timeline, the divergence against the reference, the colours of frozen
 bodies, the blueprint; and the names a run can be traced by (study.targets)."""
+
 import math
 import os
 import subprocess
@@ -55,41 +56,48 @@ def rgba(packed):
 def box_recording(tmp_path_factory):
     """single_box (placed at rest) under sim-off twice, sim-extended and pymunk-sleep, 60 steps."""
     path = tmp_path_factory.mktemp("trace") / "box.rrd"
-    target = targets.resolve("single_box",
-                             systems=["sim-off", "sim-off", "sim-extended", "pymunk-sleep"])
+    target = targets.resolve(
+        "single_box", systems=["sim-off", "sim-off", "sim-extended", "pymunk-sleep"]
+    )
     tracks = trace.record(target, path, steps=60)
     return path, read(path), tracks
 
 
 def test_every_system_is_recorded_on_one_step_timeline(box_recording):
     path, entities, tracks = box_recording
-    check = subprocess.run([str(RERUN), "rrd", "verify", str(path)], capture_output=True,
-                           text=True, env=ENV)
+    check = subprocess.run(
+        [str(RERUN), "rrd", "verify", str(path)], capture_output=True, text=True, env=ENV
+    )
     assert check.returncode == 0, check.stderr
     assert [t.path for t in tracks] == ["sim-off", "sim-off_2", "sim-extended", "pymunk-sleep"]
     assert not any(t.stopped for t in tracks)
     for s in ("sim-off", "sim-off_2", "sim-extended", "pymunk-sleep"):
-        for entity in (f"/systems/{s}/bodies", f"/systems/{s}/contacts",
-                       f"/systems/{s}/impulses", f"/timeline/awake/{s}",
-                       f"/timeline/kinetic_energy/{s}", f"/timeline/divergence_m/{s}",
-                       f"/timeline/divergence_rad/{s}"):
+        for entity in (
+            f"/systems/{s}/bodies",
+            f"/systems/{s}/contacts",
+            f"/systems/{s}/impulses",
+            f"/timeline/awake/{s}",
+            f"/timeline/kinetic_energy/{s}",
+            f"/timeline/divergence_m/{s}",
+            f"/timeline/divergence_rad/{s}",
+        ):
             steps = entities[entity]["step"].to_numpy(int)
-            assert steps.tolist() == list(range(61)), entity          # step 0 and every step
+            assert steps.tolist() == list(range(61)), entity  # step 0 and every step
         assert entities[f"/timeline/step_ms/{s}"]["step"].tolist() == list(range(1, 61))
-        assert f"/systems/{s}/static#static" in entities               # the floor, once
+        assert f"/systems/{s}/static#static" in entities  # the floor, once
         time_s = entities[f"/systems/{s}/bodies"]["time"]
-        assert time_s.iloc[-1] == pd.Timedelta(seconds=1.0)            # 60 steps of 1/60 s
+        assert time_s.iloc[-1] == pd.Timedelta(seconds=1.0)  # 60 steps of 1/60 s
     assert "/about#static" in entities
 
 
 def test_divergence_is_zero_against_itself_and_not_against_a_peer(box_recording):
     _, entities, _ = box_recording
-    for s in ("sim-off", "sim-off_2"):             # the reference, and sim-off run again
+    for s in ("sim-off", "sim-off_2"):  # the reference, and sim-off run again
         _, d = scalars(entities, f"/timeline/divergence_m/{s}")
         _, a = scalars(entities, f"/timeline/divergence_rad/{s}")
         assert np.all(d == 0.0) and np.all(a == 0.0), s
     _, d = scalars(entities, "/timeline/divergence_m/pymunk-sleep")
-    assert d[0] == 0.0 and d.max() > 0.0           # same start; Chipmunk settles its own way
+    assert d[0] == 0.0 and d.max() > 0.0  # same start; Chipmunk settles its own way
 
 
 def test_frozen_and_asleep_bodies_take_the_frozen_colour(box_recording):
@@ -99,13 +107,13 @@ def test_frozen_and_asleep_bodies_take_the_frozen_colour(box_recording):
     free = tuple(trace.body_colors([sim.State.FREE], [False])[0])
     assert frozen == tuple(int(c * trace.FROZEN_SHADE) for c in trace.STATE_COLORS[2])
     ext = entities["/systems/sim-extended/bodies"]["LineStrips2D:colors"]
-    assert rgba(ext.iloc[0][0]) == free                 # the start state: FREE
-    assert rgba(ext.iloc[-1][0]) == frozen              # certified at rest: frozen
+    assert rgba(ext.iloc[0][0]) == free  # the start state: FREE
+    assert rgba(ext.iloc[-1][0]) == frozen  # certified at rest: frozen
     pm = entities["/systems/pymunk-sleep/bodies"]["LineStrips2D:colors"]
     assert rgba(pm.iloc[0][0]) == free
-    assert rgba(pm.iloc[-1][0]) == asleep               # Chipmunk's 0.5 s of idling passed
+    assert rgba(pm.iloc[-1][0]) == asleep  # Chipmunk's 0.5 s of idling passed
     off = entities["/systems/sim-off/bodies"]["LineStrips2D:colors"]
-    assert {rgba(c[0]) for c in off} == {free}          # never frozen
+    assert {rgba(c[0]) for c in off} == {free}  # never frozen
     _, awake = scalars(entities, "/timeline/awake/sim-extended")
     assert awake[0] == 1 and awake[-1] == 0
 
@@ -118,11 +126,11 @@ def test_events_and_outlines_follow_the_runs(box_recording):
     assert texts == ["pymunk-sleep step 31: body 0 fell asleep"]
     strips = entities["/systems/sim-off/bodies"]["LineStrips2D:strips"].iloc[-1]
     outline = np.array([tuple(p) for p in strips[0]])
-    assert np.allclose(outline[0], outline[-1])                      # closed
-    assert outline[:, 1].min() == pytest.approx(0.0, abs=0.01)       # on the floor
+    assert np.allclose(outline[0], outline[-1])  # closed
+    assert outline[:, 1].min() == pytest.approx(0.0, abs=0.01)  # on the floor
     impulses = entities["/systems/sim-off/impulses"]["Arrows2D:vectors"].iloc[-1]
-    total = sum(tuple(v)[1] for v in impulses) / 0.5                 # arrow-scale 0.5 m per N s
-    assert total == pytest.approx(1.0 * 9.81 / 60, rel=1e-3)         # m g dt
+    total = sum(tuple(v)[1] for v in impulses) / 0.5  # arrow-scale 0.5 m per N s
+    assert total == pytest.approx(1.0 * 9.81 / 60, rel=1e-3)  # m g dt
 
 
 def blueprint_views(path):
@@ -134,9 +142,13 @@ def blueprint_views(path):
         df = chunk.to_record_batch().to_pandas()
         if "ViewBlueprint:space_origin" in df.columns:
             row = df.iloc[-1]
-            views.append((row["ViewBlueprint:class_identifier"][0],
-                          row["ViewBlueprint:display_name"][0],
-                          row["ViewBlueprint:space_origin"][0]))
+            views.append(
+                (
+                    row["ViewBlueprint:class_identifier"][0],
+                    row["ViewBlueprint:display_name"][0],
+                    row["ViewBlueprint:space_origin"][0],
+                )
+            )
     return views
 
 
@@ -144,12 +156,19 @@ def test_the_blueprint_lays_out_every_system(box_recording):
     path, _, _ = box_recording
     views = blueprint_views(path)
     scenes = {(name, origin) for kind, name, origin in views if kind == "2D"}
-    assert scenes == {("sim-off", "systems/sim-off"), ("sim-off_2", "systems/sim-off_2"),
-                      ("sim-extended", "systems/sim-extended"),
-                      ("pymunk-sleep", "systems/pymunk-sleep")}
+    assert scenes == {
+        ("sim-off", "systems/sim-off"),
+        ("sim-off_2", "systems/sim-off_2"),
+        ("sim-extended", "systems/sim-extended"),
+        ("pymunk-sleep", "systems/pymunk-sleep"),
+    }
     series = {origin for kind, _, origin in views if kind == "TimeSeries"}
-    assert series == {"timeline/divergence_m", "timeline/awake", "timeline/kinetic_energy",
-                      "timeline/step_ms"}
+    assert series == {
+        "timeline/divergence_m",
+        "timeline/awake",
+        "timeline/kinetic_energy",
+        "timeline/step_ms",
+    }
     assert ("TextLog", "events", "events") in views
 
 
@@ -158,15 +177,16 @@ def test_every_engine_reports_its_contact_impulses():
     engine (pymunk gives a pair's total, split evenly; pybullet a force, times dt; Box2D its
     manifold points' impulses)."""
     scene = sim.scenes.stack(2)
-    weight_impulse = 2 * 1.0 * 9.81 / 60                 # 2 unit boxes of density 1, N s
+    weight_impulse = 2 * 1.0 * 9.81 / 60  # 2 unit boxes of density 1, N s
     for system in ("sim-off", "pymunk", "pybullet", "box2d"):
         with make_runner(system, scene) as runner:
             runner.step(60)
             c = runner.contacts()
             on_floor = np.abs(c["point"][:, 1]) < 0.05
             assert c["point"].shape == c["normal"].shape == (len(c["normal_impulse"]), 2)
-            assert c["normal_impulse"][on_floor].sum() == pytest.approx(weight_impulse,
-                                                                         rel=1e-3), system
+            assert c["normal_impulse"][on_floor].sum() == pytest.approx(weight_impulse, rel=1e-3), (
+                system
+            )
 
 
 # ---- names -------------------------------------------------------------------------------------
@@ -175,8 +195,17 @@ def test_a_scene_file_traces_by_its_path(tmp_path):
     scene.to_file(tmp_path / "three.toml")
     target = targets.resolve(str(tmp_path / "three.toml"), systems=["sim-sleep"])
     assert target.kind == "file" and len(target.scene.bodies) == 3
-    out = trace.main([str(tmp_path / "three.toml"), "--systems", "sim-sleep", "--steps", "5",
-                      "--out", str(tmp_path / "three.rrd")])
+    out = trace.main(
+        [
+            str(tmp_path / "three.toml"),
+            "--systems",
+            "sim-sleep",
+            "--steps",
+            "5",
+            "--out",
+            str(tmp_path / "three.rrd"),
+        ]
+    )
     entities = read(out)
     assert len(entities["/systems/sim-sleep/bodies"]) == 6
 
@@ -186,13 +215,23 @@ def test_an_unknown_name_lists_what_is_available(capsys):
         trace.main(["no_such_scene"])
     assert exc.value.code == 2
     err = capsys.readouterr().err
-    for word in ("scene builders:", "pyramid", "scenarios:", "slope_creep", ".toml",
-                 "table_failures/<scenario>", "table_extremes/<axis>/<value>", "knife_edge"):
+    for word in (
+        "scene builders:",
+        "pyramid",
+        "scenarios:",
+        "slope_creep",
+        ".toml",
+        "table_failures/<scenario>",
+        "table_extremes/<axis>/<value>",
+        "knife_edge",
+    ):
         assert word in err, word
-    for bad, words in (("table_extremes/dt/0.5", "the rows are"),
-                       ("table_extremes/no_axis/1", "axes:"),
-                       ("table_failures/nothing", "scenarios:"),
-                       ("table_failures/slope_creep/3", "scenarios:")):
+    for bad, words in (
+        ("table_extremes/dt/0.5", "the rows are"),
+        ("table_extremes/no_axis/1", "axes:"),
+        ("table_failures/nothing", "scenarios:"),
+        ("table_failures/slope_creep/3", "scenarios:"),
+    ):
         with pytest.raises(ValueError, match=words):
             targets.resolve(bad)
     with pytest.raises(ValueError, match="no system 'box9'"):
@@ -212,8 +251,9 @@ def test_a_failure_row_runs_as_its_table_does():
 
 def test_every_extremes_cell_runs_as_its_table_does():
     """The cell's systems, scene, dt, steps and settings are the table's own sweep tasks."""
-    from experiments import table_extremes as table        # the script: tests may import it
+    from experiments import table_extremes as table  # the script: tests may import it
     from study.extremes.scenes import scene_of
+
     config = table.FULL
     assert targets.THRESHOLD_BISECTIONS == config["bisection_steps"]
     assert targets.PYBULLET_MAX_BODIES == config["pybullet_max_bodies"]
@@ -239,8 +279,7 @@ def test_every_extremes_cell_runs_as_its_table_does():
         for name, system in by_name.items():
             if (axis, value, name) in skipped:
                 assert system.not_run, (axis, value, name)
-        assert len(by_name) == len(runs) + sum(1 for a, v, _ in skipped if (a, v) == (axis,
-                                                                                    value))
+        assert len(by_name) == len(runs) + sum(1 for a, v, _ in skipped if (a, v) == (axis, value))
 
 
 def test_a_rounded_value_names_its_row():
@@ -248,7 +287,7 @@ def test_a_rounded_value_names_its_row():
     assert targets.match_value("knife_edge", "0") == 0.0
     assert targets.match_value("impact_threshold", "-1e-6") == -1e-6
     assert targets.resolve("table_extremes/dt/0.0333").label == "table_extremes/dt/0.03333"
-    for axis, record in AXES.items():                  # every label names its own row again
+    for axis, record in AXES.items():  # every label names its own row again
         for value in record.values:
             label = targets.cell_label(axis, value)
             assert targets.match_value(axis, label.rsplit("/", 1)[1]) == value
@@ -261,8 +300,9 @@ def test_a_system_that_cannot_run_is_logged_not_dropped(tmp_path):
     assert tracks[1].stopped == "not run: a reason"
     entities = read(tmp_path / "x.rrd")
     assert "/systems/pymunk/bodies" not in entities
-    assert [t[0] for t in entities["/events/pymunk"]["TextLog:text"]] == \
-        ["pymunk not run: a reason"]
+    assert [t[0] for t in entities["/events/pymunk"]["TextLog:text"]] == [
+        "pymunk not run: a reason"
+    ]
     assert len(entities["/systems/sim-off/bodies"]) == 4
 
 
@@ -273,4 +313,4 @@ def test_a_long_run_is_recorded_every_k_steps(tmp_path):
     assert entities["/systems/sim-off/bodies"]["step"].tolist() == [0, 4, 8]
     with pytest.raises(ValueError, match="every"):
         trace.record(target, tmp_path / "y.rrd", steps=10, every=0)
-    assert math.ceil(100000 / trace.MAX_FRAMES) == 50     # long_run's default: every 50 steps
+    assert math.ceil(100000 / trace.MAX_FRAMES) == 50  # long_run's default: every 50 steps

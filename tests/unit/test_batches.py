@@ -1,5 +1,6 @@
 """How the soft step lays contacts out in batches (sim.soft_step.colour), checked from the public
 inspection view against a slow recount."""
+
 import math
 
 import numpy as np
@@ -16,11 +17,15 @@ def hard_touching_pairs(inspection):
     pairs = {(int(a), int(b)) for a, b in zip(c["body_a"], c["body_b"])}
 
     def movable(i):
-        return 0 <= i < len(inv) and inv[i] > 0.0      # the floor and static bodies are not
+        return 0 <= i < len(inv) and inv[i] > 0.0  # the floor and static bodies are not
 
     marked = set()
     for a, b in pairs:
-        if movable(a) and movable(b) and (inv[a] > HARD_RATIO * inv[b] or inv[b] > HARD_RATIO * inv[a]):
+        if (
+            movable(a)
+            and movable(b)
+            and (inv[a] > HARD_RATIO * inv[b] or inv[b] > HARD_RATIO * inv[a])
+        ):
             marked |= {a, b}
     return [p for p in pairs if any(movable(i) and i in marked for i in p)], len(pairs)
 
@@ -54,7 +59,7 @@ def test_a_heavy_box_on_light_ones_gets_hard_batches():
     w = sim.World(sim.Scene(bodies=light + [heavy]))
     w.step(5)
     info = w.inspect()
-    assert len(hard_touching_pairs(info)[0]) >= 2       # heavy on light, and light on the floor
+    assert len(hard_touching_pairs(info)[0]) >= 2  # heavy on light, and light on the floor
     assert info.n_hard_batches >= 1
     assert np.isfinite(w.positions).all()
 
@@ -64,8 +69,11 @@ def test_contacts_with_what_cannot_move_are_solved_last():
     those with the floor, a static body or a frozen one, so that a sweep ends with the bodies
     pushed out of their supports (solved first, a support was undone by the contacts above it:
     a box of a pile landing at 26 m/s drove the one under it 14 cm into the floor)."""
-    for scene, freeze in ((sim.scenes.pyramid(8), "off"), (sim.scenes.drop(60, seed=2), "off"),
-                          (sim.scenes.drop(60, seed=2), "paper")):
+    for scene, freeze in (
+        (sim.scenes.pyramid(8), "off"),
+        (sim.scenes.drop(60, seed=2), "off"),
+        (sim.scenes.drop(60, seed=2), "paper"),
+    ):
         world = sim.World(scene, freeze=freeze)
         seen = 0
         for _ in range(12):
@@ -73,12 +81,13 @@ def test_contacts_with_what_cannot_move_are_solved_last():
             events = len(world.events)
             world.step(1)
             if len(world.events) > events:
-                continue        # a body froze or woke after the colouring: the view is later
+                continue  # a body froze or woke after the colouring: the view is later
             i = world.inspect()
             movable = set(int(b) for b in i.awake) & set(np.flatnonzero(i.solver_inv_mass > 0))
             between = [c for (a, b), c in i.pair_colour.items() if a in movable and b in movable]
-            support = [c for (a, b), c in i.pair_colour.items()
-                       if not (a in movable and b in movable)]
+            support = [
+                c for (a, b), c in i.pair_colour.items() if not (a in movable and b in movable)
+            ]
             assert len(i.pair_colour) == i.n_active
             if between and support:
                 assert max(between) < min(support), (world.step_count, freeze)

@@ -2,13 +2,23 @@
 (compact: dense table; flung apart: hashed; boxes covering many cells: the large list; query boxes
 far larger than the grid), and a body flung absurdly fast gives a run, not a crash or a
 MemoryError."""
+
 import numpy as np
 import pytest
 
 import sim
 from sim.broadphase import LARGE_CELLS, build_grid, grid_buffers, query_box
-from sim.data import (DENSE, MAX_X, MAX_Y, MIN_X, MIN_Y, N_BUCKETS, N_ENTRIES,
-                      NEEDED_BUCKETS, NEEDED_ENTRIES)
+from sim.data import (
+    DENSE,
+    MAX_X,
+    MAX_Y,
+    MIN_X,
+    MIN_Y,
+    N_BUCKETS,
+    N_ENTRIES,
+    NEEDED_BUCKETS,
+    NEEDED_ENTRIES,
+)
 
 CELL = 1.0
 
@@ -17,7 +27,7 @@ def random_boxes(rng, n, spread, large_every=0):
     lo = rng.uniform(-spread, spread, (n, 2))
     size = rng.uniform(0.05, 2.0, (n, 2))
     if large_every:
-        size[::large_every] *= 40.0                   # 80 m: thousands of cells
+        size[::large_every] *= 40.0  # 80 m: thousands of cells
     boxes = np.zeros((n, 4))
     boxes[:, MIN_X], boxes[:, MIN_Y] = lo[:, 0], lo[:, 1]
     boxes[:, MAX_X], boxes[:, MAX_Y] = lo[:, 0] + size[:, 0], lo[:, 1] + size[:, 1]
@@ -33,13 +43,21 @@ def built(boxes):
 
 
 def brute(boxes, q):
-    return sorted(j for j in range(len(boxes))
-                  if not (q[MIN_X] > boxes[j, MAX_X] or q[MAX_X] < boxes[j, MIN_X]
-                          or q[MIN_Y] > boxes[j, MAX_Y] or q[MAX_Y] < boxes[j, MIN_Y]))
+    return sorted(
+        j
+        for j in range(len(boxes))
+        if not (
+            q[MIN_X] > boxes[j, MAX_X]
+            or q[MAX_X] < boxes[j, MIN_X]
+            or q[MIN_Y] > boxes[j, MAX_Y]
+            or q[MAX_Y] < boxes[j, MIN_Y]
+        )
+    )
 
 
-@pytest.mark.parametrize("spread,large_every,dense", [
-    (20.0, 0, 1), (1e6, 0, 0), (20.0, 7, 1), (1e6, 5, 0)])
+@pytest.mark.parametrize(
+    "spread,large_every,dense", [(20.0, 0, 1), (1e6, 0, 0), (20.0, 7, 1), (1e6, 5, 0)]
+)
 def test_queries_find_every_overlap_once(spread, large_every, dense):
     rng = np.random.default_rng(int(spread) + large_every)
     boxes = random_boxes(rng, 300, spread, large_every)
@@ -49,8 +67,12 @@ def test_queries_find_every_overlap_once(spread, large_every, dense):
     out = np.zeros(len(boxes), np.int64)
     queries = list(random_boxes(rng, 200, spread))
     # query boxes far larger than the grid (a fast body's sweep), and beyond every cell
-    queries += [np.array([-1e30, -1e30, 1e30, 1e30]), np.array([-3e6, -5.0, 3e6, 5.0]),
-                np.array([1e13, 1e13, 1e13 + 1, 1e13 + 1]), np.array([-1e19, 0.0, 1e19, 0.1])]
+    queries += [
+        np.array([-1e30, -1e30, 1e30, 1e30]),
+        np.array([-3e6, -5.0, 3e6, 5.0]),
+        np.array([1e13, 1e13, 1e13 + 1, 1e13 + 1]),
+        np.array([-1e19, 0.0, 1e19, 0.1]),
+    ]
     for q in queries:
         n = query_box(grid, boxes, q[MIN_X], q[MIN_Y], q[MAX_X], q[MAX_Y], CELL, out)
         assert sorted(out[:n]) == brute(boxes, q)
@@ -60,11 +82,12 @@ def test_a_box_of_more_than_large_cells_is_entered_once():
     boxes = random_boxes(np.random.default_rng(1), 2, 1.0)
     boxes[0, MAX_X] = boxes[0, MIN_X] + 10 * LARGE_CELLS * CELL
     grid = built(boxes)
-    cells_of_1 = (np.floor(boxes[1, MAX_X]) - np.floor(boxes[1, MIN_X]) + 1) * \
-                 (np.floor(boxes[1, MAX_Y]) - np.floor(boxes[1, MIN_Y]) + 1)
+    cells_of_1 = (np.floor(boxes[1, MAX_X]) - np.floor(boxes[1, MIN_X]) + 1) * (
+        np.floor(boxes[1, MAX_Y]) - np.floor(boxes[1, MIN_Y]) + 1
+    )
     assert grid.info[N_ENTRIES] == cells_of_1 + 1
     n_buckets = grid.info[N_BUCKETS]
-    assert list(grid.entry_body[grid.start[n_buckets]:grid.start[n_buckets + 1]]) == [0]
+    assert list(grid.entry_body[grid.start[n_buckets] : grid.start[n_buckets + 1]]) == [0]
 
 
 @pytest.mark.parametrize("speed", [1e6, 1e8, 1e10])
@@ -76,4 +99,4 @@ def test_a_body_flung_absurdly_fast_is_simulated(speed):
     w = sim.World(sim.Scene(bodies=[rocket, other]))
     w.step(3)
     assert np.isfinite(w.positions).all()
-    assert w.positions[:, 0].max() > 3 * speed / 60 / 2      # it flew (the other box was hit)
+    assert w.positions[:, 0].max() > 3 * speed / 60 / 2  # it flew (the other box was hit)

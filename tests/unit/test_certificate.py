@@ -1,6 +1,7 @@
 """extended's rest certificate (``sim/freeze/certificate.py``): its cone test against an
 independent non-negative least squares, and the physics it exists for, each with a known answer:
 slow motion is never taken for rest, and rest is frozen at once."""
+
 import math
 
 import numpy as np
@@ -28,7 +29,7 @@ def test_cone_test_agrees_with_nonnegative_least_squares():
     for trial in range(3000):
         k = int(rng.integers(1, 6))
         points = rng.uniform(-1, 1, (k, 2))
-        if trial % 3 == 0:                      # every normal vertical: generators in a plane
+        if trial % 3 == 0:  # every normal vertical: generators in a plane
             normals = np.tile((0.0, 1.0), (k, 1))
             mu = 0.0
         else:
@@ -47,7 +48,7 @@ def test_cone_test_agrees_with_nonnegative_least_squares():
         _, residual = nnls(gens, target)
         scale = np.linalg.norm(target)
         if 1e-7 * scale < residual < 1e-4 * scale:
-            continue                              # too close to the cone's surface to judge
+            continue  # too close to the cone's surface to judge
         decided += 1
         assert found == (residual <= 1e-7 * scale), (trial, gens, target, residual)
         if found:
@@ -74,25 +75,34 @@ def _frozen_at(world):
 
 def _on_ramp(slope, friction, width=0.5, height=0.5):
     """A box at rest on a static ramp rising to the right at ``slope`` rad."""
-    ramp = sim.Body(vertices=[(-4.0, 0.0), (4.0, 0.0), (4.0, 8.0 * math.tan(slope))],
-                    friction=friction, name="ramp")
+    ramp = sim.Body(
+        vertices=[(-4.0, 0.0), (4.0, 0.0), (4.0, 8.0 * math.tan(slope))],
+        friction=friction,
+        name="ramp",
+    )
     surface = np.array([0.0, 4.0 * math.tan(slope)])
     normal = np.array([-math.sin(slope), math.cos(slope)])
-    box = sim.Body.box(width, height, angle=slope, friction=friction, name="box",
-                       position=tuple(surface + (height / 2) * normal))
+    box = sim.Body.box(
+        width,
+        height,
+        angle=slope,
+        friction=friction,
+        name="box",
+        position=tuple(surface + (height / 2) * normal),
+    )
     return sim.Scene(bodies=[box], static_bodies=[ramp])
 
 
 def test_a_box_on_a_ramp_just_short_of_holding_slides_at_g_sin_minus_mu_cos():
     mu = 0.5
-    slope = math.atan(mu) + 0.004                 # a = g (sin - mu cos) = 0.044 m/s^2
+    slope = math.atan(mu) + 0.004  # a = g (sin - mu cos) = 0.044 m/s^2
     a = G * (math.sin(slope) - mu * math.cos(slope))
     seconds = 4.0
     world = sim.World(_on_ramp(slope, mu), freeze="extended").step(int(seconds * 60))
     start = _on_ramp(slope, mu).bodies[0].position
     travelled = float(np.hypot(*(world.positions[0] - start)))
-    assert not _frozen_at(world)                  # never frozen, though slow for seconds
-    assert travelled == pytest.approx(0.5 * a * seconds ** 2, rel=0.05)
+    assert not _frozen_at(world)  # never frozen, though slow for seconds
+    assert travelled == pytest.approx(0.5 * a * seconds**2, rel=0.05)
 
 
 @pytest.mark.parametrize("share, frozen", [(0.85, True), (0.99, False)])
@@ -109,21 +119,20 @@ def test_friction_margin_decides_a_box_on_a_ramp_that_holds(share, frozen):
 
 
 def test_a_hexagon_gliding_on_ice_slides_the_analytic_distance():
-    speed, mu = 0.05, 0.002                       # under rest_speed for its last second
+    speed, mu = 0.05, 0.002  # under rest_speed for its last second
     hexagon = sim.Body.regular(6, 0.4, velocity=(speed, 0.0), friction=mu)
     hexagon.position = (0.0, 0.4 * math.cos(math.pi / 6))
     scene = sim.Scene(bodies=[hexagon], floor_friction=mu)
     world = sim.World(scene, freeze="extended").step(240)
-    assert world.frozen[0]                        # it does stop, and is frozen then
+    assert world.frozen[0]  # it does stop, and is frozen then
     travelled = world.positions[0, 0]
-    assert travelled == pytest.approx(speed ** 2 / (2 * mu * G), rel=0.02)
+    assert travelled == pytest.approx(speed**2 / (2 * mu * G), rel=0.02)
 
 
 def test_a_triangle_on_its_apex_is_never_frozen_upright():
     tilt = 1e-5
     height = 1.0
-    tri = sim.Body(vertices=[(0.0, 0.0), (0.3, height), (-0.3, height)], friction=0.8,
-                   angle=tilt)
+    tri = sim.Body(vertices=[(0.0, 0.0), (0.3, height), (-0.3, height)], friction=0.8, angle=tilt)
     # the apex is the lowest vertex: put it on the floor
     c, s = math.cos(tilt), math.sin(tilt)
     local = np.array(tri.vertices) - np.mean(tri.vertices, axis=0)
@@ -135,7 +144,7 @@ def test_a_triangle_on_its_apex_is_never_frozen_upright():
         angles.append(abs(world.angles[0]))
         if world.frozen[0]:
             assert abs(world.angles[0]) > 0.5, "frozen upright on its apex"
-    assert max(angles) > 0.5                      # it fell, as off has it fall
+    assert max(angles) > 0.5  # it fell, as off has it fall
 
 
 @pytest.mark.parametrize("tilt", [1e-3, 1e-5, 1e-7, 1e-9])
@@ -151,8 +160,15 @@ def test_a_box_on_one_corner_is_never_frozen_upright(tilt):
             assert abs(world.angles[0] - math.pi / 4) > 0.3, "frozen balanced on a corner"
 
 
-@pytest.mark.parametrize("builder", [lambda: sim.scenes.pyramid(10), lambda: sim.scenes.stack(8),
-                                     lambda: sim.scenes.rest_row(40), sim.scenes.arch])
+@pytest.mark.parametrize(
+    "builder",
+    [
+        lambda: sim.scenes.pyramid(10),
+        lambda: sim.scenes.stack(8),
+        lambda: sim.scenes.rest_row(40),
+        sim.scenes.arch,
+    ],
+)
 def test_placed_structures_freeze_in_the_first_step(builder):
     world = sim.World(builder(), freeze="extended").step(1)
     assert world.n_awake == 0
@@ -163,7 +179,7 @@ def test_a_plank_leaning_on_a_wall_freezes_within_three_steps():
     the wall: two single points in different directions hold it (friction 0.8 is more than the
     0.18 it needs at the floor)."""
     w, h, tilt = 0.4, 2.0, math.radians(20.0)
-    c, s = math.cos(-tilt), math.sin(-tilt)             # top leans right, onto the wall
+    c, s = math.cos(-tilt), math.sin(-tilt)  # top leans right, onto the wall
     corners = np.array([(-w / 2, -h / 2), (w / 2, -h / 2), (w / 2, h / 2), (-w / 2, h / 2)])
     world_corners = corners @ np.array([[c, s], [-s, c]])
     # lowest corner on the floor, rightmost corner on the wall's face at x = 0
@@ -173,7 +189,7 @@ def test_a_plank_leaning_on_a_wall_freezes_within_three_steps():
     scene = sim.Scene(bodies=[plank], static_bodies=[wall], floor_friction=0.8)
     world = sim.World(scene, freeze="extended").step(3)
     assert world.frozen[0]
-    np.testing.assert_allclose(world.positions[0], centre, atol=1e-3)     # it leans, held
+    np.testing.assert_allclose(world.positions[0], centre, atol=1e-3)  # it leans, held
 
 
 def test_certificates_are_counted():

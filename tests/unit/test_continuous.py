@@ -11,6 +11,7 @@ What "right" means for ``time_of_impact(..., target, tolerance, ...) -> (t, sepa
 Distances are compared with a slack of 1e-9 of the scene's size and times with 1e-9: far below the
 tolerances under test (1e-4 .. 1e-3 of the size), far above float round-off.
 """
+
 import math
 
 import numpy as np
@@ -19,12 +20,18 @@ from hypothesis import assume, event, given, settings
 from hypothesis import strategies as st
 
 import naive_toi  # tests/ is on sys.path under pytest's default rootdir-relative import mode
-from sim.continuous import (bounding_radius, pose_at, swept_aabb, time_of_impact,
-                            time_of_impact_counted, toi_scratch)
+from sim.continuous import (
+    bounding_radius,
+    pose_at,
+    swept_aabb,
+    time_of_impact,
+    time_of_impact_counted,
+    toi_scratch,
+)
 
 MAX_ITERATIONS = 500
 EPS_T = 1e-9
-DT = 1.0 / 60.0                      # s, the step the wall scenario is set in
+DT = 1.0 / 60.0  # s, the step the wall scenario is set in
 
 
 def box(width, height):
@@ -49,8 +56,9 @@ class Pair:
         filler = box(1.0, 1.0)
         polys = [self.a, filler, self.b]
         self.verts = np.ascontiguousarray(np.vstack(polys))
-        self.normals = np.ascontiguousarray(np.vstack([naive_toi.outward_normals(p)
-                                                       for p in polys]))
+        self.normals = np.ascontiguousarray(
+            np.vstack([naive_toi.outward_normals(p) for p in polys])
+        )
         ka, kf = len(self.a), len(filler)
         self.rows = (0, ka, ka + kf, ka + kf + len(self.b))
         self.scratch = toi_scratch(max(ka, len(self.b)))
@@ -58,8 +66,22 @@ class Pair:
     def toi(self, pa0, pa1, pb0, pb1, target, tolerance, max_iterations=MAX_ITERATIONS):
         """(t, separation, iterations) from the kernel."""
         a0, a1, b0, b1 = self.rows
-        return time_of_impact_counted(self.verts, self.normals, a0, a1, b0, b1, pa0, pa1, pb0,
-                                      pb1, target, tolerance, max_iterations, self.scratch)
+        return time_of_impact_counted(
+            self.verts,
+            self.normals,
+            a0,
+            a1,
+            b0,
+            b1,
+            pa0,
+            pa1,
+            pb0,
+            pb1,
+            target,
+            tolerance,
+            max_iterations,
+            self.scratch,
+        )
 
     def first(self, poses, threshold):
         return naive_toi.first_time(self.a, self.b, *poses, threshold)
@@ -83,7 +105,7 @@ def check(pair, poses, target, tolerance, size, max_iterations=MAX_ITERATIONS):
     if not (t == 0.0 and started_close):
         assert d >= target - eps, (t, d, target)
     if sep >= 0.0:
-        assert abs(sep - d) <= eps, (sep, d)          # the separation is the distance at t
+        assert abs(sep - d) <= eps, (sep, d)  # the separation is the distance at t
     if sep <= target + tolerance:
         # (b) a contact: genuine, and not before the first time within target + tolerance
         assert d <= target + tolerance + eps, (t, d, target + tolerance)
@@ -119,9 +141,18 @@ def test_fast_box_stops_before_a_thin_wall_from_every_phase(scale):
     target, tolerance = 0.005 * scale, 1e-4 * scale
     travel = SPEED * DT * scale
     # the wall anywhere along the step's travel, and a few phases right at the edges
-    gaps = np.concatenate([np.linspace(0.0, 1.05 * travel, 25),
-                           [0.5 * target, target, target + 0.5 * tolerance, travel + target,
-                            travel + target + 2.0 * tolerance]])
+    gaps = np.concatenate(
+        [
+            np.linspace(0.0, 1.05 * travel, 25),
+            [
+                0.5 * target,
+                target,
+                target + 0.5 * tolerance,
+                travel + target,
+                travel + target + 2.0 * tolerance,
+            ],
+        ]
+    )
     for gap in gaps:
         pair, poses = wall_case(scale, gap)
         t, sep, n, _ = check(pair, poses, target, tolerance, scale)
@@ -134,7 +165,7 @@ def test_fast_box_stops_before_a_thin_wall_from_every_phase(scale):
         assert wall_left - right_face >= min(gap, target) - 1e-9 * scale
         if target < gap < travel:
             assert wall_left - right_face == pytest.approx(target, abs=tolerance + 1e-9 * scale)
-        assert n <= 2                                         # the rate bound is exact here
+        assert n <= 2  # the rate bound is exact here
 
 
 @pytest.mark.parametrize("scale", SCALES)
@@ -158,7 +189,7 @@ def test_box_passing_beside_the_wall_is_not_stopped(scale):
     pair = Pair(box(BOX * scale, BOX * scale), box(WALL[0] * scale, WALL[1] * scale))
     wall_x = 0.5 * travel
     for clearance in (target + 2.0 * tolerance, 2.0 * target, 0.5 * BOX * scale):
-        y = 0.5 * WALL[1] * scale + 0.5 * BOX * scale + clearance       # just over the top
+        y = 0.5 * WALL[1] * scale + 0.5 * BOX * scale + clearance  # just over the top
         poses = ((0.0, y, 0.0), (travel, y, 0.0), (wall_x, 0.0, 0.0), (wall_x, 0.0, 0.0))
         t, sep, n, _ = check(pair, poses, target, tolerance, scale)
         assert t == 1.0 and sep > target + tolerance
@@ -167,8 +198,8 @@ def test_box_passing_beside_the_wall_is_not_stopped(scale):
 
 
 # ---- spinning bodies ----------------------------------------------------------------------------
-PLANK = (2.0, 0.05)                  # m, long and thin, spinning about its centre
-POST = 0.1                           # m, square post
+PLANK = (2.0, 0.05)  # m, long and thin, spinning about its centre
+POST = 0.1  # m, square post
 
 
 def plank_contact_angle(scale, post_x, target, start):
@@ -183,23 +214,23 @@ def plank_contact_angle(scale, post_x, target, start):
 
 
 @pytest.mark.parametrize("scale", SCALES)
-@pytest.mark.parametrize("turn", [0.5, 3.0, 10.0, 30.0])     # rad per step (30: ~5 turns)
+@pytest.mark.parametrize("turn", [0.5, 3.0, 10.0, 30.0])  # rad per step (30: ~5 turns)
 @pytest.mark.parametrize("plank_is", ["A", "B"])
 def test_spinning_plank_into_a_post(scale, turn, plank_is):
     target, tolerance = 0.005 * scale, 1e-4 * scale
     plank, post_shape = box(PLANK[0] * scale, PLANK[1] * scale), box(POST * scale, POST * scale)
-    start = -0.3 - 0.1 * turn                        # rad, plank below the post, turning CCW
+    start = -0.3 - 0.1 * turn  # rad, plank below the post, turning CCW
     post = (0.85 * scale, 0.0, 0.0)
     spin = ((0.0, 0.0, start), (0.0, 0.0, start + turn))
     if plank_is == "A":
         pair, poses = Pair(plank, post_shape), spin + (post, post)
-    else:                                            # the distance is symmetric: same answer
+    else:  # the distance is symmetric: same answer
         pair, poses = Pair(post_shape, plank), (post, post) + spin
     t, sep, n, _ = check(pair, poses, target, tolerance, scale)
     expected = (plank_contact_angle(scale, 0.85, target, start) - start) / turn
     # the stop is within `tolerance` of the distance, i.e. at most tolerance / (the speed of the
     # corner towards the face) early: |c| cos(polar(c) - angle) per radian, ~1% margin
-    corner_speed = turn * math.hypot(0.8, 0.05) * scale * 0.99        # m per unit t
+    corner_speed = turn * math.hypot(0.8, 0.05) * scale * 0.99  # m per unit t
     assert expected - tolerance / corner_speed - EPS_T <= t <= expected + EPS_T, (t, expected)
     assert n <= 12
 
@@ -208,7 +239,7 @@ def test_spinning_plank_into_a_post(scale, turn, plank_is):
 def test_spinning_plank_past_a_post_out_of_reach(scale):
     target, tolerance = 0.005 * scale, 1e-4 * scale
     pair = Pair(box(PLANK[0] * scale, PLANK[1] * scale), box(POST * scale, POST * scale))
-    post = (1.2 * scale, 0.0, 0.0)          # near face at 1.15, the plank reaches 1.0003
+    post = (1.2 * scale, 0.0, 0.0)  # near face at 1.15, the plank reaches 1.0003
     poses = ((0.0, 0.0, 0.0), (0.0, 0.0, 7.0), post, post)
     t, sep, n, _ = check(pair, poses, target, tolerance, scale)
     assert t == 1.0
@@ -230,7 +261,7 @@ def test_running_out_of_iterations_returns_a_safe_time():
     assert n_full > 2
     t, sep, n = pair.toi(*poses, target, tolerance, max_iterations=2)
     assert n == 2 and 0.0 < t < t_full
-    assert sep > target + tolerance                   # reported as not converged
+    assert sep > target + tolerance  # reported as not converged
     assert pair.distance(poses, t) == pytest.approx(sep, abs=1e-9)
     t1, sep1, n1 = pair.toi(*poses, target, tolerance, max_iterations=1)
     assert (t1, n1) == (0.0, 1) and sep1 > target + tolerance
@@ -240,15 +271,17 @@ def test_running_out_of_iterations_returns_a_safe_time():
 def test_already_within_target_at_the_start_gives_t_zero():
     target, tolerance = 0.005, 1e-4
     pair = Pair(box(0.2, 0.2), box(0.05, 2.0))
-    for gap, expected_sep in ((0.5 * target, 0.5 * target),       # apart, but within target
-                              (target + 0.5 * tolerance, target + 0.5 * tolerance),  # in the band
-                              (0.0, 0.0),                          # touching
-                              (-0.01, -0.01)):                     # 1 cm deep
+    for gap, expected_sep in (
+        (0.5 * target, 0.5 * target),  # apart, but within target
+        (target + 0.5 * tolerance, target + 0.5 * tolerance),  # in the band
+        (0.0, 0.0),  # touching
+        (-0.01, -0.01),
+    ):  # 1 cm deep
         wall_x = 0.1 + gap + 0.025
         poses = ((0.0, 0.0, 0.0), (3.0, 0.0, 1.0), (wall_x, 0.0, 0.0), (wall_x, 0.0, 0.0))
         t, sep, n = pair.toi(*poses, target, tolerance)
         assert (t, n) == (0.0, 1)
-        assert sep == pytest.approx(expected_sep, abs=1e-12)      # overlap: minus the depth
+        assert sep == pytest.approx(expected_sep, abs=1e-12)  # overlap: minus the depth
     # moving away from a wall it starts touching: still t = 0 (within target at t = 0)
     poses = ((0.0, 0.0, 0.0), (-3.0, 0.0, 0.0), (0.125, 0.0, 0.0), (0.125, 0.0, 0.0))
     assert pair.toi(*poses, target, tolerance)[0] == 0.0
@@ -259,12 +292,12 @@ def test_hexagon_corner_onto_triangle_apex():
     """Corner against corner, the case where the SAT gap underestimates the distance (here by
     cos 30 deg and cos 60 deg): the stop must still be within tolerance of the contact."""
     target, tolerance = 0.005, 1e-4
-    hexagon = regular(6, 0.3, phase=-math.pi / 2)          # a vertex pointing straight down
-    triangle = regular(3, 0.2, phase=math.pi / 2)          # apex pointing straight up
+    hexagon = regular(6, 0.3, phase=-math.pi / 2)  # a vertex pointing straight down
+    triangle = regular(3, 0.2, phase=math.pi / 2)  # apex pointing straight up
     triangle -= naive_toi.centroid(triangle)
     pair = Pair(hexagon, triangle)
-    gap, travel = 1.0, 2.0                                 # m: apex to corner, descent
-    y0 = 0.2 + gap + 0.3                                   # hexagon centre above the apex
+    gap, travel = 1.0, 2.0  # m: apex to corner, descent
+    y0 = 0.2 + gap + 0.3  # hexagon centre above the apex
     poses = ((0.0, y0, 0.0), (0.0, y0 - travel, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
     t, sep, n, _ = check(pair, poses, target, tolerance, 1.0)
     assert t == pytest.approx((gap - target) / travel, abs=tolerance / travel)
@@ -278,8 +311,12 @@ def test_spinning_hexagon_against_a_spinning_triangle(case):
     angle = rng.uniform(0, 2 * math.pi)
     start = 1.2 * np.array([math.cos(angle), math.sin(angle)])
     end = -start + rng.normal(0.0, 0.2, 2)
-    poses = ((start[0], start[1], 0.0), (end[0], end[1], rng.uniform(-6, 6)),
-             (0.0, 0.0, 0.0), (0.1, -0.1, rng.uniform(-3, 3)))
+    poses = (
+        (start[0], start[1], 0.0),
+        (end[0], end[1], rng.uniform(-6, 6)),
+        (0.0, 0.0, 0.0),
+        (0.1, -0.1, rng.uniform(-3, 3)),
+    )
     t, sep, n, t_ref = check(pair, poses, 0.002, 1e-4, 1.0)
     assert t_ref < 1.0 and sep <= 0.002 + 1e-4
 
@@ -291,8 +328,10 @@ def convex_polygons(draw, size):
     strictly increasing angles (no gap under a tenth of the mean, so no near-duplicates)."""
     n = draw(st.integers(3, 10))
     weights = np.array(draw(st.lists(st.floats(1.0, 10.0), min_size=n, max_size=n)))
-    t = draw(st.floats(0.0, 2 * math.pi)) + 2 * math.pi * (np.cumsum(weights) - weights[0]) \
-        / weights.sum()
+    t = (
+        draw(st.floats(0.0, 2 * math.pi))
+        + 2 * math.pi * (np.cumsum(weights) - weights[0]) / weights.sum()
+    )
     aspect = draw(st.floats(0.15, 1.0))
     v = np.stack([size * np.cos(t), aspect * size * np.sin(t)], axis=1)
     return v - naive_toi.centroid(v)
@@ -302,7 +341,7 @@ def convex_polygons(draw, size):
 def sweeps(draw):
     """A random pair and sweep, aimed so that about half of them hit: A starts clear of B and
     moves past B's centre with a random miss distance, both turning; B static half of the time."""
-    size = 10.0 ** draw(st.floats(-3.0, 2.0))            # m, 1 mm .. 100 m
+    size = 10.0 ** draw(st.floats(-3.0, 2.0))  # m, 1 mm .. 100 m
     a = draw(convex_polygons(size))
     b = draw(convex_polygons(size * draw(st.floats(0.3, 3.0))))
     reach = np.hypot(*a.T).max() + np.hypot(*b.T).max()
@@ -317,10 +356,17 @@ def sweeps(draw):
     qb0 = draw(st.floats(-math.pi, math.pi))
     pose_b1 = (0.0, 0.0, qb0)
     if draw(st.booleans()):
-        pose_b1 = (size * draw(st.floats(-2.0, 2.0)), size * draw(st.floats(-2.0, 2.0)),
-                   qb0 + draw(st.floats(-6.0, 6.0)))
-    poses = ((start[0], start[1], qa0), (end[0], end[1], qa0 + draw(st.floats(-8.0, 8.0))),
-             (0.0, 0.0, qb0), pose_b1)
+        pose_b1 = (
+            size * draw(st.floats(-2.0, 2.0)),
+            size * draw(st.floats(-2.0, 2.0)),
+            qb0 + draw(st.floats(-6.0, 6.0)),
+        )
+    poses = (
+        (start[0], start[1], qa0),
+        (end[0], end[1], qa0 + draw(st.floats(-8.0, 8.0))),
+        (0.0, 0.0, qb0),
+        pose_b1,
+    )
     target = size * draw(st.floats(0.002, 0.05))
     return Pair(a, b), poses, target, 1e-3 * size, size
 
@@ -329,7 +375,7 @@ def sweeps(draw):
 @given(sweeps())
 def test_random_polygons_and_motions_against_the_reference(case):
     pair, poses, target, tolerance, size = case
-    assume(pair.distance(poses, 0.0) > target + tolerance)     # t = 0 cases are tested above
+    assume(pair.distance(poses, 0.0) > target + tolerance)  # t = 0 cases are tested above
     t, sep, n, t_ref = check(pair, poses, target, tolerance, size)
     event("hit" if sep <= target + tolerance else "miss")
     event(f"iterations {'<= 5' if n <= 5 else '<= 20' if n <= 20 else '> 20'}")
@@ -342,9 +388,10 @@ def test_pose_at_is_the_pose_the_sweep_stopped_at():
     t, sep, _ = pair.toi(*poses, 0.005, 1e-4)
     assert 0.0 < t < 1.0
     stopped_a, stopped_b = pose_at(poses[0], poses[1], t), pose_at(poses[2], poses[3], t)
-    assert naive_toi.distance(pair.a, pair.b, stopped_a, stopped_a, stopped_b, stopped_b, 0.0) == \
-        pytest.approx(sep, abs=1e-12)
-    assert pose_at(poses[0], poses[1], 0.0) == poses[0]               # exact at both ends
+    assert naive_toi.distance(
+        pair.a, pair.b, stopped_a, stopped_a, stopped_b, stopped_b, 0.0
+    ) == pytest.approx(sep, abs=1e-12)
+    assert pose_at(poses[0], poses[1], 0.0) == poses[0]  # exact at both ends
     assert pose_at(poses[0], poses[1], 1.0) == poses[1]
 
 
@@ -354,8 +401,22 @@ def test_pose_arrays_and_tuples_give_the_same_answer():
     as_arrays = pair.toi(*[np.array(p, dtype=np.float64) for p in poses], 0.005, 1e-4)
     assert as_tuples == as_arrays
     a0, a1, b0, b1 = pair.rows
-    assert time_of_impact(pair.verts, pair.normals, a0, a1, b0, b1, *poses, 0.005, 1e-4,
-                          MAX_ITERATIONS, pair.scratch) == as_tuples[:2]
+    assert (
+        time_of_impact(
+            pair.verts,
+            pair.normals,
+            a0,
+            a1,
+            b0,
+            b1,
+            *poses,
+            0.005,
+            1e-4,
+            MAX_ITERATIONS,
+            pair.scratch,
+        )
+        == as_tuples[:2]
+    )
 
 
 def test_bad_input_raises_instead_of_returning_nan():
@@ -370,8 +431,19 @@ def test_bad_input_raises_instead_of_returning_nan():
         pair.toi(*poses, 0.005, 1e-4, max_iterations=0)
     a0, a1, b0, b1 = pair.rows
     with pytest.raises(ValueError, match="scratch"):
-        time_of_impact(pair.verts, pair.normals, a0, a1, b0, b1, *poses, 0.005, 1e-4,
-                       MAX_ITERATIONS, toi_scratch(3))
+        time_of_impact(
+            pair.verts,
+            pair.normals,
+            a0,
+            a1,
+            b0,
+            b1,
+            *poses,
+            0.005,
+            1e-4,
+            MAX_ITERATIONS,
+            toi_scratch(3),
+        )
 
 
 # ---- swept boxes --------------------------------------------------------------------------------
@@ -379,16 +451,18 @@ def test_swept_aabb_of_a_translation_is_the_union_of_the_end_boxes():
     verts = box(0.2, 0.1)
     lo_x, lo_y, hi_x, hi_y = swept_aabb(verts, 0, 4, (1.0, 2.0, 0.0), (4.0, 1.0, 0.0), 0.0)
     assert (lo_x, lo_y, hi_x, hi_y) == pytest.approx((0.9, 0.95, 4.1, 2.05), abs=1e-12)
-    assert swept_aabb(verts, 0, 4, (1.0, 2.0, 0.0), (4.0, 1.0, 0.0), 0.5) == \
-        pytest.approx((0.4, 0.45, 4.6, 2.55), abs=1e-12)
+    assert swept_aabb(verts, 0, 4, (1.0, 2.0, 0.0), (4.0, 1.0, 0.0), 0.5) == pytest.approx(
+        (0.4, 0.45, 4.6, 2.55), abs=1e-12
+    )
 
 
 def test_swept_aabb_of_a_full_turn_is_the_bounding_circle_box():
     verts = box(2.0, 0.5)
     r = bounding_radius(verts, 0, 4)
     assert r == pytest.approx(math.hypot(1.0, 0.25))
-    assert swept_aabb(verts, 0, 4, (1.0, -1.0, 0.3), (1.0, -1.0, 0.3 + 2 * math.pi), 0.0) == \
-        pytest.approx((1.0 - r, -1.0 - r, 1.0 + r, -1.0 + r), abs=1e-12)
+    assert swept_aabb(
+        verts, 0, 4, (1.0, -1.0, 0.3), (1.0, -1.0, 0.3 + 2 * math.pi), 0.0
+    ) == pytest.approx((1.0 - r, -1.0 - r, 1.0 + r, -1.0 + r), abs=1e-12)
 
 
 @settings(max_examples=100, deadline=None)
@@ -405,7 +479,8 @@ def test_swept_aabb_holds_the_body_all_sweep_and_is_not_loose(case):
     assert box_[2] >= true_box[2] - eps and box_[3] >= true_box[3] - eps
     # no looser than either bound it is built from (here: half the turn times the radius)
     r = np.hypot(*pair.a.T).max()
-    slack = max(true_box[0] - box_[0], true_box[1] - box_[1], box_[2] - true_box[2],
-                box_[3] - true_box[3])
+    slack = max(
+        true_box[0] - box_[0], true_box[1] - box_[1], box_[2] - true_box[2], box_[3] - true_box[3]
+    )
     # (the disc bound: the centroid, the body-frame origin here, is inside the polygon)
     assert slack <= min(0.5 * r * abs(pa1[2] - pa0[2]), r) + eps

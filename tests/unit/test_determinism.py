@@ -1,5 +1,6 @@
 """Same scene, parameters and seed give bit-identical trajectories: in one process, across
 processes, and whatever size the contact buffers started at (they grow mid-run)."""
+
 import hashlib
 import subprocess
 import sys
@@ -12,7 +13,8 @@ STEPS = 240
 
 
 def fingerprint(world):
-    """Hash of every body's exact transform and velocity (bit-level), as Box2D's determinism test."""
+    """Hash of every body's exact transform and velocity (bit-level), as Box2D's determinism
+    test."""
     h = hashlib.sha256()
     for arr in (world.positions, world.angles, world.velocities, world.angular_velocities):
         h.update(np.ascontiguousarray(arr).tobytes())
@@ -48,13 +50,20 @@ def test_buffer_growth_does_not_change_the_trajectory(monkeypatch):
     # solver's batches
     monkeypatch.setattr(sim.world, "INITIAL_CAPACITY", 2)
     world = run()
-    assert world.inspect().regrown > 3         # it did grow, more than once
+    assert world.inspect().regrown > 3  # it did grow, more than once
     assert fingerprint(world) == reference
 
 
 def test_identical_across_processes():
-    code = ("import sys; sys.path[:0] = ['tests', 'tests/unit']; import test_determinism as t; "
-            "print(t.fingerprint(t.run()))")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
-                         cwd=str(__import__("pathlib").Path(__file__).parents[2]))
+    code = (
+        "import sys; sys.path[:0] = ['tests', 'tests/unit']; import test_determinism as t; "
+        "print(t.fingerprint(t.run()))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=str(__import__("pathlib").Path(__file__).parents[2]),
+    )
     assert out.stdout.strip() == fingerprint(run())

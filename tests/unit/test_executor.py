@@ -1,4 +1,5 @@
 """study.executor: the same results from every backend, and sweeps that resume."""
+
 import json
 
 import pytest
@@ -43,18 +44,21 @@ def test_interrupted_sweep_resumes_without_redoing(tmp_path):
         executor.run_tasks(fails_on_three, TASKS, workers=1, store=store, header=header)
     saved = [json.loads(line) for line in store.read_text().splitlines()]
     assert saved[0] == {"header": header}
-    assert [e["key"] for e in saved[1:]] == [repr(t) for t in TASKS[:3]]   # 0, 1, 2 kept
+    assert [e["key"] for e in saved[1:]] == [repr(t) for t in TASKS[:3]]  # 0, 1, 2 kept
     # a torn last line (killed mid-write) is ignored, and its run redone
     with open(store, "a") as f:
         f.write('{"key": "{\'x\': 4}", "resu')
     calls = []
 
-    def counted(task):       # runs in this process (workers=1), so closures are fine
+    def counted(task):  # runs in this process (workers=1), so closures are fine
         calls.append(task["x"])
         return square(task)
+
     with pytest.warns(UserWarning, match="line 5: torn"):
-        assert executor.run_tasks(counted, TASKS, workers=1, store=store,
-                                  header=header) == [{"x": 0}, {"x": 1}, {"x": 2}] + EXPECTED[3:]
+        assert (
+            executor.run_tasks(counted, TASKS, workers=1, store=store, header=header)
+            == [{"x": 0}, {"x": 1}, {"x": 2}] + EXPECTED[3:]
+        )
     assert calls == [3, 4, 5]
 
 
@@ -66,6 +70,7 @@ def test_a_store_from_other_runs_is_set_aside(tmp_path):
     def counted(task):
         calls.append(task["x"])
         return square(task)
+
     executor.run_tasks(counted, TASKS[:2], workers=1, store=store, header={"commit": "new"})
     assert calls == [0, 1]
     assert (tmp_path / "sweep.jsonl.stale").exists()
@@ -73,22 +78,24 @@ def test_a_store_from_other_runs_is_set_aside(tmp_path):
 
 def test_dask_local_cluster_gives_the_local_results(tmp_path, monkeypatch):
     distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster:
         monkeypatch.setenv(executor.SCHEDULER_ENV, cluster.scheduler_address)
-        on_cluster = executor.run_tasks(square, TASKS, store=tmp_path / "d.jsonl",
-                                        header={"c": 1})
+        on_cluster = executor.run_tasks(square, TASKS, store=tmp_path / "d.jsonl", header={"c": 1})
     assert on_cluster == executor.run_tasks(square, TASKS, workers=2, scheduler="") == EXPECTED
 
 
 def array_run(task):
     import numpy as np
+
     return {"x": task["x"], "positions": np.arange(3.0) * task["x"]}
 
 
 def test_non_json_results_are_stored_exactly(tmp_path):
     """Sweeps whose runs return numpy arrays resume with the very same arrays."""
     import numpy as np
+
     store = tmp_path / "arrays.jsonl"
     first = executor.run_tasks(array_run, TASKS, workers=1, store=store, header={"c": 1})
     calls = []
@@ -96,6 +103,7 @@ def test_non_json_results_are_stored_exactly(tmp_path):
     def never(task):
         calls.append(task)
         return array_run(task)
+
     again = executor.run_tasks(never, TASKS, workers=1, store=store, header={"c": 1})
     assert calls == []
     for a, b in zip(first, again):
@@ -104,13 +112,14 @@ def test_non_json_results_are_stored_exactly(tmp_path):
         assert isinstance(b["positions"], np.ndarray)
 
 
-# ---- stores that cannot lie ------------------------------------------------------------------------
+# ---- stores that cannot lie ----------------------------------------------------------------------
 def _counting():
     calls = []
 
-    def counted(task):       # runs in this process (workers=1), so closures are fine
+    def counted(task):  # runs in this process (workers=1), so closures are fine
         calls.append(task["x"])
         return square(task)
+
     return calls, counted
 
 
@@ -118,24 +127,33 @@ def test_a_changed_character_is_detected_and_its_run_redone(tmp_path):
     store = tmp_path / "sweep.jsonl"
     executor.run_tasks(square, TASKS, workers=1, store=store, header={"c": 1})
     lines = store.read_text().splitlines()
-    assert '"y": 4' in lines[3]                       # the run of x = 2
-    lines[3] = lines[3].replace('"y": 4', '"y": 5')   # still valid JSON of the right shape
+    assert '"y": 4' in lines[3]  # the run of x = 2
+    lines[3] = lines[3].replace('"y": 4', '"y": 5')  # still valid JSON of the right shape
     store.write_text("\n".join(lines) + "\n")
     calls, counted = _counting()
     with pytest.warns(UserWarning, match="line 4: checksum mismatch"):
-        assert executor.run_tasks(counted, TASKS, workers=1, store=store,
-                                  header={"c": 1}) == EXPECTED
+        assert (
+            executor.run_tasks(counted, TASKS, workers=1, store=store, header={"c": 1}) == EXPECTED
+        )
     assert calls == [2]
-    calls, counted = _counting()                      # the store is whole again
-    assert executor.run_tasks(counted, TASKS, workers=1, store=store,
-                              header={"c": 1}) == EXPECTED
+    calls, counted = _counting()  # the store is whole again
+    assert executor.run_tasks(counted, TASKS, workers=1, store=store, header={"c": 1}) == EXPECTED
     assert calls == []
 
 
-@pytest.mark.parametrize("bad", ['{"foo": 1}', "[1, 2]", '"text"', "17", "null",
-                                 '{"key": 5, "result": 1, "sha256": "0"}',
-                                 '{"key": "{\'x\': 9}", "result": 1}',
-                                 '{"key": "k", "pickle": "!!", "sha256": "0"}'])
+@pytest.mark.parametrize(
+    "bad",
+    [
+        '{"foo": 1}',
+        "[1, 2]",
+        '"text"',
+        "17",
+        "null",
+        '{"key": 5, "result": 1, "sha256": "0"}',
+        '{"key": "{\'x\': 9}", "result": 1}',
+        '{"key": "k", "pickle": "!!", "sha256": "0"}',
+    ],
+)
 def test_a_line_of_the_wrong_shape_is_dropped_not_a_crash(tmp_path, bad):
     store = tmp_path / "sweep.jsonl"
     executor.run_tasks(square, TASKS[:3], workers=1, store=store, header={"c": 1})
@@ -143,8 +161,9 @@ def test_a_line_of_the_wrong_shape_is_dropped_not_a_crash(tmp_path, bad):
         f.write(bad + "\n")
     calls, counted = _counting()
     with pytest.warns(UserWarning, match="line 5"):
-        assert executor.run_tasks(counted, TASKS, workers=1, store=store,
-                                  header={"c": 1}) == EXPECTED
+        assert (
+            executor.run_tasks(counted, TASKS, workers=1, store=store, header={"c": 1}) == EXPECTED
+        )
     assert calls == [3, 4, 5]
     assert bad not in store.read_text().splitlines()
 
@@ -153,13 +172,12 @@ def test_a_run_stored_after_a_torn_line_survives_the_next_resume(tmp_path):
     store = tmp_path / "sweep.jsonl"
     executor.run_tasks(square, TASKS[:2], workers=1, store=store, header={"c": 1})
     with open(store, "a") as f:
-        f.write('{"key": "{\'x\': 2}", "resu')         # killed mid-write: no end of line
+        f.write('{"key": "{\'x\': 2}", "resu')  # killed mid-write: no end of line
     with pytest.warns(UserWarning, match="torn"):
         executor.run_tasks(square, TASKS[:4], workers=1, store=store, header={"c": 1})
     calls, counted = _counting()
-    assert executor.run_tasks(counted, TASKS, workers=1, store=store,
-                              header={"c": 1}) == EXPECTED
-    assert calls == [4, 5]                            # 2 and 3, stored after the fragment, kept
+    assert executor.run_tasks(counted, TASKS, workers=1, store=store, header={"c": 1}) == EXPECTED
+    assert calls == [4, 5]  # 2 and 3, stored after the fragment, kept
 
 
 # ---- interrupts ----------------------------------------------------------------------------------
@@ -182,7 +200,7 @@ if __name__ == "__main__":
 def _alive(pid):
     try:
         with open(f"/proc/{pid}/status") as f:
-            return "\nState:\tZ" not in f.read()       # a zombie has exited
+            return "\nState:\tZ" not in f.read()  # a zombie has exited
     except FileNotFoundError:
         return False
 
@@ -192,16 +210,18 @@ def _start_sweep(tmp_path):
     import subprocess
     import sys
     import time
+
     pids = tmp_path / "pids"
     pids.mkdir()
     store = tmp_path / "sweep.jsonl"
     script = tmp_path / "sweep.py"
     here = str(pathlib.Path(__file__).resolve().parents[2])
     script.write_text(SWEEP.format(here=here, pids=str(pids), store=str(store)))
-    proc = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.DEVNULL,
-                            stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [sys.executable, str(script)], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+    )
     deadline = time.monotonic() + 60
-    while len(store.read_text().splitlines()) < 3 if store.exists() else True:   # 2 runs done
+    while len(store.read_text().splitlines()) < 3 if store.exists() else True:  # 2 runs done
         assert proc.poll() is None and time.monotonic() < deadline, proc.stderr.read()
         time.sleep(0.05)
     return proc, pids, store
@@ -209,6 +229,7 @@ def _start_sweep(tmp_path):
 
 def _workers_gone(pids, within):
     import time
+
     deadline = time.monotonic() + within
     while any(_alive(int(p.name)) for p in pids.iterdir()):
         if time.monotonic() > deadline:
@@ -221,11 +242,12 @@ def test_ctrl_c_stops_a_sweep_at_once_and_keeps_what_finished(tmp_path):
     import signal
     import subprocess
     import time
+
     proc, pids, store = _start_sweep(tmp_path)
     t0 = time.monotonic()
     proc.send_signal(signal.SIGINT)
     try:
-        proc.wait(timeout=3)          # 38 queued runs of 0.3 s on 2 workers would take 5.7 s
+        proc.wait(timeout=3)  # 38 queued runs of 0.3 s on 2 workers would take 5.7 s
     except subprocess.TimeoutExpired:
         proc.kill()
         raise AssertionError("the sweep did not stop within 3 s of SIGINT")
@@ -239,6 +261,7 @@ def test_ctrl_c_stops_a_sweep_at_once_and_keeps_what_finished(tmp_path):
 @pytest.mark.parametrize("signum", ["SIGTERM", "SIGKILL"])
 def test_a_killed_sweep_leaves_no_workers_behind(tmp_path, signum):
     import signal
+
     proc, pids, _ = _start_sweep(tmp_path)
     proc.send_signal(getattr(signal, signum))
     proc.wait(timeout=10)

@@ -7,6 +7,7 @@ the figure measured when it was written (so a fix shows up as an XPASS, and noth
 Scenes come from the experiment's builders, so these are the table's cases, shortened. Figures
 quoted as "measured" are from solver v2 (soft step, 4 substeps of 1 iteration, dt 1/60 s, scale-
 aware tolerances, continuous collision), sim-off unless a policy is named."""
+
 import math
 import re
 
@@ -40,8 +41,9 @@ def run_checked(w, steps):
         w.step(1)
         assert np.isfinite(w.positions).all() and np.isfinite(w.velocities).all()
         assert np.isfinite(w.angles).all() and np.isfinite(w.angular_velocities).all()
-        assert w.kinetic_energy() <= rules.EXPLOSION_FACTOR * e_avail, \
+        assert w.kinetic_energy() <= rules.EXPLOSION_FACTOR * e_avail, (
             f"explosion at {w.step_count}"
+        )
     return w
 
 
@@ -76,8 +78,9 @@ def deepest_overlap_over(w, steps):
     for _ in range(steps):
         w.step(1)
         assert np.isfinite(w.positions).all() and np.isfinite(w.angles).all()
-        assert w.kinetic_energy() <= rules.EXPLOSION_FACTOR * e_avail, \
+        assert w.kinetic_energy() <= rules.EXPLOSION_FACTOR * e_avail, (
             f"explosion at {w.step_count}"
+        )
         worst = max(worst, overlap_now(w, shapes))
     return worst, overlap_now(w, shapes)
 
@@ -100,8 +103,9 @@ def test_plank_100_to_1_stands(policy, builder):
 
 
 @pytest.mark.parametrize("policy", POLICIES)
-@pytest.mark.parametrize("builder,arg", [("polygon_on_box", 64), ("collinear_box", 1e-9),
-                                         ("collinear_box", 1e-2)])
+@pytest.mark.parametrize(
+    "builder,arg", [("polygon_on_box", 64), ("collinear_box", 1e-9), ("collinear_box", 1e-2)]
+)
 def test_64_gon_and_nearly_collinear_polygon_stand(policy, builder, arg):
     w = world(scenes.BUILDERS[builder](arg), policy)
     start = start_of(w)
@@ -231,7 +235,7 @@ def test_fast_projectile_does_not_pass_through_an_unmoved_column(policy, speed):
     assert not (beyond and column_moved < 0.01), (w.positions[5], column_moved)
 
 
-PHASES = 8       # starting phases of the projectile within one step's travel
+PHASES = 8  # starting phases of the projectile within one step's travel
 
 
 @pytest.mark.parametrize("policy", POLICIES)
@@ -249,13 +253,13 @@ def test_200_m_per_s_projectile_stops_at_a_5_cm_wall_from_any_phase(policy, phas
     shapes = geometry.Shapes(scene)
     wall = shapes.statics[:1]
     worst, furthest = 0.0, -math.inf
-    for _ in range(30):                     # 0.5 s: arrives in step 15 or 16
+    for _ in range(30):  # 0.5 s: arrives in step 15 or 16
         w.step(1)
         body = shapes.world(w.positions, w.angles)[:1]
         worst = max(worst, -max(separation(body, wall)[0], separation(wall, body)[0]))
         furthest = max(furthest, w.positions[0, 0])
     assert furthest < -thickness / 2, f"centre reached x = {furthest:.3g} m"
-    assert w.positions[0, 0] < 0.0, "not stopped: ends beyond the wall"   # the table's "stopped"
+    assert w.positions[0, 0] < 0.0, "not stopped: ends beyond the wall"  # the table's "stopped"
     assert worst <= rules.PENETRATION_REL * thickness, f"overlap with the wall {worst:.3g} m"
 
 
@@ -265,8 +269,8 @@ def test_a_projectile_stopped_by_a_wall_is_not_kicked_by_its_own_impact():
     Measured before impacts were kept out of warm starting (soft_step.store): kicked to 162 rad/s
     and (-0.8, -10.9) m/s the step after it stopped; now it slides down the face, no spin."""
     w = world(scenes.projectile_wall(200.0, arrival_s=0.25))
-    w.step(15)                                        # it arrives in step 15
-    assert abs(w.velocities[0, 0]) < 1.0              # stopped at the wall
+    w.step(15)  # it arrives in step 15
+    assert abs(w.velocities[0, 0]) < 1.0  # stopped at the wall
     t0, vy0 = w.step_count, w.velocities[0, 1]
     for _ in range(10):
         w.step(1)
@@ -337,7 +341,7 @@ def test_impact_at_threshold_plus_minus_eps_does_not_chatter(v_star, policy, eps
         decision.watch(w)
         assert np.isfinite(w.positions).all()
     crossed = decision.finish()
-    assert crossed is (eps > 0)                   # the decision flips exactly at v*
+    assert crossed is (eps > 0)  # the decision flips exactly at v*
     changes, wakes = state_changes(w)
     # land, be held, be woken once, re-freeze: at most 3 changes and 1 wake per body
     assert changes.max() <= 3 and wakes.max() <= 1, (changes, wakes, w.events)
@@ -365,42 +369,87 @@ def test_knife_edge_tilted_by_a_micro_radian_falls(policy):
     assert turned > KNIFE_TURN
 
 
-@pytest.mark.parametrize("policy", [
-    pytest.param("sleep", marks=pytest.mark.xfail(strict=True, reason=(
-        "measured: under sleep the box tilted 1e-6 rad off its balance point is frozen upright "
-        "(turns 1.8e-6 rad in 4 s) while the reference falls within ~4 s: it is slow when the "
-        "sleep timer runs out; the unstable equilibrium is taken for rest"))),
-    # extended was the same (6.5e-9 rad in 4 s) until its rest test became a certificate of
-    # equilibrium: one support point holds no moment, so the box is never certified
-    "extended"])
+@pytest.mark.parametrize(
+    "policy",
+    [
+        pytest.param(
+            "sleep",
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason=(
+                    "measured: under sleep the box tilted 1e-6 rad off its balance point is "
+                    "frozen upright (turns 1.8e-6 rad in 4 s) while the reference falls within "
+                    "~4 s: it is slow when the sleep timer runs out; the unstable equilibrium is "
+                    "taken for rest"
+                ),
+            ),
+        ),
+        # extended was the same (6.5e-9 rad in 4 s) until its rest test became a certificate of
+        # equilibrium: one support point holds no moment, so the box is never certified
+        "extended",
+    ],
+)
 def test_knife_edge_tilted_by_a_micro_radian_falls_under_freezing(policy):
     _, turned = knife(policy, 1e-6)
     assert turned > KNIFE_TURN
 
 
 # ---- out-of-range input: a clear ValueError ----------------------------------------------------
-@pytest.mark.parametrize("make", [
-    lambda: sim.Body.box(0.0, 1.0), lambda: sim.Body.box(-1.0, 1.0),
-    lambda: sim.Body.box(math.nan, 1.0), lambda: sim.Body.box(1.0, math.inf),
-    lambda: sim.Body.box(1.0, 1.0, density=0.0), lambda: sim.Body.box(1.0, 1.0, density=-2.0),
-    lambda: sim.Body.box(1.0, 1.0, density=math.nan),
-    lambda: sim.Body(vertices=[(0, 0), (1, 0), (2, 0)]),               # collinear: zero area
-    lambda: sim.Body(vertices=[(0, 0), (1, 0), (1, 0), (0, 1)]),       # repeated vertex
-    lambda: sim.Body(vertices=[(0, 0), (1, 0)]),                       # two vertices
-    lambda: sim.Body(vertices=[(0, 0), (1, 1e-300), (0, 1e-300)]),     # zero area by underflow
-    lambda: sim.Body.regular(2, 1.0), lambda: sim.Body.regular(3, 0.0),
-    lambda: sim.Body.regular(3, math.nan),
-], ids=["size0", "size-", "size-nan", "size-inf", "density0", "density-", "density-nan",
-        "collinear", "repeated", "two-vertices", "underflow", "2-gon", "radius0", "radius-nan"])
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: sim.Body.box(0.0, 1.0),
+        lambda: sim.Body.box(-1.0, 1.0),
+        lambda: sim.Body.box(math.nan, 1.0),
+        lambda: sim.Body.box(1.0, math.inf),
+        lambda: sim.Body.box(1.0, 1.0, density=0.0),
+        lambda: sim.Body.box(1.0, 1.0, density=-2.0),
+        lambda: sim.Body.box(1.0, 1.0, density=math.nan),
+        lambda: sim.Body(vertices=[(0, 0), (1, 0), (2, 0)]),  # collinear: zero area
+        lambda: sim.Body(vertices=[(0, 0), (1, 0), (1, 0), (0, 1)]),  # repeated vertex
+        lambda: sim.Body(vertices=[(0, 0), (1, 0)]),  # two vertices
+        lambda: sim.Body(vertices=[(0, 0), (1, 1e-300), (0, 1e-300)]),  # zero area by underflow
+        lambda: sim.Body.regular(2, 1.0),
+        lambda: sim.Body.regular(3, 0.0),
+        lambda: sim.Body.regular(3, math.nan),
+    ],
+    ids=[
+        "size0",
+        "size-",
+        "size-nan",
+        "size-inf",
+        "density0",
+        "density-",
+        "density-nan",
+        "collinear",
+        "repeated",
+        "two-vertices",
+        "underflow",
+        "2-gon",
+        "radius0",
+        "radius-nan",
+    ],
+)
 def test_bad_bodies_raise_value_error(make):
     with pytest.raises(ValueError):
         make()
 
 
-@pytest.mark.parametrize("settings", [
-    {"dt": 0.0}, {"dt": -1 / 60}, {"dt": math.nan}, {"dt": math.inf}, {"iterations": 0},
-    {"iterations": -3}, {"iterations": 1.5}, {"iterations": math.nan}, {"iterations": True},
-], ids=lambda s: f"{next(iter(s))}={next(iter(s.values()))}")
+@pytest.mark.parametrize(
+    "settings",
+    [
+        {"dt": 0.0},
+        {"dt": -1 / 60},
+        {"dt": math.nan},
+        {"dt": math.inf},
+        {"iterations": 0},
+        {"iterations": -3},
+        {"iterations": 1.5},
+        {"iterations": math.nan},
+        {"iterations": True},
+    ],
+    ids=lambda s: f"{next(iter(s))}={next(iter(s.values()))}",
+)
 @pytest.mark.parametrize("policy", POLICIES)
 def test_bad_settings_raise_value_error(policy, settings):
     with pytest.raises(ValueError):

@@ -1,5 +1,6 @@
 """Freeze policies: the seed's figures under `paper`, accuracy against `off`, the seed's limits
 shown honestly, the general rest test and waking of `extended`, the engines' island `sleep`."""
+
 import math
 
 import numpy as np
@@ -37,8 +38,8 @@ def test_seed_fig1_vertical_stable_vertex_does_not_move_vertically():
         world.step()
         assert world.states[1] == State.VERTICAL_STABLE
         low = world.vertices(1)[np.argmin(world.vertices(1)[:, 1])]
-        assert low[1] == pytest.approx(corner[1], abs=1e-9)   # the pivot keeps its height
-    assert world.angles[1] < math.radians(30.0) - 0.05          # while the box turns about it
+        assert low[1] == pytest.approx(corner[1], abs=1e-9)  # the pivot keeps its height
+    assert world.angles[1] < math.radians(30.0) - 0.05  # while the box turns about it
 
 
 def test_seed_fig2_lands_on_the_top_edge_and_both_end_frozen():
@@ -46,8 +47,8 @@ def test_seed_fig2_lands_on_the_top_edge_and_both_end_frozen():
     world.step(240)
     assert list(world.states) == [State.ROTATION_STABLE, State.ROTATION_STABLE]
     assert awake_count(world) == 0
-    assert world.positions[0, 1] == pytest.approx(1.0 + 0.4, abs=0.006)   # on B (1 m), A 0.8 m
-    assert abs(world.positions[0, 0]) < 1.0                                 # over B
+    assert world.positions[0, 1] == pytest.approx(1.0 + 0.4, abs=0.006)  # on B (1 m), A 0.8 m
+    assert abs(world.positions[0, 0]) < 1.0  # over B
     landing = [t for t in transitions(world, 0) if t[3] == "one_vertex_on_floor"]
     assert landing, "A should first touch B's edge with one vertex (it falls tilted 10 degrees)"
 
@@ -57,29 +58,33 @@ def test_seed_fig3_transition_log_is_exactly_the_expected_sequence():
     world.step(300)
     FREE, VS, RS = State.FREE, State.VERTICAL_STABLE, State.ROTATION_STABLE
     assert transitions(world) == [
-        (1, FREE, RS, "two_vertices_on_floor"),      # B rests on the floor
-        (1, RS, RS, "stopped_sliding"),              # ... and is frozen at once
-        (0, FREE, RS, "two_vertices_on_floor"),      # A rests on B's top edge, sliding
-        (0, RS, FREE, "com_outside_support"),        # a0 passes B's edge: A is free
-        (0, FREE, VS, "one_vertex_on_floor"),        # A lands on the floor on a corner
-        (0, VS, RS, "two_vertices_on_floor"),        # ... tips onto a face
-        (0, RS, RS, "stopped_sliding"),              # ... and stops
+        (1, FREE, RS, "two_vertices_on_floor"),  # B rests on the floor
+        (1, RS, RS, "stopped_sliding"),  # ... and is frozen at once
+        (0, FREE, RS, "two_vertices_on_floor"),  # A rests on B's top edge, sliding
+        (0, RS, FREE, "com_outside_support"),  # a0 passes B's edge: A is free
+        (0, FREE, VS, "one_vertex_on_floor"),  # A lands on the floor on a corner
+        (0, VS, RS, "two_vertices_on_floor"),  # ... tips onto a face
+        (0, RS, RS, "stopped_sliding"),  # ... and stops
     ]
     # A is freed when its centre of mass passes B's edge (x = 1): under Coulomb friction
     # x(t) = 0.1 + 2.5 t - mu g t^2 / 2 with mu = 0.2
     mu, v0, x0 = 0.2, 2.5, 0.1
-    t = (v0 - math.sqrt(v0 ** 2 - 2 * mu * G * (1.0 - x0))) / (mu * G)
+    t = (v0 - math.sqrt(v0**2 - 2 * mu * G * (1.0 - x0))) / (mu * G)
     freed = next(step for step, b, _, _, c in world.events if c == "com_outside_support")
     assert abs(freed - t / world.dt) <= 2
-    assert world.positions[0, 1] < 0.5 and world.positions[0, 0] > 1.0     # on the floor
+    assert world.positions[0, 1] < 0.5 and world.positions[0, 0] > 1.0  # on the floor
 
 
 # ---- accuracy against `off` -------------------------------------------------------------------
 DETERMINATE = {
-    "single_box": lambda: sim.scenes.single_box(), "rest_row": lambda: sim.scenes.rest_row(10),
-    "stack": lambda: sim.scenes.stack(5), "pyramid": lambda: sim.scenes.pyramid(10),
-    "arch": lambda: sim.scenes.arch(), "sliding_box": lambda: sim.scenes.sliding_box(),
-    "seed_fig1": sim.scenes.seed_fig1, "seed_fig2": sim.scenes.seed_fig2,
+    "single_box": lambda: sim.scenes.single_box(),
+    "rest_row": lambda: sim.scenes.rest_row(10),
+    "stack": lambda: sim.scenes.stack(5),
+    "pyramid": lambda: sim.scenes.pyramid(10),
+    "arch": lambda: sim.scenes.arch(),
+    "sliding_box": lambda: sim.scenes.sliding_box(),
+    "seed_fig1": sim.scenes.seed_fig1,
+    "seed_fig2": sim.scenes.seed_fig2,
 }
 
 
@@ -91,11 +96,23 @@ DETERMINATE = {
 PAPER_MISSES = {("seed_fig2", "paper")}
 
 
-@pytest.mark.parametrize("name,policy", [
-    pytest.param(n, p, marks=pytest.mark.xfail(strict=True, reason="paper's RS stops rotation at "
-                                               "the first two-vertex touch (see PAPER_MISSES)"))
-    if (n, p) in PAPER_MISSES else (n, p)
-    for n in sorted(DETERMINATE) for p in FROZEN_POLICIES])
+@pytest.mark.parametrize(
+    "name,policy",
+    [
+        pytest.param(
+            n,
+            p,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="paper's RS stops rotation at the first two-vertex touch (see PAPER_MISSES)",
+            ),
+        )
+        if (n, p) in PAPER_MISSES
+        else (n, p)
+        for n in sorted(DETERMINATE)
+        for p in FROZEN_POLICIES
+    ],
+)
 def test_final_poses_match_off(name, policy):
     ref = sim.World(DETERMINATE[name]()).step(300)
     world = sim.World(DETERMINATE[name](), freeze=policy).step(300)
@@ -126,8 +143,8 @@ def test_chaotic_scenes_keep_their_outcome(policy):
 def test_sliding_box_slides_the_analytic_distance(policy):
     speed, mu = 3.0, 0.4
     world = sim.World(sim.scenes.sliding_box(speed=speed, friction=mu), freeze=policy)
-    world.step(240)          # 0.76 s of sliding, then 3.2 s to stand (test_physics, slide)
-    assert world.positions[0, 0] == pytest.approx(speed ** 2 / (2 * mu * G), rel=0.03)
+    world.step(240)  # 0.76 s of sliding, then 3.2 s to stand (test_physics, slide)
+    assert world.positions[0, 0] == pytest.approx(speed**2 / (2 * mu * G), rel=0.03)
     assert abs(world.velocities[0, 0]) < 1e-7
 
 
@@ -138,14 +155,15 @@ def knocked_stack(distance=4.0):
     (At 15 m/s `paper` let the base go only 0.86 m: the frozen top box it slides out under is an
     immovable lid that its friction drags on; the base must leave the top box's footprint, 1 m.)"""
     base, top = sim.scenes.stack(2).bodies
-    shot = sim.Body.box(0.4, 0.4, position=(-distance, 0.25), velocity=(25.0, 0.0), density=40.0,
-                        name="shot")
+    shot = sim.Body.box(
+        0.4, 0.4, position=(-distance, 0.25), velocity=(25.0, 0.0), density=40.0, name="shot"
+    )
     return sim.Scene(bodies=[base, top, shot], name="knocked_stack")
 
 
 def test_paper_leaves_the_upper_body_floating_when_its_support_is_knocked_away():
     world = sim.World(knocked_stack(), freeze="paper").step(120)
-    assert abs(world.positions[0, 0]) > 1.0                    # the base was knocked away
+    assert abs(world.positions[0, 0]) > 1.0  # the base was knocked away
     # documented behaviour of `paper` (the seed's second limit): nothing wakes the top box
     assert world.positions[1, 1] == pytest.approx(1.5, abs=1e-9)
     assert world.states[1] == State.ROTATION_STABLE
@@ -155,14 +173,14 @@ def test_paper_leaves_the_upper_body_floating_when_its_support_is_knocked_away()
 def test_extended_and_sleep_let_the_upper_body_fall(policy):
     world = sim.World(knocked_stack(), freeze=policy).step(120)
     assert abs(world.positions[0, 0]) > 1.0
-    assert world.positions[1, 1] < 0.6                         # the top box fell to the floor
+    assert world.positions[1, 1] < 0.6  # the top box fell to the floor
 
 
 def test_a_five_box_stack_freezes_whole_under_extended():
     world = sim.World(sim.scenes.stack(5), freeze="extended").step(3)
     assert awake_count(world) == 0
     steps = {step for step, *_ in world.events}
-    assert len(steps) == 1                                     # all in one step
+    assert len(steps) == 1  # all in one step
     assert list(world.states) == [State.ROTATION_STABLE] * 5
 
 
@@ -190,7 +208,7 @@ def test_extended_wakes_the_whole_stack_in_the_step_of_the_impact():
     assert [c for _, b, c in woken if b == 0] == ["impact"]
     assert [c for _, b, c in woken if b == 1] == ["support_lost"]
     steps = {step for step, b, c in woken if b in (0, 1)}
-    assert len(steps) == 1                                     # same step, not one layer per step
+    assert len(steps) == 1  # same step, not one layer per step
 
 
 def test_extended_matches_off_when_a_frozen_stack_is_hit():
@@ -203,13 +221,14 @@ def test_extended_matches_off_when_a_frozen_stack_is_hit():
 def test_extended_slow_push_wakes_a_frozen_box():
     # a box pushed sideways slowly (below the impact threshold) by a frictionless sliding box
     pushed = sim.Body.box(1, 1, position=(0.0, 0.5), friction=0.3)
-    pusher = sim.Body.box(1, 1, position=(-1.6, 0.5), velocity=(1.2, 0.0), density=10.0,
-                          friction=0.0)
+    pusher = sim.Body.box(
+        1, 1, position=(-1.6, 0.5), velocity=(1.2, 0.0), density=10.0, friction=0.0
+    )
     scene = sim.Scene(bodies=[pushed, pusher], floor_friction=0.3)
     world = sim.World(scene, freeze="extended", impulse_threshold=100.0).step(90)
     causes = [c for _, b, f, t, c in world.events if b == 0 and t == State.FREE]
     assert causes and causes[0] == "pushed"
-    assert world.positions[0, 0] > 0.05                         # it moved
+    assert world.positions[0, 0] > 0.05  # it moved
 
 
 def test_extended_tipping_wakes_an_overhanging_plank():
@@ -218,14 +237,15 @@ def test_extended_tipping_wakes_an_overhanging_plank():
     base = sim.Body.box(1.0, 1.0, position=(0.0, 0.5))
     plank = sim.Body.box(3.0, 0.2, position=(0.3, 1.1))
     weight = sim.Body.box(0.5, 0.5, position=(1.6, 2.0), density=8.0)
-    world = sim.World(sim.Scene(bodies=[base, plank, weight]), freeze="extended",
-                      impulse_threshold=1e6)      # no impact waking: only the balance test
+    world = sim.World(
+        sim.Scene(bodies=[base, plank, weight]), freeze="extended", impulse_threshold=1e6
+    )  # no impact waking: only the balance test
     world.step(90)
     frozen_first = [step for step, b, f, t, c in world.events if b == 1 and c == "rested"]
     assert frozen_first and frozen_first[0] <= 3
     causes = [c for _, b, f, t, c in world.events if b == 1 and t == State.FREE]
     assert causes[:1] == ["tipping"]
-    assert world.angles[1] < -0.2                               # the plank tipped over the edge
+    assert world.angles[1] < -0.2  # the plank tipped over the edge
 
 
 def test_extended_general_rest_test_freezes_plank_on_two_boxes_and_box_leaning_on_wall():
@@ -235,11 +255,18 @@ def test_extended_general_rest_test_freezes_plank_on_two_boxes_and_box_leaning_o
     world = sim.World(sim.Scene(bodies=[left, right, plank]), freeze="extended").step(10)
     assert awake_count(world) == 0
     wall = sim.Body.box(0.5, 4.0, position=(0.25, 2.0), name="wall", friction=0.6)
-    tilt = math.radians(20.0)                   # a 0.4 x 2 box leaning on the wall
+    tilt = math.radians(20.0)  # a 0.4 x 2 box leaning on the wall
     w, h = 0.4, 2.0
-    lean = sim.Body.box(w, h, angle=tilt, friction=0.8,
-                        position=(-(w / 2) * math.cos(tilt) - (h / 2) * math.sin(tilt) - 1e-4,
-                                  (w / 2) * math.sin(tilt) + (h / 2) * math.cos(tilt)))
+    lean = sim.Body.box(
+        w,
+        h,
+        angle=tilt,
+        friction=0.8,
+        position=(
+            -(w / 2) * math.cos(tilt) - (h / 2) * math.sin(tilt) - 1e-4,
+            (w / 2) * math.sin(tilt) + (h / 2) * math.cos(tilt),
+        ),
+    )
     scene = sim.Scene(bodies=[lean], static_bodies=[wall], floor_friction=0.8)
     ref = sim.World(scene).step(240)
     world = sim.World(scene, freeze="extended").step(240)
@@ -254,8 +281,13 @@ def test_extended_does_not_freeze_a_box_sliding_down_a_ramp():
     half = 0.25
     surface = np.array([0.0, 4.0 * math.tan(slope)])
     normal = np.array([-math.sin(slope), math.cos(slope)])
-    box = sim.Body.box(2 * half, 2 * half, angle=slope, friction=0.4,
-                       position=tuple(surface + (half + 1e-4) * normal))
+    box = sim.Body.box(
+        2 * half,
+        2 * half,
+        angle=slope,
+        friction=0.4,
+        position=tuple(surface + (half + 1e-4) * normal),
+    )
     scene = sim.Scene(bodies=[box], static_bodies=[ramp], floor_friction=0.4)
     ref = sim.World(scene).step(60)
     world = sim.World(scene, freeze="extended").step(60)
@@ -278,7 +310,7 @@ def test_sleep_puts_an_island_to_sleep_after_sleep_time():
 def test_sleep_touch_wakes_the_whole_island():
     world = sim.World(knocked_stack(distance=25.0), freeze="sleep", sleep_time=0.5)
     world.step(40)
-    assert awake_count(world) == 1                      # the stack is asleep, the shot flies
+    assert awake_count(world) == 1  # the stack is asleep, the shot flies
     world.step(80)
     woken = [(b, c) for _, b, f, t, c in world.events if f == State.SLEEPING]
     assert woken[0] == (0, "touched")
@@ -288,10 +320,10 @@ def test_sleep_touch_wakes_the_whole_island():
 # ---- cost: frozen bodies are out of the hot loops -----------------------------------------------
 def test_frozen_bodies_leave_the_awake_list_and_come_back():
     world = sim.World(knocked_stack(), freeze="extended").step(5)
-    assert awake_count(world) == 1                             # only the projectile
+    assert awake_count(world) == 1  # only the projectile
     view = world.inspect()
     assert list(view.awake) == [2]
-    assert np.all(view.solver_inv_mass[:2] == 0.0)             # frozen: zero solver mass
+    assert np.all(view.solver_inv_mass[:2] == 0.0)  # frozen: zero solver mass
     # their contacts with each other and the floor left the awake contacts: only the
     # projectile's are looked at
     assert view.n_awake_contacts < view.n_contacts
@@ -313,11 +345,11 @@ def test_extended_never_freezes_a_body_that_a_moving_body_touches():
     b = sim.Body.box(0.5, 0.5, position=(-1.2, 0.75), velocity=(2.0, 0.0), friction=0.2)
     world = sim.World(sim.Scene(bodies=[a, b]), freeze="extended")
     world.step(30)
-    assert abs(world.velocities[1, 0]) > 0.5                     # B still sliding on A
-    assert not [e for e in world.events if e[1] == 0]            # A has not frozen
+    assert abs(world.velocities[1, 0]) > 0.5  # B still sliding on A
+    assert not [e for e in world.events if e[1] == 0]  # A has not frozen
     world.step(90)
     rested = {b for _, b, f, t, c in world.events if c == "rested"}
-    assert rested == {0, 1}                                      # both, once B stopped
+    assert rested == {0, 1}  # both, once B stopped
 
 
 @pytest.mark.parametrize("threshold,bounces", [(1.0, True), (100.0, False)])
@@ -332,9 +364,9 @@ def test_paper_impulse_threshold_decides_bounce_or_stay(threshold, bounces):
     low = int(np.argmin(heights[:60]))
     apex = max(heights[low:])
     if bounces:
-        assert apex == pytest.approx(0.7 ** 2 * 2.0, rel=0.10)      # as `off` (section 2)
+        assert apex == pytest.approx(0.7**2 * 2.0, rel=0.10)  # as `off` (section 2)
     else:
-        assert apex < 0.01                                         # stays in contact
+        assert apex < 0.01  # stays in contact
         assert world.states[0] == State.ROTATION_STABLE
 
 
@@ -351,7 +383,7 @@ def test_extended_a_centred_load_does_not_tip_what_carries_it():
     ref = sim.World(scene).step(120)
     world = sim.World(scene, freeze="extended").step(120)
     assert np.abs(ref.angles[:3]).max() < 1e-3
-    assert not [e for e in world.events if e[3] == State.FREE]   # nothing woke
+    assert not [e for e in world.events if e[3] == State.FREE]  # nothing woke
     np.testing.assert_allclose(world.positions, ref.positions, atol=0.01)
 
 
@@ -381,7 +413,7 @@ def test_extended_does_not_freeze_an_overlap(height):
     for policy in ("off", "extended"):
         w = sim.World(scene, freeze=policy)
         w.step(240)
-        ends[policy] = -float(w.vertices(0)[:, 1].min())        # depth below the floor, m
+        ends[policy] = -float(w.vertices(0)[:, 1].min())  # depth below the floor, m
         if policy == "extended":
             assert w.frozen[0]
     assert ends["extended"] <= 2 * 0.005 + 1e-12
@@ -394,11 +426,15 @@ def test_extended_support_sees_a_woken_load_leave():
     live) and cannot see the column above it tip: in the failure catalogue's impact_on_stack a
     hit on a frozen 4-box column toppled boxes 1-3 but never woke the base."""
     from study import scenarios
+
     case = scenarios.get("impact_on_stack")
     scene = case.build()
     w = sim.World(scene, freeze="extended")
     w.step(int(round(case.seconds * 60)))
     assert case.classify(scene, w.positions, w.angles) == case.expected == "toppled"
-    woken = {body: cause for _, body, before, after, cause in w.events
-             if before != after and after == sim.State.FREE}
+    woken = {
+        body: cause
+        for _, body, before, after, cause in w.events
+        if before != after and after == sim.State.FREE
+    }
     assert woken.get(0) == "tipping", woken

@@ -8,6 +8,7 @@ whether a point is within the margin). Near such a boundary the kernel and the r
 legitimately round to different sides, so those tests ``assume`` the configuration is clear of every
 boundary by a stated gap instead of loosening the comparison.
 """
+
 import math
 import re
 
@@ -26,6 +27,7 @@ SETTINGS = settings(max_examples=150, deadline=None)
 # ------------------------------------------------------------------------------------------------
 # Strategies
 
+
 def _place(local, angle, centre):
     """Rotate body-frame vertices by ``angle`` and move them to ``centre`` (keeps CCW order)."""
     return np.ascontiguousarray(local @ naive.rotation(angle).T + np.asarray(centre))
@@ -42,7 +44,7 @@ def ellipse_polygons(draw, min_vertices=3, max_vertices=64):
     weights = np.array(draw(st.lists(st.floats(1.0, 10.0), min_size=n, max_size=n)))
     phase = draw(st.floats(0.0, 2.0 * math.pi))
     t = phase + 2.0 * math.pi * (np.cumsum(weights) - weights[0]) / weights.sum()
-    size = 10.0 ** draw(st.floats(-2.0, 2.0))           # semi-major axis, 1 cm .. 100 m
+    size = 10.0 ** draw(st.floats(-2.0, 2.0))  # semi-major axis, 1 cm .. 100 m
     aspect = draw(st.floats(0.2, 1.0))
     local = np.stack([size * np.cos(t), aspect * size * np.sin(t)], axis=1)
     return _place(local, draw(st.floats(-math.pi, math.pi)), draw(_centres))
@@ -122,24 +124,41 @@ def pairs(draw, min_frac=-0.5, max_frac=0.5, shapes=polygons):
 # ------------------------------------------------------------------------------------------------
 # Kernel wrappers
 
+
 def kernel_collide(a, b, margin):
     pts = np.full((2, 2), np.nan)
     seps = np.full(2, np.nan)
     ids = np.full(2, -1, dtype=np.int64)
     normal = np.full(2, np.nan)
-    count, flip, edge, _ = geometry.collide_polygons(a, geometry.edge_normals(a), b,
-                                                  geometry.edge_normals(b), float(margin),
-                                                  pts, seps, ids, normal)
-    return {"count": int(count), "flip": int(flip), "edge": int(edge), "points": pts[:count],
-            "separations": seps[:count], "ids": ids[:count].tolist(), "normal": normal}
+    count, flip, edge, _ = geometry.collide_polygons(
+        a,
+        geometry.edge_normals(a),
+        b,
+        geometry.edge_normals(b),
+        float(margin),
+        pts,
+        seps,
+        ids,
+        normal,
+    )
+    return {
+        "count": int(count),
+        "flip": int(flip),
+        "edge": int(edge),
+        "points": pts[:count],
+        "separations": seps[:count],
+        "ids": ids[:count].tolist(),
+        "normal": normal,
+    }
 
 
 def kernel_floor(v, floor_y, margin):
     pts = np.full((2, 2), np.nan)
     seps = np.full(2, np.nan)
     ids = np.full(2, -1, dtype=np.int64)
-    count, _ = geometry.collide_floor(v, geometry.edge_normals(v), float(floor_y), float(margin),
-                                   pts, seps, ids)
+    count, _ = geometry.collide_floor(
+        v, geometry.edge_normals(v), float(floor_y), float(margin), pts, seps, ids
+    )
     return int(count), pts[:count], seps[:count], ids[:count].tolist()
 
 
@@ -185,12 +204,13 @@ def _bias_band(sep_a, sep_b):
     return naive.REFERENCE_ABS_BIAS + naive.REFERENCE_REL_BIAS * max(abs(sep_a), abs(sep_b))
 
 
-
 # ------------------------------------------------------------------------------------------------
 # Mass properties
 
-@pytest.mark.parametrize("impl", [geometry.mass_properties, naive.mass_properties],
-                         ids=["geometry", "naive"])
+
+@pytest.mark.parametrize(
+    "impl", [geometry.mass_properties, naive.mass_properties], ids=["geometry", "naive"]
+)
 class TestMassKnownAnswers:
     """Closed forms; run on the reference too, so that the reference is itself checked."""
 
@@ -259,7 +279,7 @@ def test_signed_area_and_normals(v):
     assert np.allclose(n, naive.normals(v), rtol=0.0, atol=1e-12)
     assert np.allclose(np.hypot(n[:, 0], n[:, 1]), 1.0, atol=1e-14)
     # outward: every vertex of the polygon lies behind (or on) every edge's line
-    heights = np.einsum("ijk,ik->ij", v[None, :, :] - v[:, None, :], n)   # (edge, vertex)
+    heights = np.einsum("ijk,ik->ij", v[None, :, :] - v[:, None, :], n)  # (edge, vertex)
     assert np.all(heights <= 1e-10 * coord_scale(v))
 
 
@@ -314,8 +334,11 @@ def test_polygon_error_is_value_error():
         validate_polygon(_SQUARE[::-1])
 
 
-@pytest.mark.parametrize("v", [_SQUARE, naive.regular_polygon(geometry.MAX_VERTICES, 1.0),
-                               [[0, 0], [1, 0], [0, 1]]], ids=["square", "max vertices", "ints"])
+@pytest.mark.parametrize(
+    "v",
+    [_SQUARE, naive.regular_polygon(geometry.MAX_VERTICES, 1.0), [[0, 0], [1, 0], [0, 1]]],
+    ids=["square", "max vertices", "ints"],
+)
 def test_validate_accepts(v):
     out = validate_polygon(v)
     assert out.dtype == np.float64 and out.shape == (len(v), 2)
@@ -341,18 +364,22 @@ def test_validate_rejects_dented_polygon(v, i, depth):
     k = len(v)
     i %= k
     chord = v[(i + 1) % k] - v[i - 1]
-    inward = np.array([-chord[1], chord[0]])            # left of the chord = inside, for CCW
+    inward = np.array([-chord[1], chord[0]])  # left of the chord = inside, for CCW
     dented = v.copy()
     dented[i] = 0.5 * (v[i - 1] + v[(i + 1) % k]) + depth * inward
     with pytest.raises(PolygonError, match="dented"):
         validate_polygon(dented, name="dented")
 
 
-@pytest.mark.parametrize("v", [
-    # exactly collinear (steps of exactly (1, 1)) but the shoelace products round to a positive
-    # "area" above the 1e-12 * scale^2 threshold: accepted, and mass_properties then gives NaN
-    [[50.8, 52.1], [51.8, 53.1], [52.8, 54.1]],
-], ids=["collinear accepted"])
+@pytest.mark.parametrize(
+    "v",
+    [
+        # exactly collinear (steps of exactly (1, 1)) but the shoelace products round to a positive
+        # "area" above the 1e-12 * scale^2 threshold: accepted, and mass_properties then gives NaN
+        [[50.8, 52.1], [51.8, 53.1], [52.8, 54.1]],
+    ],
+    ids=["collinear accepted"],
+)
 def test_validate_rejects_collinear_far_from_origin(v):
     with pytest.raises(PolygonError):
         validate_polygon(v)
@@ -371,6 +398,7 @@ def test_validate_accepts_thin_triangle_far_from_origin():
 # ------------------------------------------------------------------------------------------------
 # Separating axes
 
+
 @SETTINGS
 @given(pairs())
 def test_max_separation_matches_reference(pair):
@@ -380,7 +408,7 @@ def test_max_separation_matches_reference(pair):
         edge, sep = geometry.max_separation(p, geometry.edge_normals(p), q)
         per_edge = naive.axis_separations(p, q)
         assert sep == pytest.approx(per_edge.max(), abs=tol)
-        assert per_edge[edge] == pytest.approx(per_edge.max(), abs=tol)   # ties may pick either
+        assert per_edge[edge] == pytest.approx(per_edge.max(), abs=tol)  # ties may pick either
 
 
 @SETTINGS
@@ -388,8 +416,10 @@ def test_max_separation_matches_reference(pair):
 def test_sat_sign_matches_overlap(pair):
     """SAT says 'apart' exactly when a test that uses no axes finds no shared point."""
     a, b, _ = pair
-    sep = max(geometry.max_separation(a, geometry.edge_normals(a), b)[1],
-              geometry.max_separation(b, geometry.edge_normals(b), a)[1])
+    sep = max(
+        geometry.max_separation(a, geometry.edge_normals(a), b)[1],
+        geometry.max_separation(b, geometry.edge_normals(b), a)[1],
+    )
     assume(abs(sep) > 1e-9 * coord_scale(a, b))
     assert (sep < 0.0) == naive.polygons_intersect(a, b)
 
@@ -401,8 +431,10 @@ def test_sat_separation_versus_true_distance(pair):
     whenever the closest features are a vertex facing the inside of an edge."""
     a, b, _ = pair
     tol = 1e-9 * coord_scale(a, b)
-    sep = max(geometry.max_separation(a, geometry.edge_normals(a), b)[1],
-              geometry.max_separation(b, geometry.edge_normals(b), a)[1])
+    sep = max(
+        geometry.max_separation(a, geometry.edge_normals(a), b)[1],
+        geometry.max_separation(b, geometry.edge_normals(b), a)[1],
+    )
     dist, t = naive.polygon_distance(a, b)
     assert sep <= dist + tol
     if 1e-6 < t < 1.0 - 1e-6:
@@ -434,6 +466,7 @@ def test_collide_symmetric_in_a_and_b(pair, margin_frac):
 
 # ------------------------------------------------------------------------------------------------
 # Contact manifolds between polygons
+
 
 @SETTINGS
 @given(pairs(min_frac=-0.5, max_frac=0.3), st.floats(0.0, 0.2))
@@ -479,7 +512,7 @@ def test_contact_points_lie_on_incident_boundary(pair, margin_frac):
         # ...and within the reference face's extent (the side planes)
         along = float((r1 - r0) @ (p - r0)) / float((r1 - r0) @ (r1 - r0))
         assert -1e-9 <= along <= 1.0 + 1e-9
-        assert (fid >> 1) // (naive.ID_BASE ** 2) == got["flip"]
+        assert (fid >> 1) // (naive.ID_BASE**2) == got["flip"]
         assert (fid >> 1) // naive.ID_BASE % naive.ID_BASE == got["edge"]
 
 
@@ -498,7 +531,8 @@ def test_collide_beyond_margin_is_empty(pair, margin_frac):
 @given(pairs(min_frac=-0.5, max_frac=-1e-3))
 def test_overlapping_polygons_get_a_penetrating_contact(pair):
     """Shapes that overlap must produce a contact, or the solver lets them sink into each other.
-    Checked where the face choice is unambiguous; inside the bias band see test_overlap_inside_bias_band_gets_a_contact."""
+    Checked where the face choice is unambiguous; inside the bias band see
+    test_overlap_inside_bias_band_gets_a_contact."""
     a, b, _ = pair
     sep_a = naive.max_separation(a, b)[1]
     sep_b = naive.max_separation(b, a)[1]
@@ -522,7 +556,7 @@ def test_overlap_inside_bias_band_gets_a_contact():
 
 def test_box_resting_on_wider_box():
     a = box(0.0, 0.0, 4.0, 1.0)
-    b = box(0.3, 0.999, 1.0, 1.0)               # bottom at 0.499: 1 mm into a's top at 0.5
+    b = box(0.3, 0.999, 1.0, 1.0)  # bottom at 0.499: 1 mm into a's top at 0.5
     got = kernel_collide(a, b, 0.01)
     assert got["count"] == 2 and got["flip"] == 0 and got["edge"] == 2
     assert got["normal"] == pytest.approx([0.0, 1.0])
@@ -532,7 +566,7 @@ def test_box_resting_on_wider_box():
 
 def test_box_overhanging_edge_is_clipped_to_side_plane():
     a = box(0.0, 0.0, 4.0, 1.0)
-    b = box(1.9, 0.999, 1.0, 1.0)               # spans x 1.4 .. 2.4, a ends at 2
+    b = box(1.9, 0.999, 1.0, 1.0)  # spans x 1.4 .. 2.4, a ends at 2
     got = kernel_collide(a, b, 0.01)
     assert got["count"] == 2
     assert sorted(got["points"][:, 0]) == pytest.approx([1.4, 2.0])
@@ -541,17 +575,22 @@ def test_box_overhanging_edge_is_clipped_to_side_plane():
 
 def test_box_hovering_within_and_beyond_margin():
     a = box(0.0, 0.0, 4.0, 1.0)
-    assert kernel_collide(a, box(0.0, 1.005, 1.0, 1.0), 0.01)["count"] == 2     # 5 mm gap
-    assert kernel_collide(a, box(0.0, 1.02, 1.0, 1.0), 0.01)["count"] == 0      # 20 mm gap
+    assert kernel_collide(a, box(0.0, 1.005, 1.0, 1.0), 0.01)["count"] == 2  # 5 mm gap
+    assert kernel_collide(a, box(0.0, 1.02, 1.0, 1.0), 0.01)["count"] == 0  # 20 mm gap
 
 
 # ------------------------------------------------------------------------------------------------
 # Feature ids: warm starting carries impulses by id, so a configuration that barely moves must keep
 # its ids.
 
+
 @SETTINGS
-@given(pairs(min_frac=-0.5, max_frac=0.1), st.floats(0.0, 0.2), st.floats(-math.pi, math.pi),
-       st.floats(-1.0, 1.0))
+@given(
+    pairs(min_frac=-0.5, max_frac=0.1),
+    st.floats(0.0, 0.2),
+    st.floats(-math.pi, math.pi),
+    st.floats(-1.0, 1.0),
+)
 def test_feature_ids_stable_under_nudge(pair, margin_frac, direction, spin):
     a, b, inner = pair
     margin = margin_frac * inner
@@ -559,9 +598,10 @@ def test_feature_ids_stable_under_nudge(pair, margin_frac, direction, spin):
     # stay 100 nudges away from every decision the nudge could tip
     assume_clear_of_decisions(a, b, margin, 100 * nudge, 100 * nudge / size_of(b))
     centre = b.mean(axis=0)
-    turn = spin * nudge / size_of(b)             # moves no vertex by more than the nudge
-    moved = _place(b - centre, turn, centre + nudge * np.array([math.cos(direction),
-                                                                 math.sin(direction)]))
+    turn = spin * nudge / size_of(b)  # moves no vertex by more than the nudge
+    moved = _place(
+        b - centre, turn, centre + nudge * np.array([math.cos(direction), math.sin(direction)])
+    )
     before = kernel_collide(a, b, margin)
     after = kernel_collide(a, moved, margin)
     event(f"count={before['count']}")
@@ -599,8 +639,19 @@ def test_packed_row_kernels_match_per_polygon_wrappers(pair, other, margin_frac,
     ids = np.full(2, -1, dtype=np.int64)
     normal = np.full(2, np.nan)
     count, flip, edge, _ = geometry.collide_polygon_rows(
-        verts, normals, starts[ia], starts[ia + 1], starts[ib], starts[ib + 1], float(margin),
-        1e-4, pts, seps, ids, normal)
+        verts,
+        normals,
+        starts[ia],
+        starts[ia + 1],
+        starts[ib],
+        starts[ib + 1],
+        float(margin),
+        1e-4,
+        pts,
+        seps,
+        ids,
+        normal,
+    )
     want = kernel_collide(a, b, margin)
     assert (count, flip, edge) == (want["count"], want["flip"], want["edge"])
     assert ids[:count].tolist() == want["ids"]
@@ -609,8 +660,9 @@ def test_packed_row_kernels_match_per_polygon_wrappers(pair, other, margin_frac,
     if count:
         assert np.array_equal(normal, want["normal"])
     floor_y = float(b[:, 1].min()) + 0.1 * margin_frac * inner
-    count, _ = geometry.collide_floor_rows(verts, normals, starts[ib], starts[ib + 1], floor_y,
-                                        float(margin), pts, seps, ids)
+    count, _ = geometry.collide_floor_rows(
+        verts, normals, starts[ib], starts[ib + 1], floor_y, float(margin), pts, seps, ids
+    )
     want_count, want_pts, want_seps, want_ids = kernel_floor(b, floor_y, margin)
     assert count == want_count and ids[:count].tolist() == want_ids
     assert np.array_equal(pts[:count], want_pts) and np.array_equal(seps[:count], want_seps)
@@ -618,6 +670,7 @@ def test_packed_row_kernels_match_per_polygon_wrappers(pair, other, margin_frac,
 
 # ------------------------------------------------------------------------------------------------
 # Floor
+
 
 def test_floor_box_resting_flat():
     v = box(3.0, 0.5, 2.0, 1.0)
@@ -631,7 +684,7 @@ def test_floor_box_resting_flat():
 def test_floor_tilted_box_touches_at_lowest_corner():
     v = box(0.0, 0.0, 2.0, 1.0, angle=0.3)
     lowest = int(np.argmin(v[:, 1]))
-    floor_y = v[lowest, 1] + 0.001                 # 1 mm of penetration at the corner only
+    floor_y = v[lowest, 1] + 0.001  # 1 mm of penetration at the corner only
     count, pts, seps, ids = kernel_floor(v, floor_y, 0.01)
     assert count == 1 and ids == [lowest]
     assert pts[0].tolist() == v[lowest].tolist()
@@ -639,7 +692,7 @@ def test_floor_tilted_box_touches_at_lowest_corner():
 
 
 def test_floor_box_above_margin():
-    v = box(0.0, 0.52, 1.0, 1.0)                  # 2 cm above the floor
+    v = box(0.0, 0.52, 1.0, 1.0)  # 2 cm above the floor
     assert kernel_floor(v, 0.0, 0.01)[0] == 0
     assert kernel_floor(v, 0.0, 0.03)[0] == 2
 
@@ -648,7 +701,7 @@ def test_floor_box_above_margin():
 @given(polygons, st.floats(-0.3, 0.3), st.floats(0.0, 0.1))
 def test_floor_matches_reference(v, gap_frac, margin_frac):
     size = size_of(v)
-    floor_y = float(v[:, 1].min()) - gap_frac * size          # gap_frac < 0: lowest vertex sunk
+    floor_y = float(v[:, 1].min()) - gap_frac * size  # gap_frac < 0: lowest vertex sunk
     margin = margin_frac * size
     count, pts, seps, ids = kernel_floor(v, floor_y, margin)
     # the lowest vertex is always a contact once it is within the margin (ties: any lowest one)
@@ -661,7 +714,7 @@ def test_floor_matches_reference(v, gap_frac, margin_frac):
     ref, _, scores = naive.floor_contacts(v, floor_y, margin)
     top = np.sort(scores)
     gap = 1e-9 * coord_scale(v)
-    assume(top[-1] - top[-2] > 1e-9)                            # one clear bottom edge
+    assume(top[-1] - top[-2] > 1e-9)  # one clear bottom edge
     assume(all(abs(v[j, 1] - floor_y - margin) > gap for j in range(len(v))))
     assert ids == [j for j, _, _ in ref]
     assert seps.tolist() == [s for _, _, s in ref]
@@ -670,13 +723,15 @@ def test_floor_matches_reference(v, gap_frac, margin_frac):
 # ------------------------------------------------------------------------------------------------
 # Frame changes
 
+
 @SETTINGS
 @given(polygons, st.floats(-math.pi, math.pi), _centres)
 def test_transform_and_rotate(v, angle, shift):
     c, s = math.cos(angle), math.sin(angle)
     out = np.empty_like(v)
     geometry.transform(v, shift[0], shift[1], c, s, out)
-    assert np.allclose(out, v @ naive.rotation(angle).T + shift, rtol=0.0,
-                       atol=1e-12 * coord_scale(v, out))
+    assert np.allclose(
+        out, v @ naive.rotation(angle).T + shift, rtol=0.0, atol=1e-12 * coord_scale(v, out)
+    )
     geometry.rotate(v, c, s, out)
     assert np.allclose(out, v @ naive.rotation(angle).T, rtol=0.0, atol=1e-12 * coord_scale(v))

@@ -1,5 +1,6 @@
 """Bad input raises ValueError naming the body and the problem; a run that goes non-finite stops
 with an error naming the step and the body."""
+
 import math
 
 import numpy as np
@@ -15,35 +16,41 @@ def scene_with(body, **kwargs):
     return sim.Scene(bodies=[sim.Body.box(1, 1, position=(-10.0, 0.5)), body], **kwargs)
 
 
-@pytest.mark.parametrize("vertices,problem", [
-    (BOX[::-1], "clockwise"),
-    ([(0, 0), (2, 0), (1, 0.2), (2, 2), (0, 2)], "non-convex"),
-    ([(0, 0), (1, 0), (1, 0), (0, 1)], "degenerate"),
-    ([(0, 0), (1, 0), (2, 0)], "degenerate"),
-    ([(0, 0), (1, 0)], "at least 3"),
-    ([(0, 0), (1, math.nan), (0, 1)], "NaN"),
-    ([(0, 0), (1, math.inf), (0, 1)], "NaN or inf"),
-    ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], "shape"),
-    ("not a polygon", "vertices"),
-])
+@pytest.mark.parametrize(
+    "vertices,problem",
+    [
+        (BOX[::-1], "clockwise"),
+        ([(0, 0), (2, 0), (1, 0.2), (2, 2), (0, 2)], "non-convex"),
+        ([(0, 0), (1, 0), (1, 0), (0, 1)], "degenerate"),
+        ([(0, 0), (1, 0), (2, 0)], "degenerate"),
+        ([(0, 0), (1, 0)], "at least 3"),
+        ([(0, 0), (1, math.nan), (0, 1)], "NaN"),
+        ([(0, 0), (1, math.inf), (0, 1)], "NaN or inf"),
+        ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], "shape"),
+        ("not a polygon", "vertices"),
+    ],
+)
 def test_bad_polygon(vertices, problem):
     with pytest.raises(ValueError, match=problem) as err:
         sim.Body(vertices=vertices, name="crate 7")
     assert "crate 7" in str(err.value)
 
 
-@pytest.mark.parametrize("field,value,problem", [
-    ("density", 0.0, "density must be > 0"),
-    ("density", -1.0, "density must be > 0"),
-    ("density", math.nan, "density is not finite"),
-    ("friction", -0.1, "friction must be >= 0"),
-    ("restitution", 1.5, "restitution must be in"),
-    ("position", (0.0, math.nan), "position is not finite"),
-    ("velocity", (math.inf, 0.0), "velocity is not finite"),
-    ("angle", math.nan, "angle is not finite"),
-    ("angular_velocity", math.inf, "angular_velocity is not finite"),
-    ("position", (1.0,), "position must be a pair"),
-])
+@pytest.mark.parametrize(
+    "field,value,problem",
+    [
+        ("density", 0.0, "density must be > 0"),
+        ("density", -1.0, "density must be > 0"),
+        ("density", math.nan, "density is not finite"),
+        ("friction", -0.1, "friction must be >= 0"),
+        ("restitution", 1.5, "restitution must be in"),
+        ("position", (0.0, math.nan), "position is not finite"),
+        ("velocity", (math.inf, 0.0), "velocity is not finite"),
+        ("angle", math.nan, "angle is not finite"),
+        ("angular_velocity", math.inf, "angular_velocity is not finite"),
+        ("position", (1.0,), "position must be a pair"),
+    ],
+)
 def test_bad_body_field(field, value, problem):
     with pytest.raises(ValueError, match=problem) as err:
         sim.Body(vertices=BOX, name="crate 7", **{field: value})
@@ -53,7 +60,7 @@ def test_bad_body_field(field, value, problem):
 def test_body_changed_after_creation_is_caught_by_the_world():
     body = sim.Body.box(1, 1, position=(0.0, 0.5))
     scene = scene_with(body)
-    body.density = -2.0                   # dataclasses are mutable; the World re-validates
+    body.density = -2.0  # dataclasses are mutable; the World re-validates
     with pytest.raises(ValueError, match="body 1: density"):
         sim.World(scene)
 
@@ -65,19 +72,22 @@ def test_unnamed_bodies_are_named_by_index():
         sim.World(scene_with(bad))
 
 
-@pytest.mark.parametrize("kwargs,problem", [
-    ({"dt": 0.0}, "dt must be > 0"),
-    ({"dt": -1 / 60}, "dt must be > 0"),
-    ({"dt": math.nan}, "dt must be > 0"),
-    ({"dt": math.inf}, "dt must be > 0"),
-    ({"iterations": 0}, "iterations must be an integer >= 1"),
-    ({"iterations": 2.5}, "iterations must be an integer"),
-    ({"position_iterations": 0}, "position_iterations"),
-    ({"slop": -0.001}, "slop"),
-    ({"baumgarte": 1.5}, "baumgarte"),
-    ({"freeze": "nap"}, "unknown freeze policy 'nap'"),
-    ({"freeze": "off", "impulse_threshold": 1.0}, "does not take impulse_threshold"),
-])
+@pytest.mark.parametrize(
+    "kwargs,problem",
+    [
+        ({"dt": 0.0}, "dt must be > 0"),
+        ({"dt": -1 / 60}, "dt must be > 0"),
+        ({"dt": math.nan}, "dt must be > 0"),
+        ({"dt": math.inf}, "dt must be > 0"),
+        ({"iterations": 0}, "iterations must be an integer >= 1"),
+        ({"iterations": 2.5}, "iterations must be an integer"),
+        ({"position_iterations": 0}, "position_iterations"),
+        ({"slop": -0.001}, "slop"),
+        ({"baumgarte": 1.5}, "baumgarte"),
+        ({"freeze": "nap"}, "unknown freeze policy 'nap'"),
+        ({"freeze": "off", "impulse_threshold": 1.0}, "does not take impulse_threshold"),
+    ],
+)
 def test_bad_world_settings(kwargs, problem):
     with pytest.raises(ValueError, match=problem):
         sim.World(sim.scenes.single_box(), **kwargs)
@@ -85,7 +95,7 @@ def test_bad_world_settings(kwargs, problem):
 
 def test_overlapping_bodies_are_refused_with_both_names():
     a = sim.Body.box(1, 1, position=(0.0, 0.5), name="left")
-    b = sim.Body.box(1, 1, position=(0.8, 0.5), name="right")     # 0.2 m into `left`
+    b = sim.Body.box(1, 1, position=(0.8, 0.5), name="right")  # 0.2 m into `left`
     with pytest.raises(ValueError, match=r"left and right start overlapping by 0\.2"):
         sim.World(sim.Scene(bodies=[a, b]))
 
@@ -104,18 +114,24 @@ def test_body_below_the_floor_is_refused():
 def test_body_inside_a_static_wall_is_refused():
     wall = sim.Body.box(1, 4, position=(0.0, 2.0), name="wall")
     with pytest.raises(ValueError, match="crate and wall start overlapping"):
-        sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(0.5, 1.5), name="crate")],
-                            static_bodies=[wall]))
+        sim.World(
+            sim.Scene(
+                bodies=[sim.Body.box(1, 1, position=(0.5, 1.5), name="crate")], static_bodies=[wall]
+            )
+        )
 
 
-@pytest.mark.parametrize("kwargs,problem", [
-    ({"bodies": []}, "at least one body"),
-    ({"bodies": ["box"]}, "expected sim.Body"),
-    ({"gravity": (0.0, math.nan)}, "gravity is not finite"),
-    ({"floor_friction": -1.0}, "floor_friction"),
-    ({"floor_restitution": 2.0}, "floor_restitution"),
-    ({"floor_y": math.inf}, "floor_y is not finite"),
-])
+@pytest.mark.parametrize(
+    "kwargs,problem",
+    [
+        ({"bodies": []}, "at least one body"),
+        ({"bodies": ["box"]}, "expected sim.Body"),
+        ({"gravity": (0.0, math.nan)}, "gravity is not finite"),
+        ({"floor_friction": -1.0}, "floor_friction"),
+        ({"floor_restitution": 2.0}, "floor_restitution"),
+        ({"floor_y": math.inf}, "floor_y is not finite"),
+    ],
+)
 def test_bad_scene(kwargs, problem):
     args = {"bodies": [sim.Body.box(1, 1, position=(0, 0.5))], **kwargs}
     with pytest.raises(ValueError, match=problem):
@@ -133,10 +149,10 @@ def test_bad_scene_file(tmp_path):
     path.write_text("floor_y = [\n")
     with pytest.raises(ValueError, match="not valid TOML"):
         sim.Scene.from_file(path)
-    path.write_text('[[bodies]]\nposition = [0, 1]\n')
+    path.write_text("[[bodies]]\nposition = [0, 1]\n")
     with pytest.raises(ValueError, match="body 0: needs `vertices`"):
         sim.Scene.from_file(path)
-    path.write_text('wind = 3\n[[bodies]]\nbox = [1, 1]\nposition = [0, 0.5]\n')
+    path.write_text("wind = 3\n[[bodies]]\nbox = [1, 1]\nposition = [0, 0.5]\n")
     with pytest.raises(ValueError, match="wind"):
         sim.Scene.from_file(path)
 
@@ -144,11 +160,12 @@ def test_bad_scene_file(tmp_path):
 def test_non_finite_run_names_step_and_body():
     # the fastest body allowed, over a step so long that its position overflows to inf
     fast = sim.Body.box(1, 1, position=(0.0, 5.0), velocity=(1e12, 0.0), name="bullet")
-    world = sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(-10, 0.5)), fast],
-                                gravity=(0, 0)), dt=1e297)
+    world = sim.World(
+        sim.Scene(bodies=[sim.Body.box(1, 1, position=(-10, 0.5)), fast], gravity=(0, 0)), dt=1e297
+    )
     with pytest.raises(sim.SimulationError, match=r"step 1: bullet diverged .*position \[inf"):
         world.step(5)
-    assert world.step_count == 1          # stopped at the bad step, not run on
+    assert world.step_count == 1  # stopped at the bad step, not run on
 
 
 def test_body_flung_out_of_range_names_step_and_body():
@@ -169,14 +186,17 @@ def test_step_count_must_be_a_non_negative_integer():
     assert world.step_count == 0
 
 
-@pytest.mark.parametrize("freeze,kwargs,problem", [
-    ("paper", {"impulse_threshold": -1.0}, "impulse_threshold must be finite and >= 0"),
-    ("extended", {"rest_steps": 0}, "rest_steps must be an integer >= 1"),
-    ("extended", {"rest_steps": 1.5}, "rest_steps must be an integer >= 1"),
-    ("extended", {"rest_speed": math.nan}, "rest_speed must be finite"),
-    ("sleep", {"sleep_time": "long"}, "sleep_time must be a number"),
-    ("sleep", {"impulse_threshold": 1.0}, "freeze='sleep' does not take impulse_threshold"),
-])
+@pytest.mark.parametrize(
+    "freeze,kwargs,problem",
+    [
+        ("paper", {"impulse_threshold": -1.0}, "impulse_threshold must be finite and >= 0"),
+        ("extended", {"rest_steps": 0}, "rest_steps must be an integer >= 1"),
+        ("extended", {"rest_steps": 1.5}, "rest_steps must be an integer >= 1"),
+        ("extended", {"rest_speed": math.nan}, "rest_speed must be finite"),
+        ("sleep", {"sleep_time": "long"}, "sleep_time must be a number"),
+        ("sleep", {"impulse_threshold": 1.0}, "freeze='sleep' does not take impulse_threshold"),
+    ],
+)
 def test_bad_policy_parameters(freeze, kwargs, problem):
     with pytest.raises(ValueError, match=problem):
         sim.World(sim.scenes.single_box(), freeze=freeze, **kwargs)
@@ -213,47 +233,72 @@ def test_vertices_beyond_the_solvers_range_are_refused():
     # squared, 1e155 overflows: the square passed the convexity test on NaN turn angles and
     # reached the World with mass inf and inertia NaN
     with pytest.raises(ValueError, match=r"huge: a vertex lies 1e\+155 m from the body's origin"):
-        sim.Body(vertices=[[-1e155, -1e155], [1e155, -1e155], [1e155, 1e155], [-1e155, 1e155]],
-                 name="huge")
-    with pytest.raises(ValueError, match=r"body 0: a vertex lies 1e\+155 m"):   # the array path
-        sim.Scene.from_arrays(np.array([[[-1e155, -1e155], [1e155, -1e155], [1e155, 1e155],
-                                         [-1e155, 1e155]]]), np.zeros((1, 2)))
+        sim.Body(
+            vertices=[[-1e155, -1e155], [1e155, -1e155], [1e155, 1e155], [-1e155, 1e155]],
+            name="huge",
+        )
+    with pytest.raises(ValueError, match=r"body 0: a vertex lies 1e\+155 m"):  # the array path
+        sim.Scene.from_arrays(
+            np.array([[[-1e155, -1e155], [1e155, -1e155], [1e155, 1e155], [-1e155, 1e155]]]),
+            np.zeros((1, 2)),
+        )
 
 
-@pytest.mark.parametrize("make, why", [
-    (lambda: sim.Body.box(1e12, 1e12, position=(0, 5e11), density=1e300, name="dense"),
-     "mass inf"),
-    (lambda: sim.Body.box(1, 1, position=(0, 0.5), density=1e-320, name="airy"), "mass 1e-320"),
-    # finite, but its kinetic energy overflowed: kinetic_energy() was inf
-    (lambda: sim.Body.box(1, 1, position=(0, 0.5), density=1e308, name="dense"), "mass 1e\\+308"),
-    (lambda: sim.Body.box(1e-3, 1e-3, position=(0, 0.5), density=1e-100, name="airy"),
-     "mass 1e-106"),
-])
+@pytest.mark.parametrize(
+    "make, why",
+    [
+        (
+            lambda: sim.Body.box(1e12, 1e12, position=(0, 5e11), density=1e300, name="dense"),
+            "mass inf",
+        ),
+        (lambda: sim.Body.box(1, 1, position=(0, 0.5), density=1e-320, name="airy"), "mass 1e-320"),
+        # finite, but its kinetic energy overflowed: kinetic_energy() was inf
+        (
+            lambda: sim.Body.box(1, 1, position=(0, 0.5), density=1e308, name="dense"),
+            "mass 1e\\+308",
+        ),
+        (
+            lambda: sim.Body.box(1e-3, 1e-3, position=(0, 0.5), density=1e-100, name="airy"),
+            "mass 1e-106",
+        ),
+    ],
+)
 def test_bodies_whose_mass_properties_overflow_are_refused_by_name(make, why):
     body = make()
-    with pytest.raises(ValueError, match=rf"{body.name}: its mass properties are beyond what "
-                                         rf"the solver can use \({why}"):
+    with pytest.raises(
+        ValueError,
+        match=rf"{body.name}: its mass properties are beyond what "
+        rf"the solver can use \({why}",
+    ):
         sim.World(sim.Scene(bodies=[body]))
     lo, hi = sim.world.MASS_RANGE
     assert not lo <= body.mass <= hi or not lo <= body.inertia <= hi
 
 
-@pytest.mark.parametrize("field, value", [("velocity", (-1.1e12, 0.0)),
-                                          ("angular_velocity", 2e12)])
+@pytest.mark.parametrize("field, value", [("velocity", (-1.1e12, 0.0)), ("angular_velocity", 2e12)])
 def test_bodies_faster_than_the_solver_can_follow_are_refused(field, value):
     with pytest.raises(ValueError, match=rf"fast: {field} .* is beyond 1e\+12"):
         sim.Body.box(1, 1, position=(0, 0.5), name="fast", **{field: value})
     with pytest.raises(ValueError, match=rf"body 1: {field} .* is beyond 1e\+12"):
-        sim.Scene.from_arrays(sim.Body.box(1, 1).vertices, [(0, 0.5), (3, 0.5)],
-                              **{field: [0.0, value] if field == "angular_velocity"
-                                 else [(0, 0), value]})
-    sim.Body.box(1, 1, position=(0, 0.5), **{field: 1e12 if field == "angular_velocity"
-                                            else (1e12, -1e12)})
+        sim.Scene.from_arrays(
+            sim.Body.box(1, 1).vertices,
+            [(0, 0.5), (3, 0.5)],
+            **{field: [0.0, value] if field == "angular_velocity" else [(0, 0), value]},
+        )
+    sim.Body.box(
+        1, 1, position=(0, 0.5), **{field: 1e12 if field == "angular_velocity" else (1e12, -1e12)}
+    )
 
 
-@pytest.mark.parametrize("field, value", [("iterations", 10 ** 9), ("relax_iterations", 1001),
-                                          ("substeps", 10 ** 6),
-                                          ("initial_iterations", 10 ** 7)])
+@pytest.mark.parametrize(
+    "field, value",
+    [
+        ("iterations", 10**9),
+        ("relax_iterations", 1001),
+        ("substeps", 10**6),
+        ("initial_iterations", 10**7),
+    ],
+)
 def test_solver_counts_beyond_what_a_step_can_afford_are_refused(field, value):
     with pytest.raises(ValueError, match=rf"{field} must be at most .*cannot be interrupted"):
         sim.World(sim.scenes.single_box(), **{field: value})
@@ -263,7 +308,7 @@ def test_solver_counts_beyond_what_a_step_can_afford_are_refused(field, value):
 def test_a_body_restarted_from_a_worlds_arrays_builds_a_world():
     world = sim.World(sim.scenes.stack(3)).step(30)
     scene = sim.scenes.stack(3)
-    for i, body in enumerate(scene.bodies):            # the natural restart: numpy rows and floats
+    for i, body in enumerate(scene.bodies):  # the natural restart: numpy rows and floats
         body.position, body.velocity = world.positions[i], world.velocities[i]
         body.angle, body.angular_velocity = world.angles[i], world.angular_velocities[i]
     again = sim.World(scene, initial_iterations=0)
@@ -276,55 +321,80 @@ def test_bodies_and_scenes_compare_whole():
     assert sim.Scene(bodies=[a]) == sim.Scene(bodies=[b])
     assert sim.Scene(bodies=[a]) != sim.Scene(bodies=[c])
     b.position = np.array([0.0, 0.0])
-    assert a == b                                        # an array equal to the tuple
+    assert a == b  # an array equal to the tuple
     b.name = "other"
     assert a != b
 
 
-@pytest.mark.parametrize("n", [0, 1, 2, -3, 1025, 10 ** 30])
+@pytest.mark.parametrize("n", [0, 1, 2, -3, 1025, 10**30])
 def test_a_regular_polygon_needs_three_vertices_and_no_more_than_the_solver_takes(n):
     with pytest.raises(ValueError, match="vertex count must be an integer from 3 to 1024"):
         sim.Body.regular(n, 1.0)
 
 
-# ---- the right exception type, and no text taken as a number ----------------------------------------
-@pytest.mark.parametrize("build, match", [
-    (lambda: sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5))], static_bodies=None),
-     "static_bodies must be a list"),
-    (lambda: sim.World(sim.scenes.single_box(), freeze="extended", rest_steps=10 ** 30),
-     r"rest_steps must be an integer >= 1 \(and < 2\*\*62\)"),
-    (lambda: sim.World(sim.scenes.single_box(), fast_paths=1), "fast_paths must be True, False"),
-    (lambda: sim.Body.box(1, 1, position="12"), "position must be a pair of numbers, got '12'"),
-    (lambda: sim.Body.box(1, 1, density="2"), "density must be a number, got '2'"),
-    (lambda: sim.World(sim.scenes.single_box(), warm_starting="no"),
-     "warm_starting must be True or False, got 'no'"),
-    (lambda: sim.World(sim.scenes.single_box(), continuous="no"),
-     "continuous must be True or False"),
-    (lambda: sim.World(sim.scenes.single_box(), freeze="paper", impulse_threshold="0.1"),
-     "impulse_threshold must be a number, got '0.1'"),
-])
+# ---- the right exception type, and no text taken as a number -------------------------------------
+@pytest.mark.parametrize(
+    "build, match",
+    [
+        (
+            lambda: sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5))], static_bodies=None),
+            "static_bodies must be a list",
+        ),
+        (
+            lambda: sim.World(sim.scenes.single_box(), freeze="extended", rest_steps=10**30),
+            r"rest_steps must be an integer >= 1 \(and < 2\*\*62\)",
+        ),
+        (
+            lambda: sim.World(sim.scenes.single_box(), fast_paths=1),
+            "fast_paths must be True, False",
+        ),
+        (lambda: sim.Body.box(1, 1, position="12"), "position must be a pair of numbers, got '12'"),
+        (lambda: sim.Body.box(1, 1, density="2"), "density must be a number, got '2'"),
+        (
+            lambda: sim.World(sim.scenes.single_box(), warm_starting="no"),
+            "warm_starting must be True or False, got 'no'",
+        ),
+        (
+            lambda: sim.World(sim.scenes.single_box(), continuous="no"),
+            "continuous must be True or False",
+        ),
+        (
+            lambda: sim.World(sim.scenes.single_box(), freeze="paper", impulse_threshold="0.1"),
+            "impulse_threshold must be a number, got '0.1'",
+        ),
+    ],
+)
 def test_bad_values_raise_a_value_error_that_names_them(build, match):
     with pytest.raises(ValueError, match=match):
         build()
 
 
-@pytest.mark.parametrize("contents, match", [
-    (bytes(range(256)), r"bad\.toml: not valid TOML \(not UTF-8 text"),
-    (("a = " + "[" * 3000 + "]" * 3000 + "\n").encode(), r"bad\.toml: not valid TOML .*nested"),
-    (b'[[bodies]]\nbox = [1, 1]\nposition = [0, 1]\n\n[[bodies]]\nbox = [1, 1]\n'
-     b'position = [0, "x"]\n', r"bad\.toml: body 1: position must be a pair of numbers"),
-    (b'[[bodies]]\nbox = [1, 1]\nposition = [0, 1]\n[[static_bodies]]\nname = "wall"\n'
-     b'box = [1, 1]\nposition = [0, 1, 3]\n',
-     r"bad\.toml: static body 0 \(wall\): position must be a pair"),
-    (b'[[bodies]]\nbox = [1, "x"]\n', r"bad\.toml: body 0: height must be a number, got 'x'"),
-    (b'[[bodies]]\nbox = 3\n', r"bad\.toml: body 0: box must be \[width, height\], got 3"),
-    (b'[[bodies]]\nbox = [1, 1]\ncolour = 3\n', r"bad\.toml: body 0: .*'colour'"),
-    (b'bodies = 3\n', r"bad\.toml: body entries must be a list of tables"),
-    (b'bodies = [3]\n', r"bad\.toml: body 0: expected a table of body fields"),
-    (b'name = 3\n[[bodies]]\nbox = [1, 1]\n', r"bad\.toml: scene: name must be a string"),
-])
-def test_every_scene_file_error_is_a_value_error_naming_the_file_and_entry(tmp_path, contents,
-                                                                            match):
+@pytest.mark.parametrize(
+    "contents, match",
+    [
+        (bytes(range(256)), r"bad\.toml: not valid TOML \(not UTF-8 text"),
+        (("a = " + "[" * 3000 + "]" * 3000 + "\n").encode(), r"bad\.toml: not valid TOML .*nested"),
+        (
+            b"[[bodies]]\nbox = [1, 1]\nposition = [0, 1]\n\n[[bodies]]\nbox = [1, 1]\n"
+            b'position = [0, "x"]\n',
+            r"bad\.toml: body 1: position must be a pair of numbers",
+        ),
+        (
+            b'[[bodies]]\nbox = [1, 1]\nposition = [0, 1]\n[[static_bodies]]\nname = "wall"\n'
+            b"box = [1, 1]\nposition = [0, 1, 3]\n",
+            r"bad\.toml: static body 0 \(wall\): position must be a pair",
+        ),
+        (b'[[bodies]]\nbox = [1, "x"]\n', r"bad\.toml: body 0: height must be a number, got 'x'"),
+        (b"[[bodies]]\nbox = 3\n", r"bad\.toml: body 0: box must be \[width, height\], got 3"),
+        (b"[[bodies]]\nbox = [1, 1]\ncolour = 3\n", r"bad\.toml: body 0: .*'colour'"),
+        (b"bodies = 3\n", r"bad\.toml: body entries must be a list of tables"),
+        (b"bodies = [3]\n", r"bad\.toml: body 0: expected a table of body fields"),
+        (b"name = 3\n[[bodies]]\nbox = [1, 1]\n", r"bad\.toml: scene: name must be a string"),
+    ],
+)
+def test_every_scene_file_error_is_a_value_error_naming_the_file_and_entry(
+    tmp_path, contents, match
+):
     path = tmp_path / "bad.toml"
     path.write_bytes(contents)
     with pytest.raises(ValueError, match=match):
@@ -332,11 +402,13 @@ def test_every_scene_file_error_is_a_value_error_naming_the_file_and_entry(tmp_p
 
 
 @pytest.mark.parametrize("system", ["sim-off", "pymunk", "pybullet", "box2d"])
-@pytest.mark.parametrize("setting, value", [("dt", "0.01"), ("iterations", 3.0),
-                                            ("iterations", "3"), ("dt", True),
-                                            ("iterations", 2 ** 31)])   # beyond a C int
+@pytest.mark.parametrize(
+    "setting, value",
+    [("dt", "0.01"), ("iterations", 3.0), ("iterations", "3"), ("dt", True), ("iterations", 2**31)],
+)  # beyond a C int
 def test_runners_take_no_text_as_a_number_nor_counts_beyond_their_range(system, setting, value):
     from study.peers import make_runner
+
     with pytest.raises(ValueError, match=rf"{setting} must be"):
         make_runner(system, sim.scenes.single_box(), **{setting: value})
 
@@ -353,13 +425,13 @@ def test_names_must_be_strings():
         sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5))], name=3)
 
 
-# ---- a World is not changed by edits to its scene after it was built -------------------------------
+# ---- a World is not changed by edits to its scene after it was built -----------------------------
 def test_edits_to_the_scene_after_the_world_is_built_reach_neither_the_run_nor_its_reports():
     scene = sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 5), name="a")])
     world = sim.World(scene)
     twin = sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 5), name="a")]))
     pe = world.potential_energy()
-    scene.gravity = (0.0, -100.0)                  # each of these was half-seen before
+    scene.gravity = (0.0, -100.0)  # each of these was half-seen before
     scene.bodies[0].name = "renamed"
     scene.bodies.append(sim.Body.box(1, 1, position=(3, 5)))
     scene.floor_y = 2.0
@@ -367,7 +439,7 @@ def test_edits_to_the_scene_after_the_world_is_built_reach_neither_the_run_nor_i
     assert world.scene.gravity == (0.0, -9.81) and world.scene.n_bodies == 1
     assert world.scene.floor_y == 0.0 and world.scene.bodies[0].name == "a"
     world.step(90), twin.step(90)
-    assert np.array_equal(world.positions, twin.positions)      # the run as built
+    assert np.array_equal(world.positions, twin.positions)  # the run as built
     # and editing the World's own copy changes nothing either
     world.scene.gravity = (0.0, -100.0)
     assert world.potential_energy() == twin.potential_energy()
@@ -376,7 +448,7 @@ def test_edits_to_the_scene_after_the_world_is_built_reach_neither_the_run_nor_i
 def test_a_scene_snapshot_is_equal_and_independent():
     scene = sim.scenes.drop(5, seed=2)
     copy = scene.snapshot()
-    assert copy.body_arrays is not None          # gathered into arrays, not body by body
+    assert copy.body_arrays is not None  # gathered into arrays, not body by body
     assert copy == scene
     scene.bodies[0].position = (9.0, 9.0)
     scene.params["seed"] = 99

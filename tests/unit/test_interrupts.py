@@ -1,5 +1,6 @@
 """A long ``World.step`` stops on Ctrl-C within a fraction of a second, at a step boundary, with
 the World whole; a World that diverged refuses to step on and says why."""
+
 import select
 import signal
 import subprocess
@@ -42,14 +43,18 @@ def _line(proc, timeout):
 
 
 def test_ctrl_c_stops_a_long_step_at_a_step_boundary():
-    proc = subprocess.Popen([sys.executable, "-c", SCRIPT.format(root=str(ROOT))],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            bufsize=1)
+    proc = subprocess.Popen(
+        [sys.executable, "-c", SCRIPT.format(root=str(ROOT))],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        bufsize=1,
+    )
     try:
         assert _line(proc, 600) == "ready"
         time.sleep(0.5)
         sent = time.monotonic()
-        proc.send_signal(signal.SIGINT)                       # as Ctrl-C
+        proc.send_signal(signal.SIGINT)  # as Ctrl-C
         line = _line(proc, 5.0)
         stopped = time.monotonic() - sent
         assert line is not None, "step(10**9) did not stop within 5 s of SIGINT"
@@ -64,13 +69,15 @@ def test_ctrl_c_stops_a_long_step_at_a_step_boundary():
 
 def test_a_diverged_world_refuses_to_step_again_and_says_why():
     fast = sim.Body.box(1, 1, position=(0.0, 5.0), velocity=(1e12, 0.0), name="bullet")
-    world = sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(-10, 0.5)), fast],
-                                gravity=(0, 0)), dt=1e297)
+    world = sim.World(
+        sim.Scene(bodies=[sim.Body.box(1, 1, position=(-10, 0.5)), fast], gravity=(0, 0)), dt=1e297
+    )
     with pytest.raises(sim.SimulationError, match=r"step 1: bullet diverged"):
         world.step(5)
     for _ in range(2):
-        with pytest.raises(sim.SimulationError,
-                           match=r"step 1: bullet diverged.*cannot step any further"):
+        with pytest.raises(
+            sim.SimulationError, match=r"step 1: bullet diverged.*cannot step any further"
+        ):
             world.step(1)
     assert world.step_count == 1
 
@@ -78,7 +85,7 @@ def test_a_diverged_world_refuses_to_step_again_and_says_why():
 def test_cutting_a_run_into_pieces_changes_nothing(monkeypatch):
     one = sim.World(sim.scenes.drop(20, seed=1)).step(200)
     monkeypatch.setattr(sim.world, "FIRST_CHUNK", 3)
-    monkeypatch.setattr(sim.world, "CHUNK_S", 1e-5)           # pieces of a few steps
+    monkeypatch.setattr(sim.world, "CHUNK_S", 1e-5)  # pieces of a few steps
     cut = sim.World(sim.scenes.drop(20, seed=1)).step(200)
     assert np.array_equal(one.positions, cut.positions)
     assert np.array_equal(one.velocities, cut.velocities)

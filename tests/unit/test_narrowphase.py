@@ -8,6 +8,7 @@ exact distance (``naive.polygon_distance``) on random polygons, and the whole pi
 settling pile, where every pair of bodies that starts a step within half its resting speculative
 reach must have been given contact points that step.
 """
+
 import math
 
 import numpy as np
@@ -37,8 +38,9 @@ def test_the_reported_gap_is_a_lower_bound_on_the_distance(seed):
         b = random_convex(rng, rng.uniform(-2.5, 2.5, 2))
         margin = float(rng.uniform(0.0, 0.5))
         out = np.zeros((2, 2)), np.zeros(2), np.zeros(2, np.int64), np.zeros(2)
-        count, _, _, gap = geometry.collide_polygons(a, geometry.edge_normals(a), b,
-                                                     geometry.edge_normals(b), margin, *out)
+        count, _, _, gap = geometry.collide_polygons(
+            a, geometry.edge_normals(a), b, geometry.edge_normals(b), margin, *out
+        )
         if naive.polygons_intersect(a, b):
             assert gap <= 1e-12
             continue
@@ -59,8 +61,15 @@ def test_the_floor_gap_is_the_height_of_the_lowest_vertex():
     for _ in range(100):
         v = random_convex(rng, (0.0, rng.uniform(-1.0, 3.0)))
         floor_y = float(rng.uniform(-0.5, 0.5))
-        count, gap = geometry.collide_floor(v, geometry.edge_normals(v), floor_y, 0.1,
-                                            np.zeros((2, 2)), np.zeros(2), np.zeros(2, np.int64))
+        count, gap = geometry.collide_floor(
+            v,
+            geometry.edge_normals(v),
+            floor_y,
+            0.1,
+            np.zeros((2, 2)),
+            np.zeros(2),
+            np.zeros(2, np.int64),
+        )
         assert gap == pytest.approx(v[:, 1].min() - floor_y, abs=1e-12)
         assert (count > 0) == (gap <= 0.1)
 
@@ -78,7 +87,7 @@ def _world_polygons(scene, positions, angles):
 def test_every_pair_that_comes_near_gets_contact_points_in_a_settling_pile():
     scene = sim.scenes.drop(40, seed=3)
     world = sim.World(scene)
-    reach = body_speculative(world.sizes[:len(scene.bodies)], world.speculative_distance)
+    reach = body_speculative(world.sizes[: len(scene.bodies)], world.speculative_distance)
     skipped = checked = 0
     for _ in range(150):
         polygons = _world_polygons(scene, world.positions, world.angles)
@@ -92,7 +101,7 @@ def test_every_pair_that_comes_near_gets_contact_points_in_a_settling_pile():
                 lo = np.maximum(polygons[i].min(0), polygons[j].min(0))
                 hi = np.minimum(polygons[i].max(0), polygons[j].max(0))
                 if (lo - hi).max() > near:
-                    continue                      # boxes apart by more than that
+                    continue  # boxes apart by more than that
                 if naive.polygons_intersect(polygons[i], polygons[j]):
                     distance = 0.0
                 else:

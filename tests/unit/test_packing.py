@@ -4,6 +4,7 @@ The references are slow loops written here: ``slow_pack`` is the World's per-bod
 (``World._pack`` before sim.packing existed) on ``sim.geometry``'s one-polygon functions; the
 vectorised code must give the same arrays bit for bit, the same verdicts on polygons, and the same
 error messages as Body-list scenes."""
+
 import math
 
 import numpy as np
@@ -30,13 +31,25 @@ def slow_pack(scene):
     n, m = len(scene.bodies), len(bodies)
     vert_start = np.zeros(m + 1, np.int64)
     np.cumsum([len(b.vertices) for b in bodies], out=vert_start[1:])
-    out = {"n_dynamic": n, "vert_start": vert_start,
-           "local_verts": np.empty((vert_start[-1], 2)), "local_normals": np.empty((vert_start[-1], 2)),
-           "position": np.empty((m, 2)), "angle": np.empty(m), "velocity": np.zeros((m, 2)),
-           "angular_velocity": np.zeros(m), "inv_mass": np.zeros(m), "inv_inertia": np.zeros(m),
-           "mass": np.empty(n), "inertia": np.empty(n), "friction": np.empty(m),
-           "restitution": np.empty(m), "extent": np.empty(m), "size": np.empty(m),
-           "bullet": np.zeros(m, bool)}
+    out = {
+        "n_dynamic": n,
+        "vert_start": vert_start,
+        "local_verts": np.empty((vert_start[-1], 2)),
+        "local_normals": np.empty((vert_start[-1], 2)),
+        "position": np.empty((m, 2)),
+        "angle": np.empty(m),
+        "velocity": np.zeros((m, 2)),
+        "angular_velocity": np.zeros(m),
+        "inv_mass": np.zeros(m),
+        "inv_inertia": np.zeros(m),
+        "mass": np.empty(n),
+        "inertia": np.empty(n),
+        "friction": np.empty(m),
+        "restitution": np.empty(m),
+        "extent": np.empty(m),
+        "size": np.empty(m),
+        "bullet": np.zeros(m, bool),
+    }
     for i, b in enumerate(bodies):
         mass, centroid, inertia = geometry.mass_properties(b.vertices, b.density)
         local = b.vertices - centroid
@@ -44,8 +57,10 @@ def slow_pack(scene):
         out["local_verts"][s0:s1] = local
         out["local_normals"][s0:s1] = geometry.edge_normals(local)
         c, s = math.cos(b.angle), math.sin(b.angle)
-        out["position"][i] = (b.position[0] + c * centroid[0] - s * centroid[1],
-                              b.position[1] + s * centroid[0] + c * centroid[1])
+        out["position"][i] = (
+            b.position[0] + c * centroid[0] - s * centroid[1],
+            b.position[1] + s * centroid[0] + c * centroid[1],
+        )
         out["angle"][i] = b.angle
         out["friction"][i] = b.friction
         out["restitution"][i] = b.restitution
@@ -72,7 +87,7 @@ def assert_packed_equal(packed, expected, exact_size=False):
             continue
         assert got.shape == np.shape(want), name
         assert got.dtype == np.asarray(want).dtype, name
-        if name == "size" and not exact_size:       # the reference loops in another order
+        if name == "size" and not exact_size:  # the reference loops in another order
             np.testing.assert_allclose(got, want, rtol=1e-12, atol=0, err_msg=name)
         else:
             np.testing.assert_array_equal(got, want, err_msg=name)
@@ -100,26 +115,46 @@ def message(fn, *args):
     return None
 
 
-# ---- pack() against the World's loop --------------------------------------------------------------
+# ---- pack() against the World's loop -------------------------------------------------------------
 def mixed_scene():
     """Off-centre, rotated, spinning, dense, bouncy bodies of several vertex counts, a bullet,
     and static bodies (one rotated, one with many vertices)."""
     rng = np.random.default_rng(7)
-    bodies = [sim.Body(vertices=random_convex(rng, k, 0.3, offset=(0.2, -0.1)),
-                       position=(1.5 * k, 3.0), angle=0.3 * k - 1.0, velocity=(0.1 * k, -1.0),
-                       angular_velocity=0.5 - 0.1 * k, density=0.5 + k, friction=0.1 * k,
-                       restitution=0.05 * k, bullet=k % 2 == 0)
-              for k in range(3, 12)]
-    walls = [sim.Body.box(0.5, 6.0, position=(-2.0, 3.0), angle=0.1, name="wall"),
-             sim.Body.regular(40, 1.0, position=(20.0, 1.0), density=3.0, friction=0.9)]
+    bodies = [
+        sim.Body(
+            vertices=random_convex(rng, k, 0.3, offset=(0.2, -0.1)),
+            position=(1.5 * k, 3.0),
+            angle=0.3 * k - 1.0,
+            velocity=(0.1 * k, -1.0),
+            angular_velocity=0.5 - 0.1 * k,
+            density=0.5 + k,
+            friction=0.1 * k,
+            restitution=0.05 * k,
+            bullet=k % 2 == 0,
+        )
+        for k in range(3, 12)
+    ]
+    walls = [
+        sim.Body.box(0.5, 6.0, position=(-2.0, 3.0), angle=0.1, name="wall"),
+        sim.Body.regular(40, 1.0, position=(20.0, 1.0), density=3.0, friction=0.9),
+    ]
     return sim.Scene(bodies=bodies, static_bodies=walls, name="mixed")
 
 
-@pytest.mark.parametrize("build", [
-    lambda: scenes.pyramid(6), lambda: scenes.drop(25, seed=3), lambda: scenes.arch(),
-    scenes.seed_fig1, scenes.seed_fig2, scenes.seed_fig3, lambda: scenes.sliding_box(speed=2.0),
-    mixed_scene,
-], ids=["pyramid", "drop", "arch", "seed_fig1", "seed_fig2", "seed_fig3", "sliding_box", "mixed"])
+@pytest.mark.parametrize(
+    "build",
+    [
+        lambda: scenes.pyramid(6),
+        lambda: scenes.drop(25, seed=3),
+        lambda: scenes.arch(),
+        scenes.seed_fig1,
+        scenes.seed_fig2,
+        scenes.seed_fig3,
+        lambda: scenes.sliding_box(speed=2.0),
+        mixed_scene,
+    ],
+    ids=["pyramid", "drop", "arch", "seed_fig1", "seed_fig2", "seed_fig3", "sliding_box", "mixed"],
+)
 def test_pack_equals_the_per_body_loop(build):
     scene = build()
     assert_packed_equal(pack(scene), slow_pack(scene))
@@ -133,14 +168,18 @@ def test_pack_of_a_box_has_the_box_numbers():
     np.testing.assert_array_equal(p.position, [[1.0, 0.25]])
 
 
-# ---- sim.polygons against sim.geometry ------------------------------------------------------------
+# ---- sim.polygons against sim.geometry -----------------------------------------------------------
 def random_polygons(seed, count=400, k_max=40):
     rng = np.random.default_rng(seed)
     polys = []
     while len(polys) < count:
         k = int(rng.integers(3, k_max + 1))
-        p = random_convex(rng, k, radius=10 ** rng.uniform(-3, 2),
-                          offset=rng.uniform(-1e3, 1e3, 2) * rng.integers(0, 2))
+        p = random_convex(
+            rng,
+            k,
+            radius=10 ** rng.uniform(-3, 2),
+            offset=rng.uniform(-1e3, 1e3, 2) * rng.integers(0, 2),
+        )
         if message(geometry.validate_polygon, p) is None:
             polys.append(p)
     return polys
@@ -160,39 +199,54 @@ def test_mass_properties_many_is_bit_for_bit_the_one_polygon_result():
 def test_edge_normals_extent_and_width_of_many_polygons():
     polys = random_polygons(3)
     vertices, vert_start = packed(polys)
-    np.testing.assert_array_equal(polygons.edge_normals_many(vertices, vert_start),
-                                  np.concatenate([geometry.edge_normals(p) for p in polys]))
+    np.testing.assert_array_equal(
+        polygons.edge_normals_many(vertices, vert_start),
+        np.concatenate([geometry.edge_normals(p) for p in polys]),
+    )
     _, centroid, _ = polygons.mass_properties_many(vertices, vert_start, 1.0)
     local = [p - c for p, c in zip(polys, centroid)]
     lv, _ = packed(local)
-    np.testing.assert_array_equal(polygons.extent_many(lv, vert_start),
-                                  [np.max(np.hypot(q[:, 0], q[:, 1])) for q in local])
-    np.testing.assert_allclose(polygons.thinnest_width_many(lv, vert_start),
-                               [slow_width(q) for q in local], rtol=1e-12)
+    np.testing.assert_array_equal(
+        polygons.extent_many(lv, vert_start), [np.max(np.hypot(q[:, 0], q[:, 1])) for q in local]
+    )
+    np.testing.assert_allclose(
+        polygons.thinnest_width_many(lv, vert_start), [slow_width(q) for q in local], rtol=1e-12
+    )
 
 
 def test_thinnest_width_of_known_shapes():
-    shapes = [sim.Body.box(3.0, 0.2).vertices, sim.Body.box(0.7, 5.0).vertices,
-              sim.Body.regular(3, 1.0).vertices, sim.Body.regular(6, 1.0).vertices]
+    shapes = [
+        sim.Body.box(3.0, 0.2).vertices,
+        sim.Body.box(0.7, 5.0).vertices,
+        sim.Body.regular(3, 1.0).vertices,
+        sim.Body.regular(6, 1.0).vertices,
+    ]
     vertices, vert_start = packed(shapes)
-    np.testing.assert_allclose(polygons.thinnest_width_many(vertices, vert_start),
-                               [0.2, 0.7, 1.5, math.sqrt(3.0)], rtol=1e-14)
+    np.testing.assert_allclose(
+        polygons.thinnest_width_many(vertices, vert_start),
+        [0.2, 0.7, 1.5, math.sqrt(3.0)],
+        rtol=1e-14,
+    )
 
 
-STAR = [(math.cos(math.pi / 2 + 4 * math.pi * i / 5), math.sin(math.pi / 2 + 4 * math.pi * i / 5))
-        for i in range(5)]
+STAR = [
+    (math.cos(math.pi / 2 + 4 * math.pi * i / 5), math.sin(math.pi / 2 + 4 * math.pi * i / 5))
+    for i in range(5)
+]
 BAD_POLYGONS = [
-    BOX[::-1],                                              # clockwise
-    [(0, 0), (2, 0), (1, 0.2), (2, 2), (0, 2)],             # reflex vertex
-    [(0, 0), (1, 0), (1, 0), (0, 1)],                       # repeated vertex
-    [(0, 0), (1, 0), (2, 0)],                               # zero area
-    [(0, 0), (1, 0)],                                       # too few
+    BOX[::-1],  # clockwise
+    [(0, 0), (2, 0), (1, 0.2), (2, 2), (0, 2)],  # reflex vertex
+    [(0, 0), (1, 0), (1, 0), (0, 1)],  # repeated vertex
+    [(0, 0), (1, 0), (2, 0)],  # zero area
+    [(0, 0), (1, 0)],  # too few
     [(0, 0), (1, math.nan), (0, 1)],
     [(0, 0), (1, math.inf), (0, 1)],
-    [(1, 1), (1, 1), (1, 1)],                               # all coincide
-    STAR,                                                   # winds twice
-    [(math.cos(2 * math.pi * i / 1025), math.sin(2 * math.pi * i / 1025))
-     for i in range(geometry.MAX_VERTICES + 1)],            # too many
+    [(1, 1), (1, 1), (1, 1)],  # all coincide
+    STAR,  # winds twice
+    [
+        (math.cos(2 * math.pi * i / 1025), math.sin(2 * math.pi * i / 1025))
+        for i in range(geometry.MAX_VERTICES + 1)
+    ],  # too many
 ]
 
 
@@ -207,11 +261,13 @@ def test_validate_polygons_reports_the_first_bad_polygon_as_validate_polygon_doe
     def names(i):
         asked.append(i)
         return f"crate {i}"
+
     got = message(polygons.validate_polygons, vertices, vert_start, names)
     assert got is not None
-    assert got == message(geometry.validate_polygon, np.asarray(BAD_POLYGONS[bad], float),
-                          f"crate {where}")
-    assert asked == [where]                                 # names only the culprit
+    assert got == message(
+        geometry.validate_polygon, np.asarray(BAD_POLYGONS[bad], float), f"crate {where}"
+    )
+    assert asked == [where]  # names only the culprit
 
 
 def test_validate_polygons_passes_valid_polygons_and_screens_none_of_them():
@@ -247,7 +303,7 @@ def borderline_polygons(seed):
 def test_borderline_polygons_get_the_reference_verdict(seed):
     polys = borderline_polygons(seed)
     reference = [message(geometry.validate_polygon, p, f"p{i}") for i, p in enumerate(polys)]
-    assert 0 < sum(r is None for r in reference) < len(polys)      # both sides are represented
+    assert 0 < sum(r is None for r in reference) < len(polys)  # both sides are represented
     for i, p in enumerate(polys):
         vertices, vert_start = packed([p])
         got = message(polygons.validate_polygons, vertices, vert_start, lambda _: f"p{i}")
@@ -267,33 +323,67 @@ def test_packed_layout_errors_are_clear():
 
 
 # ---- Scene.from_arrays ---------------------------------------------------------------------------
-def body_list_scene(polys, position, angle, velocity, angular_velocity, density, friction,
-                    restitution, bullet, names=None, **scene_kwargs):
+def body_list_scene(
+    polys,
+    position,
+    angle,
+    velocity,
+    angular_velocity,
+    density,
+    friction,
+    restitution,
+    bullet,
+    names=None,
+    **scene_kwargs,
+):
     """The Body-list twin of a from_arrays scene (per-body values as lists)."""
-    bodies = [sim.Body(vertices=polys[i], position=tuple(position[i]), angle=angle[i],
-                       velocity=tuple(velocity[i]), angular_velocity=angular_velocity[i],
-                       density=density[i], friction=friction[i], restitution=restitution[i],
-                       bullet=bool(bullet[i]), name=names[i] if names else "")
-              for i in range(len(position))]
+    bodies = [
+        sim.Body(
+            vertices=polys[i],
+            position=tuple(position[i]),
+            angle=angle[i],
+            velocity=tuple(velocity[i]),
+            angular_velocity=angular_velocity[i],
+            density=density[i],
+            friction=friction[i],
+            restitution=restitution[i],
+            bullet=bool(bullet[i]),
+            name=names[i] if names else "",
+        )
+        for i in range(len(position))
+    ]
     return sim.Scene(bodies=bodies, **scene_kwargs)
 
 
 def array_fields(n, seed=0):
     rng = np.random.default_rng(seed)
-    return dict(position=np.stack([3.0 * np.arange(n), 2.0 + rng.uniform(0, 1, n)], axis=1),
-                angle=rng.uniform(-3, 3, n), velocity=rng.uniform(-2, 2, (n, 2)),
-                angular_velocity=rng.uniform(-1, 1, n), density=rng.uniform(0.5, 5, n),
-                friction=rng.uniform(0, 1, n), restitution=rng.uniform(0, 1, n),
-                bullet=rng.uniform(0, 1, n) < 0.3)
+    return dict(
+        position=np.stack([3.0 * np.arange(n), 2.0 + rng.uniform(0, 1, n)], axis=1),
+        angle=rng.uniform(-3, 3, n),
+        velocity=rng.uniform(-2, 2, (n, 2)),
+        angular_velocity=rng.uniform(-1, 1, n),
+        density=rng.uniform(0.5, 5, n),
+        friction=rng.uniform(0, 1, n),
+        restitution=rng.uniform(0, 1, n),
+        bullet=rng.uniform(0, 1, n) < 0.3,
+    )
 
 
-SCENE_FIELDS = dict(floor_y=-1.0, gravity=(0.5, -3.0), floor_friction=0.3, floor_restitution=0.2,
-                    name="arrays", params={"n": 12})
+SCENE_FIELDS = dict(
+    floor_y=-1.0,
+    gravity=(0.5, -3.0),
+    floor_friction=0.3,
+    floor_restitution=0.2,
+    name="arrays",
+    params={"n": 12},
+)
 
 
 def statics():
-    return [sim.Body.box(1.0, 8.0, position=(-3.0, 4.0), name="left"),
-            sim.Body.regular(7, 0.8, position=(60.0, 0.0), angle=0.4)]
+    return [
+        sim.Body.box(1.0, 8.0, position=(-3.0, 4.0), name="left"),
+        sim.Body.regular(7, 0.8, position=(60.0, 0.0), angle=0.4),
+    ]
 
 
 @pytest.mark.parametrize("layout", ["shared", "per_body", "packed"])
@@ -312,16 +402,21 @@ def test_from_arrays_packs_like_the_same_bodies_as_a_list(layout):
         vertices, vert_start = packed(polys)
         extra = {"vert_start": vert_start}
     names = [f"b{i}" if i % 3 else "" for i in range(n)]
-    scene = sim.Scene.from_arrays(vertices, names=names, static_bodies=statics(), **f, **extra,
-                                  **SCENE_FIELDS)
+    scene = sim.Scene.from_arrays(
+        vertices, names=names, static_bodies=statics(), **f, **extra, **SCENE_FIELDS
+    )
     twin = body_list_scene(polys, names=names, static_bodies=statics(), **f, **SCENE_FIELDS)
     assert scene.body_arrays is not None and scene.n_bodies == n
     assert_packed_equal(pack(scene), slow_pack(twin))
     assert_packed_equal(pack(scene), pack(twin)._asdict(), exact_size=True)
     assert [scene.body_name(i) for i in range(n)] == [twin.body_name(i) for i in range(n)]
-    assert scene.body_arrays is not None             # none of this created Body objects
-    assert (scene.floor_y, scene.gravity, scene.name, scene.params) == (-1.0, (0.5, -3.0), "arrays",
-                                                                        {"n": 12})
+    assert scene.body_arrays is not None  # none of this created Body objects
+    assert (scene.floor_y, scene.gravity, scene.name, scene.params) == (
+        -1.0,
+        (0.5, -3.0),
+        "arrays",
+        {"n": 12},
+    )
 
 
 def test_scalars_broadcast_and_defaults_are_body_defaults():
@@ -330,7 +425,11 @@ def test_scalars_broadcast_and_defaults_are_body_defaults():
     a = scene.body_arrays
     np.testing.assert_array_equal(a.density, [2.0, 2.0])
     np.testing.assert_array_equal(a.bullet, [True, True])
-    assert (a.friction[1], a.restitution[1], a.angle[1]) == (default.friction, default.restitution, 0.0)
+    assert (a.friction[1], a.restitution[1], a.angle[1]) == (
+        default.friction,
+        default.restitution,
+        0.0,
+    )
     np.testing.assert_array_equal(a.velocity, np.zeros((2, 2)))
     assert scene.floor_y == 0.0 and scene.gravity == (0.0, -9.81) and scene.static_bodies == []
 
@@ -344,47 +443,84 @@ def test_from_arrays_copies_its_inputs_and_is_read_only():
         scene.body_arrays.position[0, 0] = 1.0
 
 
-# ---- the same messages as Body-list scenes --------------------------------------------------------
+# ---- the same messages as Body-list scenes -------------------------------------------------------
 N_BAD = 4
-BAD = 2          # the index of the bad body
+BAD = 2  # the index of the bad body
 
 
 def good_fields():
-    return dict(position=[(3.0 * i, 0.5) for i in range(N_BAD)], angle=[0.0] * N_BAD,
-                velocity=[(0.0, 0.0)] * N_BAD, angular_velocity=[0.0] * N_BAD,
-                density=[1.0] * N_BAD, friction=[0.5] * N_BAD, restitution=[0.0] * N_BAD,
-                bullet=[False] * N_BAD)
+    return dict(
+        position=[(3.0 * i, 0.5) for i in range(N_BAD)],
+        angle=[0.0] * N_BAD,
+        velocity=[(0.0, 0.0)] * N_BAD,
+        angular_velocity=[0.0] * N_BAD,
+        density=[1.0] * N_BAD,
+        friction=[0.5] * N_BAD,
+        restitution=[0.0] * N_BAD,
+        bullet=[False] * N_BAD,
+    )
 
 
 BAD_FIELDS = [
-    ("density", 0.0), ("density", -1.0), ("density", math.nan), ("density", math.inf),
-    ("friction", -0.1), ("friction", math.nan), ("friction", math.inf), ("restitution", 1.5),
-    ("restitution", -0.5), ("restitution", math.nan), ("restitution", math.inf), ("position", (0.0, math.nan)), ("position", (math.inf, 0.0)),
-    ("position", (2 * MAX_COORDINATE, 0.0)), ("position", (0.0, -2 * MAX_COORDINATE)),
-    ("velocity", (math.inf, 0.0)), ("velocity", (0.0, math.nan)), ("angle", math.nan),
-    ("angular_velocity", math.inf), ("angular_velocity", math.nan), ("bullet", 1), ("bullet", "yes"),
-    ("vertices", BOX[::-1]), ("vertices", BAD_POLYGONS[1]), ("vertices", BAD_POLYGONS[2]),
-    ("vertices", BAD_POLYGONS[3]), ("vertices", BAD_POLYGONS[4]), ("vertices", BAD_POLYGONS[5]),
+    ("density", 0.0),
+    ("density", -1.0),
+    ("density", math.nan),
+    ("density", math.inf),
+    ("friction", -0.1),
+    ("friction", math.nan),
+    ("friction", math.inf),
+    ("restitution", 1.5),
+    ("restitution", -0.5),
+    ("restitution", math.nan),
+    ("restitution", math.inf),
+    ("position", (0.0, math.nan)),
+    ("position", (math.inf, 0.0)),
+    ("position", (2 * MAX_COORDINATE, 0.0)),
+    ("position", (0.0, -2 * MAX_COORDINATE)),
+    ("velocity", (math.inf, 0.0)),
+    ("velocity", (0.0, math.nan)),
+    ("angle", math.nan),
+    ("angular_velocity", math.inf),
+    ("angular_velocity", math.nan),
+    ("bullet", 1),
+    ("bullet", "yes"),
+    ("vertices", BOX[::-1]),
+    ("vertices", BAD_POLYGONS[1]),
+    ("vertices", BAD_POLYGONS[2]),
+    ("vertices", BAD_POLYGONS[3]),
+    ("vertices", BAD_POLYGONS[4]),
+    ("vertices", BAD_POLYGONS[5]),
     ("vertices", STAR),
 ]
 
 
 def array_message(fields, polys, names=None, **kwargs):
     vertices, vert_start = packed(polys)
-    return message(lambda: sim.Scene.from_arrays(vertices, vert_start=vert_start, names=names,
-                                                 **fields, **kwargs))
+    return message(
+        lambda: sim.Scene.from_arrays(
+            vertices, vert_start=vert_start, names=names, **fields, **kwargs
+        )
+    )
 
 
 def body_list_message(field, value, name=""):
     """The message a Body-list scene gives when body BAD's ``field`` is ``value``."""
-    bodies = [sim.Body(vertices=BOX, name=name if i == BAD else "", **{
-        k: v[i] for k, v in good_fields().items()}) for i in range(N_BAD)]
+    bodies = [
+        sim.Body(
+            vertices=BOX,
+            name=name if i == BAD else "",
+            **{k: v[i] for k, v in good_fields().items()},
+        )
+        for i in range(N_BAD)
+    ]
     scene = sim.Scene(bodies=bodies)
-    setattr(bodies[BAD], field, value)                # bodies are mutable; the scene re-checks
+    setattr(bodies[BAD], field, value)  # bodies are mutable; the scene re-checks
     return message(scene.validate)
 
 
-@pytest.mark.parametrize("field,value", BAD_FIELDS, ids=[f"{f}-{i}" for i, (f, _) in enumerate(BAD_FIELDS)])
+@pytest.mark.parametrize(
+    "field,value", BAD_FIELDS, ids=[f"{f}-{i}" for i, (f, _) in enumerate(BAD_FIELDS)]
+)
 @pytest.mark.parametrize("name", ["", "crate 7"])
 def test_from_arrays_refuses_a_bad_body_with_the_body_message(field, value, name):
     fields = good_fields()
@@ -397,8 +533,10 @@ def test_from_arrays_refuses_a_bad_body_with_the_body_message(field, value, name
     expected = body_list_message(field, value, name)
     assert expected is not None and expected.split(":")[1].strip() == (name or f"body {BAD}")
     assert array_message(fields, polys, names) == expected
-    if name:      # a named body refuses the same value at creation, with the same message
-        assert message(lambda: sim.Body(**{"vertices": BOX, "name": name, field: value})) == expected
+    if name:  # a named body refuses the same value at creation, with the same message
+        assert (
+            message(lambda: sim.Body(**{"vertices": BOX, "name": name, field: value})) == expected
+        )
 
 
 def test_the_first_bad_body_is_reported_polygon_before_fields():
@@ -407,13 +545,14 @@ def test_the_first_bad_body_is_reported_polygon_before_fields():
     fields["density"][3] = -1.0
     polys[1] = BOX[::-1]
     assert array_message(fields, polys) == body_list_message("vertices", BOX[::-1]).replace(
-        f"body {BAD}", "body 1")
+        f"body {BAD}", "body 1"
+    )
     fields = good_fields()
     fields["friction"][1] = -1.0
     polys = [BOX] * N_BAD
     polys[3] = BOX[::-1]
     assert "body 1: friction must be >= 0" in array_message(fields, polys)
-    fields = good_fields()                                 # one body, two problems
+    fields = good_fields()  # one body, two problems
     fields["density"][BAD] = -1.0
     polys = [BOX] * N_BAD
     polys[BAD] = STAR
@@ -429,42 +568,66 @@ def test_a_bad_shared_polygon_names_body_0():
     assert got == message(scene.validate) and "body 0: vertices are clockwise" in got
 
 
-@pytest.mark.parametrize("kwargs,problem", [
-    ({"static_bodies": [sim.Body.box(1, 1, position=(9, 0.5), velocity=(1.0, 0.0))]},
-     "static body 0: static bodies cannot move"),
-    ({"static_bodies": ["wall"]}, "static body 0: expected sim.Body"),
-    ({"gravity": (0.0, math.nan)}, "scene: gravity is not finite"),
-    ({"floor_friction": -1.0}, "scene: floor_friction must be >= 0"),
-    ({"floor_restitution": 2.0}, "scene: floor_restitution must be in"),
-    ({"floor_y": math.inf}, "scene: floor_y is not finite"),
-])
+@pytest.mark.parametrize(
+    "kwargs,problem",
+    [
+        (
+            {"static_bodies": [sim.Body.box(1, 1, position=(9, 0.5), velocity=(1.0, 0.0))]},
+            "static body 0: static bodies cannot move",
+        ),
+        ({"static_bodies": ["wall"]}, "static body 0: expected sim.Body"),
+        ({"gravity": (0.0, math.nan)}, "scene: gravity is not finite"),
+        ({"floor_friction": -1.0}, "scene: floor_friction must be >= 0"),
+        ({"floor_restitution": 2.0}, "scene: floor_restitution must be in"),
+        ({"floor_y": math.inf}, "scene: floor_y is not finite"),
+    ],
+)
 def test_scene_fields_of_an_array_scene_are_checked_like_a_body_list_scene(kwargs, problem):
     got = message(lambda: sim.Scene.from_arrays(BOX, [(0.0, 0.5)], **kwargs))
     assert problem in got
-    assert got == message(lambda: sim.Scene(bodies=[sim.Body(vertices=BOX, position=(0.0, 0.5))],
-                                            **kwargs))
+    assert got == message(
+        lambda: sim.Scene(bodies=[sim.Body(vertices=BOX, position=(0.0, 0.5))], **kwargs)
+    )
 
 
-@pytest.mark.parametrize("kwargs,problem", [
-    ({"position": [(0, 0.5, 1.0)]}, r"position must have shape \(N, 2\), got shape \(1, 3\)"),
-    ({"position": (0.0, 0.5)}, r"position must have shape \(N, 2\)"),
-    ({"position": np.zeros((0, 2))}, "scene: needs at least one body"),
-    ({"position": [("a", "b")]}, "position must be numbers"),
-    ({"vertices": np.zeros((2, 4, 2))}, r"vertices must have shape .*\(N, K, 2\) = \(1, K, 2\)"),
-    ({"vertices": np.zeros((4, 3))}, r"vertices must have shape"),
-    ({"vertices": [[(0, 0), (1, 0), (0, 1)], [(0, 0), (1, 0)]]}, "vertices must be numbers"),
-    ({"vertices": np.array(BOX), "vert_start": [0, 2, 4]}, r"vert_start must have shape \(N\+1,\) = \(2,\)"),
-    ({"vertices": np.array(BOX), "vert_start": [0, 3]}, "vert_start must rise from 0 to len"),
-    ({"vertices": np.zeros((1, 4, 2)), "vert_start": [0, 4]}, r"vertices must have shape \(V, 2\)"),
-    ({"density": [1.0, 2.0]}, r"density must be a number or have shape \(N,\) = \(1,\), got shape \(2,\)"),
-    ({"friction": [[0.5]]}, r"friction must be a number or have shape \(N,\)"),
-    ({"angle": "steep"}, "angle must be numbers"),
-    ({"velocity": (1.0, 2.0, 3.0)}, r"velocity must be a pair or have shape \(N, 2\) = \(1, 2\)"),
-    ({"bullet": [True, False]}, r"bullet must be a bool or have shape \(N,\) = \(1,\)"),
-    ({"names": ["a", "b"]}, "names must be None or N = 1 strings"),
-    ({"names": "a"}, "names must be None or N = 1 strings"),
-    ({"names": [3]}, "names must be None or N = 1 strings"),
-])
+@pytest.mark.parametrize(
+    "kwargs,problem",
+    [
+        ({"position": [(0, 0.5, 1.0)]}, r"position must have shape \(N, 2\), got shape \(1, 3\)"),
+        ({"position": (0.0, 0.5)}, r"position must have shape \(N, 2\)"),
+        ({"position": np.zeros((0, 2))}, "scene: needs at least one body"),
+        ({"position": [("a", "b")]}, "position must be numbers"),
+        (
+            {"vertices": np.zeros((2, 4, 2))},
+            r"vertices must have shape .*\(N, K, 2\) = \(1, K, 2\)",
+        ),
+        ({"vertices": np.zeros((4, 3))}, r"vertices must have shape"),
+        ({"vertices": [[(0, 0), (1, 0), (0, 1)], [(0, 0), (1, 0)]]}, "vertices must be numbers"),
+        (
+            {"vertices": np.array(BOX), "vert_start": [0, 2, 4]},
+            r"vert_start must have shape \(N\+1,\) = \(2,\)",
+        ),
+        ({"vertices": np.array(BOX), "vert_start": [0, 3]}, "vert_start must rise from 0 to len"),
+        (
+            {"vertices": np.zeros((1, 4, 2)), "vert_start": [0, 4]},
+            r"vertices must have shape \(V, 2\)",
+        ),
+        (
+            {"density": [1.0, 2.0]},
+            r"density must be a number or have shape \(N,\) = \(1,\), got shape \(2,\)",
+        ),
+        ({"friction": [[0.5]]}, r"friction must be a number or have shape \(N,\)"),
+        ({"angle": "steep"}, "angle must be numbers"),
+        (
+            {"velocity": (1.0, 2.0, 3.0)},
+            r"velocity must be a pair or have shape \(N, 2\) = \(1, 2\)",
+        ),
+        ({"bullet": [True, False]}, r"bullet must be a bool or have shape \(N,\) = \(1,\)"),
+        ({"names": ["a", "b"]}, "names must be None or N = 1 strings"),
+        ({"names": "a"}, "names must be None or N = 1 strings"),
+        ({"names": [3]}, "names must be None or N = 1 strings"),
+    ],
+)
 def test_bad_argument_shapes_name_the_argument(kwargs, problem):
     args = {"vertices": BOX, "position": [(0.0, 0.5)], **kwargs}
     with pytest.raises(ValueError, match=problem) as err:
@@ -476,6 +639,7 @@ def test_bad_argument_shapes_name_the_argument(kwargs, problem):
 def test_a_valid_array_scene_is_not_checked_body_by_body(monkeypatch):
     """Only screened-in bodies get the one-body checks (their cost is what arrays avoid)."""
     import sim.scene as scene_module
+
     calls = []
     monkeypatch.setattr(scene_module, "check_fields", lambda *a: calls.append(a))
     monkeypatch.setattr(scene_module, "validate_polygon", lambda *a: calls.append(a))
@@ -498,30 +662,49 @@ def test_bullet_lists_are_read_element_by_element():
 def array_scene(n=5):
     f = array_fields(n, seed=3)
     f["bullet"] = [True, False] + [False] * (n - 2)
-    return sim.Scene.from_arrays(sim.Body.regular(5, 0.4).vertices, names=["", "named"] + [""] * (n - 2),
-                                 static_bodies=statics(), **f, **SCENE_FIELDS)
+    return sim.Scene.from_arrays(
+        sim.Body.regular(5, 0.4).vertices,
+        names=["", "named"] + [""] * (n - 2),
+        static_bodies=statics(),
+        **f,
+        **SCENE_FIELDS,
+    )
 
 
 def test_bodies_are_created_on_first_use_and_then_are_the_truth():
     scene = array_scene()
     before = pack(scene)
     bodies = scene.bodies
-    assert scene.body_arrays is None and scene.bodies is bodies and len(bodies) == scene.n_bodies == 5
+    assert (
+        scene.body_arrays is None and scene.bodies is bodies and len(bodies) == scene.n_bodies == 5
+    )
     assert all(isinstance(b, sim.Body) for b in bodies)
     a = before
-    for i, b in enumerate(bodies):              # each field as the Body path would hold it
+    for i, b in enumerate(bodies):  # each field as the Body path would hold it
         assert type(b.position) is tuple and type(b.position[0]) is float
         assert type(b.angle) is float and type(b.bullet) is bool
-        fresh = sim.Body(vertices=b.vertices.copy(), position=b.position, angle=b.angle,
-                         velocity=b.velocity, angular_velocity=b.angular_velocity,
-                         density=b.density, friction=b.friction, restitution=b.restitution,
-                         name=b.name, bullet=b.bullet)
+        fresh = sim.Body(
+            vertices=b.vertices.copy(),
+            position=b.position,
+            angle=b.angle,
+            velocity=b.velocity,
+            angular_velocity=b.angular_velocity,
+            density=b.density,
+            friction=b.friction,
+            restitution=b.restitution,
+            name=b.name,
+            bullet=b.bullet,
+        )
         assert fresh.to_dict() == b.to_dict()
-    assert bodies[1].name == "named" and scene.body_name(1) == "named" and scene.body_name(2) == "body 2"
-    assert_packed_equal(pack(scene), a._asdict(), exact_size=True)   # same packing, now from Bodies
-    scene.validate()                                                  # cheap: fingerprints match
-    bodies[3].vertices[0, 0] += 0.01                                 # edits in place are seen
-    assert pack(scene).local_verts[3 * 5:4 * 5].tolist() != a.local_verts[3 * 5:4 * 5].tolist()
+    assert (
+        bodies[1].name == "named"
+        and scene.body_name(1) == "named"
+        and scene.body_name(2) == "body 2"
+    )
+    assert_packed_equal(pack(scene), a._asdict(), exact_size=True)  # same packing, now from Bodies
+    scene.validate()  # cheap: fingerprints match
+    bodies[3].vertices[0, 0] += 0.01  # edits in place are seen
+    assert pack(scene).local_verts[3 * 5 : 4 * 5].tolist() != a.local_verts[3 * 5 : 4 * 5].tolist()
     bodies[4].density = -1.0
     with pytest.raises(ValueError, match="body 4: density must be > 0, got -1.0"):
         scene.validate()
@@ -539,14 +722,14 @@ def test_bodies_do_not_share_vertex_rows():
 def test_to_dict_of_an_array_scene_equals_its_body_list_form(tmp_path):
     scene = array_scene()
     as_dict = scene.to_dict()
-    assert scene.body_arrays is not None                 # writing did not create the bodies
+    assert scene.body_arrays is not None  # writing did not create the bodies
     path = tmp_path / "arrays.toml"
     scene.to_file(path)
     loaded = sim.Scene.from_file(path)
     assert loaded.to_dict() == as_dict == array_scene().to_dict()
     assert_packed_equal(pack(loaded), pack(array_scene())._asdict(), exact_size=True)
     materialised = array_scene()
-    materialised.bodies                                   # noqa: B018 (creates them)
+    materialised.bodies  # noqa: B018 (creates them)
     assert materialised.to_dict() == as_dict
 
 
@@ -561,8 +744,12 @@ def test_bullet_is_a_bool_and_written_only_when_true(tmp_path):
         sim.Body(vertices=BOX, bullet=1, name="crate")
     assert "bullet" not in sim.Body(vertices=BOX).to_dict()
     assert sim.Body(vertices=BOX, bullet=np.bool_(True)).bullet is True
-    scene = sim.Scene(bodies=[sim.Body(vertices=BOX, position=(0, 0.5), bullet=True),
-                              sim.Body(vertices=BOX, position=(3, 0.5))])
+    scene = sim.Scene(
+        bodies=[
+            sim.Body(vertices=BOX, position=(0, 0.5), bullet=True),
+            sim.Body(vertices=BOX, position=(3, 0.5)),
+        ]
+    )
     path = tmp_path / "b.toml"
     scene.to_file(path)
     assert path.read_text().count("bullet = true") == 1 and "bullet = false" not in path.read_text()
@@ -578,7 +765,8 @@ def test_a_remembered_polygon_does_not_hide_a_later_edit():
     is still checked in full."""
     sim.Body(vertices=BOX)
     almost = [list(p) for p in BOX]
-    almost[2][0] = -0.6                                   # now reflex at vertex 2
+    almost[2][0] = -0.6  # now reflex at vertex 2
     assert message(lambda: sim.Body(vertices=almost, name="e")) == message(
-        geometry.validate_polygon, almost, "e")
+        geometry.validate_polygon, almost, "e"
+    )
     assert message(lambda: sim.Body(vertices=almost, name="e")) is not None

@@ -1,5 +1,6 @@
 """The solver against known answers (freeze="off"). Each test names the physics it checks; the
 tolerances are the issue's, not tuned to the code."""
+
 import math
 
 import numpy as np
@@ -13,16 +14,18 @@ from conftest import G, run_until, tilted_box
 def test_free_fall_is_exact_semi_implicit_euler(substeps):
     dt = 1 / 60
     h = dt / substeps
-    world = sim.World(sim.Scene(bodies=[sim.Body.box(1, 1, position=(0.0, 100.0))]), dt=dt,
-                      substeps=substeps)
+    world = sim.World(
+        sim.Scene(bodies=[sim.Body.box(1, 1, position=(0.0, 100.0))]), dt=dt, substeps=substeps
+    )
     for n in (1, 10, 60):
         world.step(n - world.step_count)
         # semi-implicit Euler over k = n * substeps substeps of h:
         # v_k = -g k h, y_k = y_0 - g h^2 k (k + 1) / 2
         k = n * substeps
         assert world.velocities[0, 1] == pytest.approx(-G * k * h, rel=1e-12)
-        assert world.positions[0, 1] == pytest.approx(100.0 - G * h * h * k * (k + 1) / 2,
-                                                      rel=1e-12)
+        assert world.positions[0, 1] == pytest.approx(
+            100.0 - G * h * h * k * (k + 1) / 2, rel=1e-12
+        )
     assert world.velocities[0, 0] == 0.0 and world.angular_velocities[0] == 0.0
 
 
@@ -43,8 +46,9 @@ def test_dropped_box_settles_with_small_penetration():
     assert np.abs(world.velocities).max() < 1e-3
 
 
-@pytest.mark.parametrize("speed,mu,dt", [(3.0, 0.4, 1 / 60), (5.0, 0.2, 1 / 60),
-                                         (2.0, 0.8, 1 / 240)])
+@pytest.mark.parametrize(
+    "speed,mu,dt", [(3.0, 0.4, 1 / 60), (5.0, 0.2, 1 / 60), (2.0, 0.8, 1 / 240)]
+)
 def test_friction_slide_distance(speed, mu, dt):
     world = sim.World(sim.scenes.sliding_box(speed=speed, friction=mu), dt=dt)
     h = dt / world.substeps
@@ -65,33 +69,33 @@ def test_friction_slide_distance(speed, mu, dt):
     run_until(world, 3.0)
     assert abs(world.positions[0, 0] - x_stop) < 5e-4
     assert abs(world.velocities[0, 0]) < 1e-7
-    assert abs(world.angles[0]) < 1e-6                   # slid flat, did not tip
+    assert abs(world.angles[0]) < 1e-6  # slid flat, did not tip
     # Coulomb: v0^2 / (2 mu g). Semi-implicit Euler falls short of it by about v0 h / 2 (h the
     # substep), under 1% in each case: the 3% bound tests the friction, not the step.
-    assert world.positions[0, 0] == pytest.approx(speed ** 2 / (2 * mu * G), rel=0.03)
+    assert world.positions[0, 0] == pytest.approx(speed**2 / (2 * mu * G), rel=0.03)
 
 
 @pytest.mark.parametrize("e", [0.5, 0.7, 0.9])
 def test_bounce_height_from_restitution(e):
-    h = 2.0                              # drop height of the box's bottom face, m
+    h = 2.0  # drop height of the box's bottom face, m
     half = 0.25
-    scene = sim.Scene(bodies=[sim.Body.box(2 * half, 2 * half, position=(0.0, h + half),
-                                           restitution=e)])   # floor restitution 0: max mixing
+    scene = sim.Scene(
+        bodies=[sim.Body.box(2 * half, 2 * half, position=(0.0, h + half), restitution=e)]
+    )  # floor restitution 0: max mixing
     world = sim.World(scene, dt=1 / 60)
     heights = []
     for _ in range(int(3.0 / world.dt)):
         world.step()
         heights.append(world.positions[0, 1] - half)
     heights = np.array(heights)
-    first_contact = int(np.argmin(heights[:int(1.0 / world.dt)]))
-    apex = heights[first_contact:first_contact + int(1.5 / world.dt)].max()
+    first_contact = int(np.argmin(heights[: int(1.0 / world.dt)]))
+    apex = heights[first_contact : first_contact + int(1.5 / world.dt)].max()
     assert apex == pytest.approx(e * e * h, rel=0.10)
 
 
 def test_no_bounce_below_restitution_threshold():
     # impact at ~0.77 m/s, under the 1 m/s threshold: a restitution of 0.9 must not bounce
-    scene = sim.Scene(bodies=[sim.Body.box(0.5, 0.5, position=(0.0, 0.25 + 0.03),
-                                           restitution=0.9)])
+    scene = sim.Scene(bodies=[sim.Body.box(0.5, 0.5, position=(0.0, 0.25 + 0.03), restitution=0.9)])
     world = sim.World(scene)
     heights = []
     for _ in range(60):
@@ -104,31 +108,44 @@ def test_no_bounce_below_restitution_threshold():
 def _momenta(world):
     p = world.masses @ world.velocities
     r, v = world.positions, world.velocities
-    angular = float(world.inertias @ world.angular_velocities
-                    + world.masses @ (r[:, 0] * v[:, 1] - r[:, 1] * v[:, 0]))
+    angular = float(
+        world.inertias @ world.angular_velocities
+        + world.masses @ (r[:, 0] * v[:, 1] - r[:, 1] * v[:, 0])
+    )
     return p, angular
 
 
 def test_momentum_conserved_in_gravity_free_collision():
-    a = sim.Body.box(1.0, 1.0, position=(-2.0, 0.0), velocity=(3.0, 0.5), angular_velocity=1.0,
-                     density=2.0, restitution=0.5)
-    b = sim.Body(vertices=[(-0.6, -0.4), (0.7, -0.5), (0.4, 0.6), (-0.5, 0.5)],
-                 position=(1.0, 0.3), angle=0.4, velocity=(-1.0, 0.0))
+    a = sim.Body.box(
+        1.0,
+        1.0,
+        position=(-2.0, 0.0),
+        velocity=(3.0, 0.5),
+        angular_velocity=1.0,
+        density=2.0,
+        restitution=0.5,
+    )
+    b = sim.Body(
+        vertices=[(-0.6, -0.4), (0.7, -0.5), (0.4, 0.6), (-0.5, 0.5)],
+        position=(1.0, 0.3),
+        angle=0.4,
+        velocity=(-1.0, 0.0),
+    )
     world = sim.World(sim.Scene(bodies=[a, b], gravity=(0.0, 0.0), floor_y=None))
     p0, l0 = _momenta(world)
     ke0 = world.kinetic_energy()
     run_until(world, 2.0)
     p1, l1 = _momenta(world)
-    assert np.linalg.norm(world.velocities[0] - [3.0, 0.5]) > 0.5      # they did collide
+    assert np.linalg.norm(world.velocities[0] - [3.0, 0.5]) > 0.5  # they did collide
     np.testing.assert_allclose(p1, p0, rtol=1e-10, atol=1e-10)
     assert l1 == pytest.approx(l0, rel=1e-9, abs=1e-9)
-    assert world.kinetic_energy() <= ke0 * (1 + 1e-9)                  # never gains energy
+    assert world.kinetic_energy() <= ke0 * (1 + 1e-9)  # never gains energy
 
 
 @pytest.mark.parametrize("offset_deg,falls", [(-2.0, False), (2.0, True)])
 def test_tall_box_tips_past_critical_angle(offset_deg, falls):
     w, h = 0.5, 2.0
-    critical = math.atan(w / h)          # centre of mass right above the corner
+    critical = math.atan(w / h)  # centre of mass right above the corner
     angle = critical + math.radians(offset_deg)
     world = sim.World(sim.Scene(bodies=[tilted_box(w, h, angle)]))
     # back upright, it rocks: a slender block keeps ~91% of its angular velocity at each landing
@@ -140,12 +157,12 @@ def test_tall_box_tips_past_critical_angle(offset_deg, falls):
         if world.step_count > 60:
             steepest = max(steepest, abs(world.angles[0]))
     if not falls:
-        assert steepest < critical                       # it never tipped over the other way
+        assert steepest < critical  # it never tipped over the other way
     if falls:
-        assert world.angles[0] == pytest.approx(math.pi / 2, abs=0.01)   # lying on its side
+        assert world.angles[0] == pytest.approx(math.pi / 2, abs=0.01)  # lying on its side
         assert world.positions[0, 1] == pytest.approx(w / 2, abs=0.006)
     else:
-        assert world.angles[0] == pytest.approx(0.0, abs=0.01)           # back upright
+        assert world.angles[0] == pytest.approx(0.0, abs=0.01)  # back upright
         assert world.positions[0, 1] == pytest.approx(h / 2, abs=0.006)
 
 
@@ -153,7 +170,7 @@ def test_pyramid_20_stands_ten_seconds():
     world = sim.World(sim.scenes.pyramid(20))
     start = world.positions
     run_until(world, 10.0)
-    assert np.linalg.norm(world.positions[-1] - start[-1]) < 0.02      # the top box
+    assert np.linalg.norm(world.positions[-1] - start[-1]) < 0.02  # the top box
     assert np.abs(world.positions - start).max() < 0.02
     assert world.penetration < 5e-3
 
@@ -179,23 +196,26 @@ def test_drop_pile_settles_inside_the_bin():
     walls = [b.position[0] for b in scene.static_bodies]
     assert np.all(world.positions[:, 0] > min(walls)) and np.all(world.positions[:, 0] < max(walls))
     assert np.all(world.positions[:, 1] > 0.0)
-    assert world.kinetic_energy() < 0.05 * sum(world.masses) * G * 0.01   # nearly at rest
+    assert world.kinetic_energy() < 0.05 * sum(world.masses) * G * 0.01  # nearly at rest
     assert world.penetration < 0.01
 
 
 def test_seed_fig3_upper_body_slides_off_and_lands_on_the_floor():
     world = run_until(sim.World(sim.scenes.seed_fig3()), 4.0)
     a, b = world.positions
-    assert a[0] > 1.0                            # past B's right edge (x = 1)
-    assert a[1] < 0.5                            # down on the floor (A is 0.4 tall or 0.8 wide)
+    assert a[0] > 1.0  # past B's right edge (x = 1)
+    assert a[1] < 0.5  # down on the floor (A is 0.4 tall or 0.8 wide)
     assert np.linalg.norm(b - (0.0, 0.5)) < 0.05  # B barely moved
 
 
 def test_seed_fig2_lands_on_top_edge():
     world = run_until(sim.World(sim.scenes.seed_fig2()), 4.0)
     a, b = world.positions
-    assert a[1] == pytest.approx(1.0 + 0.4, abs=0.01)    # on B's top face (B is 1 tall, A 0.8)
-    assert abs(world.angles[0]) % (math.pi / 2) < 0.01 or abs(abs(world.angles[0]) % (math.pi / 2) - math.pi / 2) < 0.01
+    assert a[1] == pytest.approx(1.0 + 0.4, abs=0.01)  # on B's top face (B is 1 tall, A 0.8)
+    assert (
+        abs(world.angles[0]) % (math.pi / 2) < 0.01
+        or abs(abs(world.angles[0]) % (math.pi / 2) - math.pi / 2) < 0.01
+    )
 
 
 def test_friction_mixes_by_geometric_mean():
@@ -208,7 +228,7 @@ def test_friction_mixes_by_geometric_mean():
 
 def test_box_rests_on_a_static_ledge():
     ledge = sim.Body.box(2.0, 0.5, position=(0.0, 3.0), name="ledge")
-    box = sim.Body.box(1.0, 1.0, position=(0.3, 3.25 + 0.5 + 0.2))     # dropped 0.2 m onto it
+    box = sim.Body.box(1.0, 1.0, position=(0.3, 3.25 + 0.5 + 0.2))  # dropped 0.2 m onto it
     world = run_until(sim.World(sim.Scene(bodies=[box], static_bodies=[ledge])), 3.0)
     # after an impact, position correction leaves exactly up to `slop` of penetration, no more
     assert 3.75 - world.slop - 1e-9 <= world.positions[0, 1] <= 3.75
@@ -220,8 +240,9 @@ def test_contact_report_balances_weight():
     c = world.contacts()
     floor = c["body_a"] == -1
     # the floor carries all three boxes: sum of normal impulses = total weight * dt
-    assert c["normal_impulse"][floor].sum() == pytest.approx(world.masses.sum() * G * world.dt,
-                                                            rel=1e-3)
+    assert c["normal_impulse"][floor].sum() == pytest.approx(
+        world.masses.sum() * G * world.dt, rel=1e-3
+    )
     np.testing.assert_allclose(c["normal"][floor], [[0.0, 1.0]] * int(floor.sum()))
     assert np.all(c["separation"] > -5e-3)
 
@@ -230,8 +251,8 @@ def test_contact_report_balances_weight():
 def test_regular_polygon_rests_on_its_flat_side(n):
     radius = 0.5
     poly = sim.Body.regular(n, radius)
-    bottom = -float(poly.vertices[:, 1].min())                 # flat bottom edge at y = -bottom
-    poly.position = (0.0, bottom - float(poly.centroid[1]))   # vertices are centred on the COM
+    bottom = -float(poly.vertices[:, 1].min())  # flat bottom edge at y = -bottom
+    poly.position = (0.0, bottom - float(poly.centroid[1]))  # vertices are centred on the COM
     world = sim.World(sim.Scene(bodies=[poly]))
     start = world.positions
     run_until(world, 5.0)
@@ -261,8 +282,17 @@ def test_friction_between_bodies_mixes_by_geometric_mean():
 
 # ---- fast paths: skipped work must not change a single bit ------------------------------------
 def _pile(mu):
-    boxes = [sim.Body.box(1.0, 1.0, position=(1.6 * c + 0.3 * (i % 2), 0.55 + 1.1 * i),
-                          angle=0.05 * i, friction=mu) for c in range(4) for i in range(4)]
+    boxes = [
+        sim.Body.box(
+            1.0,
+            1.0,
+            position=(1.6 * c + 0.3 * (i % 2), 0.55 + 1.1 * i),
+            angle=0.05 * i,
+            friction=mu,
+        )
+        for c in range(4)
+        for i in range(4)
+    ]
     boxes.append(sim.Body.box(0.5, 0.5, position=(-3.0, 0.3), velocity=(4.0, 0.0), friction=mu))
     return sim.Scene(bodies=boxes, floor_friction=mu)
 

@@ -9,6 +9,7 @@ Each field is drawn either from its valid range or from a pool of adversarial va
 bools, None, NaN, inf, huge and tiny numbers, wrong shapes, numpy scalars and arrays, objects).
 The test knows which fields were adversarial and requires the message to name one of them.
 """
+
 import math
 import os
 
@@ -21,23 +22,77 @@ import sim
 from study.peers import make_runner
 from sim.world import SimulationError
 
-SETTINGS = settings(max_examples=int(os.environ.get("PROPERTY_EXAMPLES", 500)), deadline=None,
-                    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+SETTINGS = settings(
+    max_examples=int(os.environ.get("PROPERTY_EXAMPLES", 500)),
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+)
 
 #: values no public call should take without a clear ValueError, or should take and stay finite
 ODD = st.one_of(
-    st.sampled_from([
-        0, -1, 1, 2, 0.5, -0.0, 1e-320, 5e-324, 1e-9, 1e9, 1e12, 1e155, 1e300, 1e308, -1e308,
-        2 ** 31, 2 ** 53, 2 ** 62, 2 ** 63, 10 ** 30, -(10 ** 30), True, False, None, "", "1",
-        "0.5", "12", "nan", "no", b"1", [], [1.0], [1.0, 2.0], [1.0, 2.0, 3.0], (0.0, "x"),
-        [[1.0, 2.0]], {}, {"x": 1}, np.float64("nan"), np.float32(0.5), np.int64(3),
-        np.bool_(True), np.array([1.0, 2.0]), np.array([np.inf, 0.0]), np.array(0.5),
-        np.zeros((2, 2)), object(), math.pi, float("inf"), float("-inf"), float("nan")]),
+    st.sampled_from(
+        [
+            0,
+            -1,
+            1,
+            2,
+            0.5,
+            -0.0,
+            1e-320,
+            5e-324,
+            1e-9,
+            1e9,
+            1e12,
+            1e155,
+            1e300,
+            1e308,
+            -1e308,
+            2**31,
+            2**53,
+            2**62,
+            2**63,
+            10**30,
+            -(10**30),
+            True,
+            False,
+            None,
+            "",
+            "1",
+            "0.5",
+            "12",
+            "nan",
+            "no",
+            b"1",
+            [],
+            [1.0],
+            [1.0, 2.0],
+            [1.0, 2.0, 3.0],
+            (0.0, "x"),
+            [[1.0, 2.0]],
+            {},
+            {"x": 1},
+            np.float64("nan"),
+            np.float32(0.5),
+            np.int64(3),
+            np.bool_(True),
+            np.array([1.0, 2.0]),
+            np.array([np.inf, 0.0]),
+            np.array(0.5),
+            np.zeros((2, 2)),
+            object(),
+            math.pi,
+            float("inf"),
+            float("-inf"),
+            float("nan"),
+        ]
+    ),
     st.floats(allow_nan=True, allow_infinity=True),
     st.integers(),
     st.text(max_size=3),
-    st.tuples(st.floats(allow_nan=True, allow_infinity=True),
-              st.floats(allow_nan=True, allow_infinity=True)),
+    st.tuples(
+        st.floats(allow_nan=True, allow_infinity=True),
+        st.floats(allow_nan=True, allow_infinity=True),
+    ),
 )
 
 
@@ -46,7 +101,7 @@ def fields(draw, valid):
     """({field: value}, adversarial field names): each field valid or odd, at random."""
     out, odd = {}, set()
     for name, strategy in valid.items():
-        if draw(st.integers(0, 5)) == 0:            # about one field in six
+        if draw(st.integers(0, 5)) == 0:  # about one field in six
             out[name] = draw(ODD)
             odd.add(name)
         else:
@@ -55,10 +110,13 @@ def fields(draw, valid):
 
 
 BODY = {
-    "vertices": st.sampled_from([
-        [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)],
-        [(-0.3, -0.2), (0.4, -0.2), (0.0, 0.5)],
-        np.array([[-1.0, -0.1], [1.0, -0.1], [1.0, 0.1], [-1.0, 0.1]])]),
+    "vertices": st.sampled_from(
+        [
+            [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)],
+            [(-0.3, -0.2), (0.4, -0.2), (0.0, 0.5)],
+            np.array([[-1.0, -0.1], [1.0, -0.1], [1.0, 0.1], [-1.0, 0.1]]),
+        ]
+    ),
     "position": st.tuples(st.floats(-5, 5), st.floats(1.0, 6.0)),
     "angle": st.floats(-7, 7),
     "velocity": st.tuples(st.floats(-30, 30), st.floats(-30, 30)),
@@ -102,8 +160,9 @@ VERTEX_WORDS = ("vert", "polygon", "clockwise")
 
 
 def names_a_field(message, odd):
-    return any(f in message or (f == "vertices" and any(w in message for w in VERTEX_WORDS))
-               for f in odd)
+    return any(
+        f in message or (f == "vertices" and any(w in message for w in VERTEX_WORDS)) for f in odd
+    )
 
 
 def assert_runs_finite(world, steps):
@@ -146,21 +205,30 @@ SQUARE = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
 
 def body_example(**odd):
     """One body with the ``odd`` fields, the others valid (for the cases found by exploring)."""
-    valid = {"vertices": SQUARE, "position": (0.0, 1.0), "angle": 0.0, "velocity": (0.0, 0.0),
-             "angular_velocity": 0.0, "density": 1.0, "friction": 0.5, "restitution": 0.0,
-             "bullet": False, "name": "probe"}
+    valid = {
+        "vertices": SQUARE,
+        "position": (0.0, 1.0),
+        "angle": 0.0,
+        "velocity": (0.0, 0.0),
+        "angular_velocity": 0.0,
+        "density": 1.0,
+        "friction": 0.5,
+        "restitution": 0.0,
+        "bullet": False,
+        "name": "probe",
+    }
     return ({**valid, **odd}, set(odd))
 
 
 @SETTINGS
 @given(fields(BODY))
-@example(body_example(density=1e308))              # finite, but kinetic_energy() was inf
+@example(body_example(density=1e308))  # finite, but kinetic_energy() was inf
 @example(body_example(angular_velocity=1e300))
 @example(body_example(name=["a"]))
 def test_any_body_builds_and_runs_finite_or_is_refused_by_name_and_field(drawn):
     body_fields, odd = drawn
     name = body_fields["name"]
-    shown = name if isinstance(name, str) and name else "body"     # what messages call it
+    shown = name if isinstance(name, str) and name else "body"  # what messages call it
     stage, exc = build_and_run(body_fields)
     if stage == "body":
         assert str(exc).startswith(f"{shown}: "), str(exc)
@@ -173,7 +241,7 @@ def test_any_body_builds_and_runs_finite_or_is_refused_by_name_and_field(drawn):
 
 @SETTINGS
 @given(fields(SCENE))
-@example(({"gravity": (0.0, 7.19e306)}, {"gravity"}))    # its message overflowed
+@example(({"gravity": (0.0, 7.19e306)}, {"gravity"}))  # its message overflowed
 def test_any_scene_builds_and_runs_finite_or_is_refused_by_field(drawn):
     scene_fields, odd = drawn
     body = {"vertices": SQUARE, "position": (0.0, 3.0), "name": "probe"}
@@ -183,15 +251,14 @@ def test_any_scene_builds_and_runs_finite_or_is_refused_by_field(drawn):
         assert str(exc).startswith("scene: "), str(exc)
         assert names_a_field(str(exc), odd), (str(exc), odd)
     elif stage == "world":
-        assert "probe" in str(exc), str(exc)       # e.g. the body starts below a raised floor
+        assert "probe" in str(exc), str(exc)  # e.g. the body starts below a raised floor
 
 
 @SETTINGS
 @given(fields(WORLD), st.sampled_from(sim.POLICY_NAMES))
 def test_any_world_settings_run_finite_or_are_refused_by_name(drawn, freeze):
     world_fields, odd = drawn
-    body = {"vertices": SQUARE, "position": (0.0, 0.52), "velocity": (1.0, -1.0),
-            "name": "probe"}
+    body = {"vertices": SQUARE, "position": (0.0, 0.52), "velocity": (1.0, -1.0), "name": "probe"}
     stage, exc = build_and_run(body, None, {**world_fields, "freeze": freeze}, steps=5)
     assert stage not in ("body", "scene")
     if stage == "world":
@@ -203,17 +270,22 @@ def test_any_world_settings_run_finite_or_are_refused_by_name(drawn, freeze):
 def test_step_takes_a_count_or_refuses_it_by_name(n):
     world = sim.World(sim.scenes.single_box())
     before = world.step_count
-    counted = (isinstance(n, (int, np.integer)) and not isinstance(n, (bool, np.bool_))
-               and 0 <= n <= 40)
-    if not counted and isinstance(n, (int, np.integer)) and not isinstance(n, (bool, np.bool_)) \
-            and n > 40:
-        return                                     # a valid count, too long to run here
+    counted = (
+        isinstance(n, (int, np.integer)) and not isinstance(n, (bool, np.bool_)) and 0 <= n <= 40
+    )
+    if (
+        not counted
+        and isinstance(n, (int, np.integer))
+        and not isinstance(n, (bool, np.bool_))
+        and n > 40
+    ):
+        return  # a valid count, too long to run here
     try:
         world.step(n)
     except ValueError as exc:
         assert not counted, (n, str(exc))
         assert str(exc).startswith("n must be"), str(exc)
-        assert world.step_count == before          # nothing was run
+        assert world.step_count == before  # nothing was run
         return
     assert counted, n
     assert world.step_count == before + n
@@ -228,15 +300,18 @@ REGULAR = {"n": st.integers(3, 12), "radius": st.floats(0.01, 5)}
 @given(fields(SHAPES), fields(REGULAR))
 def test_shape_builders_build_or_refuse_by_name_and_argument(box, regular):
     for build, (args, odd), words in (
-            (sim.Body.box, box, {"width": ("width",), "height": ("height",)}),
-            (sim.Body.regular, regular, {"n": ("vertex count",), "radius": ("radius",)})):
+        (sim.Body.box, box, {"width": ("width",), "height": ("height",)}),
+        (sim.Body.regular, regular, {"n": ("vertex count",), "radius": ("radius",)}),
+    ):
         try:
             body = build(*args.values(), name="probe")
         except ValueError as exc:
             assert str(exc).startswith("probe: "), str(exc)
             assert odd, str(exc)
-            assert any(w in str(exc) for f in odd for w in (*words[f], "vert", "polygon")), \
-                (str(exc), odd)
+            assert any(w in str(exc) for f in odd for w in (*words[f], "vert", "polygon")), (
+                str(exc),
+                odd,
+            )
         else:
             assert math.isfinite(body.mass) and body.mass > 0
 
@@ -263,12 +338,14 @@ def test_array_scenes_build_and_run_finite_or_are_refused_by_argument(drawn):
     except ValueError as exc:
         # a bad body is refused as a Body would be ("body 1: ..."), a bad argument by its name
         assert odd, str(exc)
-        assert names_a_field(str(exc), odd) or "body" in str(exc) or "probe" in str(exc), \
-            (str(exc), odd)
+        assert names_a_field(str(exc), odd) or "body" in str(exc) or "probe" in str(exc), (
+            str(exc),
+            odd,
+        )
         return
     try:
         world = sim.World(scene)
-    except ValueError as exc:                      # a body the World refuses whole, by name
+    except ValueError as exc:  # a body the World refuses whole, by name
         assert "body" in str(exc) or "probe" in str(exc), str(exc)
         return
     try:

@@ -5,6 +5,7 @@ The truth is sim-off at a fine step, exactly as in the failure table (its FULL c
 dt 1/480 s, sim's default 4 substeps, 4 biased sweeps per substep). Each scenario also has a
 control that must end the *other* way (a tipping body placed short of its tipping angle
 stands...), so a classifier that always answered the expected label would fail."""
+
 import math
 
 import numpy as np
@@ -16,7 +17,7 @@ from study.common import DT
 from experiments.table_failures import FULL as TRUTH
 
 FINE_DT = DT / TRUTH["truth_divisor"]
-ITERATIONS = TRUTH["truth_iterations"]       # biased sweeps per substep
+ITERATIONS = TRUTH["truth_iterations"]  # biased sweeps per substep
 G = 9.81
 
 
@@ -30,8 +31,11 @@ def outcome(name, **overrides):
     scenario = S.get(name)
     scene = scenario.build(**overrides)
     world = run(scene, scenario.duration(scene))
-    return (scenario.classify(scene, world.positions, world.angles),
-            scenario.measure(scene, world.positions, world.angles), world)
+    return (
+        scenario.classify(scene, world.positions, world.angles),
+        scenario.measure(scene, world.positions, world.angles),
+        world,
+    )
 
 
 @pytest.mark.parametrize("name", list(S.SCENARIOS))
@@ -53,8 +57,8 @@ def test_the_start_is_not_already_the_expected_outcome(name):
 
 def test_slow_sliding_travels_v2_over_2_mu_g():
     _, fraction, world = outcome("slow_sliding")
-    assert abs(fraction - 1.0) < 0.02                 # of v^2 / (2 mu g) = 8.2 cm
-    assert abs(world.velocities[0, 0]) < 1e-6         # and stopped (after v / (mu g) = 4.1 s)
+    assert abs(fraction - 1.0) < 0.02  # of v^2 / (2 mu g) = 8.2 cm
+    assert abs(world.velocities[0, 0]) < 1e-6  # and stopped (after v / (mu g) = 4.1 s)
 
 
 def test_slope_creep_accelerates_at_g_sin_minus_mu_cos():
@@ -62,7 +66,7 @@ def test_slope_creep_accelerates_at_g_sin_minus_mu_cos():
     theta, mu = scene.params["theta_rad"], scene.params["friction"]
     assert G * (math.sin(theta) - mu * math.cos(theta)) == pytest.approx(0.05, rel=1e-9)
     _, fraction, _ = outcome("slope_creep")
-    assert abs(fraction - 1.0) < 0.02                 # of a t^2 / 2 = 0.9 m
+    assert abs(fraction - 1.0) < 0.02  # of a t^2 / 2 = 0.9 m
 
 
 def test_slope_short_of_its_friction_angle_holds():
@@ -93,8 +97,7 @@ def test_overhang_short_of_the_edge_stays_on():
     assert label == "stayed on"
 
 
-@pytest.mark.parametrize("name", [n for n, s in S.SCENARIOS.items()
-                                  if s.event_s is not None])
+@pytest.mark.parametrize("name", [n for n, s in S.SCENARIOS.items() if s.event_s is not None])
 def test_scheduled_danger_arrives_late_into_a_scene_at_rest(name):
     """Until just before ``event_s`` every key body sits where it was placed and is still, so a
     system that freezes resting bodies has had them frozen when the projectile arrives; and the
@@ -108,14 +111,14 @@ def test_scheduled_danger_arrives_late_into_a_scene_at_rest(name):
     assert np.abs(world.velocities[key]).max() < 0.01
     projectile = [i for i in range(len(scene.bodies)) if i not in key]
     assert projectile
-    world.step(int(round(0.7 / FINE_DT)))             # 0.6 s after the arrival
+    world.step(int(round(0.7 / FINE_DT)))  # 0.6 s after the arrival
     assert np.abs(world.positions[key] - start[key]).max() > 0.05
 
 
 def test_every_scenario_starts_without_overlap_and_names_its_bodies():
     for name, scenario in S.SCENARIOS.items():
         scene = scenario.build()
-        sim.World(scene)                              # raises on interpenetration
+        sim.World(scene)  # raises on interpenetration
         assert all(b.name for b in scene.bodies), name
         assert S.key_bodies(scene), name
         assert scenario.expected in scenario.labels

@@ -1,4 +1,5 @@
 """Scene builders and scene files."""
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -8,14 +9,25 @@ import sim
 from sim import files, scenes
 
 
-@pytest.mark.parametrize("name,args", [
-    ("single_box", ()), ("rest_row", (7,)), ("stack", (5,)), ("pyramid", (6,)), ("drop", (12, 3)),
-    ("arch", ()), ("seed_fig1", ()), ("seed_fig2", ()), ("seed_fig3", ()), ("sliding_box", ()),
-])
+@pytest.mark.parametrize(
+    "name,args",
+    [
+        ("single_box", ()),
+        ("rest_row", (7,)),
+        ("stack", (5,)),
+        ("pyramid", (6,)),
+        ("drop", (12, 3)),
+        ("arch", ()),
+        ("seed_fig1", ()),
+        ("seed_fig2", ()),
+        ("seed_fig3", ()),
+        ("sliding_box", ()),
+    ],
+)
 def test_every_builder_makes_a_valid_non_overlapping_scene(name, args):
     scene = scenes.BUILDERS[name](*args)
     assert scene.name == name
-    world = sim.World(scene, overlap_tolerance=1e-9)      # starts touching, never overlapping
+    world = sim.World(scene, overlap_tolerance=1e-9)  # starts touching, never overlapping
     world.step(5)
     assert np.all(np.isfinite(world.positions))
 
@@ -32,8 +44,9 @@ def test_drop_is_seeded():
     a, b, c = scenes.drop(10, seed=1), scenes.drop(10, seed=1), scenes.drop(10, seed=2)
     va = [x.vertices for x in a.bodies]
     assert all(np.array_equal(x, y.vertices) for x, y in zip(va, b.bodies))
-    assert not all(np.array_equal(x, y.vertices) for x, y in zip(va, c.bodies)
-                   if x.shape == y.vertices.shape)
+    assert not all(
+        np.array_equal(x, y.vertices) for x, y in zip(va, c.bodies) if x.shape == y.vertices.shape
+    )
 
 
 def test_random_polygons_have_several_vertex_counts():
@@ -49,8 +62,12 @@ def test_scene_file_round_trip(tmp_path):
     assert loaded.name == scene.name and loaded.params == scene.params
     for a, b in zip(loaded.bodies + loaded.static_bodies, scene.bodies + scene.static_bodies):
         np.testing.assert_array_equal(a.vertices, b.vertices)
-        assert (a.position, a.angle, a.density, a.friction) == (b.position, b.angle, b.density,
-                                                                  b.friction)
+        assert (a.position, a.angle, a.density, a.friction) == (
+            b.position,
+            b.angle,
+            b.density,
+            b.friction,
+        )
     w1, w2 = sim.World(scene), sim.World(loaded)
     w1.step(60)
     w2.step(60)
@@ -59,8 +76,10 @@ def test_scene_file_round_trip(tmp_path):
 
 def test_scene_file_with_box_shorthand_and_no_floor(tmp_path):
     path = tmp_path / "s.toml"
-    path.write_text('floor_y = "none"\ngravity = [0.0, 0.0]\n'
-                    '[[bodies]]\nbox = [2.0, 1.0]\nposition = [0.0, 3.0]\nvelocity = [1.0, 0.0]\n')
+    path.write_text(
+        'floor_y = "none"\ngravity = [0.0, 0.0]\n'
+        "[[bodies]]\nbox = [2.0, 1.0]\nposition = [0.0, 3.0]\nvelocity = [1.0, 0.0]\n"
+    )
     scene = sim.Scene.from_file(path)
     assert scene.floor_y is None
     world = sim.World(scene)
@@ -78,19 +97,29 @@ def test_positions_are_centres_of_mass():
 
 
 # ---- any name and any params key round-trip; a failed write leaves the old file ------------------
-_VALUES = st.one_of(st.text(max_size=12), st.booleans(), st.integers(-2 ** 63, 2 ** 63 - 1),
-                    st.floats(allow_nan=False), st.lists(st.integers(-5, 5), max_size=3))
+_VALUES = st.one_of(
+    st.text(max_size=12),
+    st.booleans(),
+    st.integers(-(2**63), 2**63 - 1),
+    st.floats(allow_nan=False),
+    st.lists(st.integers(-5, 5), max_size=3),
+)
 
 
 @settings(max_examples=150, deadline=None)
-@given(name=st.text(max_size=20), body_name=st.text(max_size=20),
-       params=st.dictionaries(st.text(max_size=10), _VALUES, max_size=5))
-def test_any_name_and_params_key_round_trip_through_a_scene_file(tmp_path_factory, name,
-                                                                 body_name, params):
+@given(
+    name=st.text(max_size=20),
+    body_name=st.text(max_size=20),
+    params=st.dictionaries(st.text(max_size=10), _VALUES, max_size=5),
+)
+def test_any_name_and_params_key_round_trip_through_a_scene_file(
+    tmp_path_factory, name, body_name, params
+):
     # newlines, quotes, backslashes, dots and spaces in keys: the hand-written writer mangled
     # "a.b" keys and wrote names with a newline that did not read back
-    scene = sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5), name=body_name)],
-                      name=name, params=params)
+    scene = sim.Scene(
+        bodies=[sim.Body.box(1, 1, position=(0, 0.5), name=body_name)], name=name, params=params
+    )
     path = tmp_path_factory.mktemp("toml") / "scene.toml"
     scene.to_file(path)
     loaded = sim.Scene.from_file(path)
@@ -102,15 +131,18 @@ def test_a_failed_write_leaves_the_old_file_whole(tmp_path, monkeypatch):
     path = tmp_path / "scene.toml"
     scenes.single_box().to_file(path)
     before = path.read_bytes()
-    unwritable = sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 0.5))],
-                           params={"callback": None})           # TOML has no null
+    unwritable = sim.Scene(
+        bodies=[sim.Body.box(1, 1, position=(0, 0.5))], params={"callback": None}
+    )  # TOML has no null
     with pytest.raises(ValueError, match="cannot be written as TOML"):
         unwritable.to_file(path)
     assert path.read_bytes() == before
-    def full_disk(fd):                                           # fails after the text is written
+
+    def full_disk(fd):  # fails after the text is written
         raise OSError(28, "No space left on device")
+
     monkeypatch.setattr(files.os, "fsync", full_disk)
     with pytest.raises(OSError, match="No space left"):
         scenes.drop(4, seed=1).to_file(path)
     assert path.read_bytes() == before
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]   # no temporary left
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]  # no temporary left

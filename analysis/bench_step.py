@@ -1,7 +1,9 @@
-"""Table "bench_step": the solver's cost per step against pymunk with nothing frozen (sim-off), for
+"""Table "bench_step": the solver's cost per step against pymunk and Box2D 2.3 with nothing frozen
+(sim-off), for
 the paper's set-up section, and where sim's step spends its time.
 
-Writes paper/generated/bench_step.csv (ms per step per scene, pymunk/sim), bench_step_profile.csv
+Writes paper/generated/bench_step.csv (ms per step per scene, pymunk/sim, box2d/sim),
+bench_step_profile.csv
 (sim's step by stage, ms, one column per scene) and bench_step.json: the ratios per scene, the
 issue's target (sim at least 3x pymunk's step rate on pyramid(40), rest_row(5000), drop(200)
 while it settles) met or not on each, the substeps and iterations each system used, and the
@@ -10,17 +12,19 @@ profile of the target scenes."""
 from analysis import style
 
 NAME = "bench_step"
+PEERS = ("pymunk", "box2d")  # the peers timed (experiments/bench_step.py SYSTEMS)
 PROFILE = "bench_step_profile"
 
 
 def _ratios(table):
     sim = table[table["system"] == "sim-off"].set_index(["scene", "param"])
-    pym = table[table["system"] == "pymunk"].set_index(["scene", "param"])
     out = sim[["label", "bodies", "mode", "substeps", "iterations"]].copy()
     out["sim_off_ms"] = sim["ms_per_step_median"]
-    out["pymunk_ms"] = pym["ms_per_step_median"]
-    out["pymunk_iterations"] = pym["iterations"]
-    out["pymunk_over_sim"] = out["pymunk_ms"] / out["sim_off_ms"]
+    for peer in PEERS:
+        rows = table[table["system"] == peer].set_index(["scene", "param"])
+        out[f"{peer}_ms"] = rows["ms_per_step_median"]
+        out[f"{peer}_iterations"] = rows["iterations"]
+        out[f"{peer}_over_sim"] = out[f"{peer}_ms"] / out["sim_off_ms"]
     return out.reset_index()
 
 
@@ -41,8 +45,25 @@ def draw(table, meta):
         when=out["mode"].map(lambda m: "settling" if m.startswith("settling") else "resting"),
     )
     style.write_table(
-        shown[["scene", "bodies", "when", "sim_off_ms", "pymunk_ms", "pymunk_over_sim"]].round(
-            {"sim_off_ms": 4, "pymunk_ms": 4, "pymunk_over_sim": 2}
+        shown[
+            [
+                "scene",
+                "bodies",
+                "when",
+                "sim_off_ms",
+                "pymunk_ms",
+                "pymunk_over_sim",
+                "box2d_ms",
+                "box2d_over_sim",
+            ]
+        ].round(
+            {
+                "sim_off_ms": 4,
+                "pymunk_ms": 4,
+                "pymunk_over_sim": 2,
+                "box2d_ms": 4,
+                "box2d_over_sim": 2,
+            }
         ),
         NAME,
     )
@@ -58,8 +79,10 @@ def draw(table, meta):
     stages = profile[profile["stage"] != "total"]
     return {
         "pymunk_over_sim": {r.label: r.pymunk_over_sim for r in out.itertuples()},
+        "box2d_over_sim": {r.label: r.box2d_over_sim for r in out.itertuples()},
         "ms_per_step": {
-            r.label: {"sim-off": r.sim_off_ms, "pymunk": r.pymunk_ms} for r in out.itertuples()
+            r.label: {"sim-off": r.sim_off_ms, "pymunk": r.pymunk_ms, "box2d": r.box2d_ms}
+            for r in out.itertuples()
         },
         "largest": {
             r.scene: {
@@ -68,6 +91,8 @@ def draw(table, meta):
                 "sim_off_ms": r.sim_off_ms,
                 "pymunk_ms": r.pymunk_ms,
                 "pymunk_over_sim": r.pymunk_over_sim,
+                "box2d_ms": r.box2d_ms,
+                "box2d_over_sim": r.box2d_over_sim,
             }
             for r in largest.itertuples()
         },
@@ -76,6 +101,7 @@ def draw(table, meta):
         "targets_met": bool(targets) and all(t["met"] for t in targets.values()),
         "sim": _settings(table, "sim-off"),
         "pymunk": _settings(table, "pymunk"),
+        "box2d": _settings(table, "box2d"),
         "profile_ms": {
             lbl: {r.stage: r.ms_per_step for r in g.itertuples()}
             for lbl, g in profile.groupby("label", sort=False)

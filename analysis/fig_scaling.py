@@ -27,6 +27,7 @@ ROW_NOTE = {
     "sim-extended": "row frozen",
     "sim-sleep": "row asleep",
     "pymunk-sleep": "row asleep",
+    "box2d-sleep": "row asleep",
 }
 
 

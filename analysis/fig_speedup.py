@@ -16,10 +16,11 @@ from matplotlib.lines import Line2D
 from matplotlib.ticker import FuncFormatter, NullFormatter
 
 from analysis import style
+from study import systems
 
 NAME = "fig_speedup"
 FAMILY_TITLE = {"rest_row": "resting row: rest_row(n)", "pyramid": "pyramid(base)"}
-FREEZING = ("sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep", "pybullet-sleep")
+FREEZING = systems.FREEZING
 
 
 def _check(table):

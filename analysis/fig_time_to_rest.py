@@ -20,9 +20,10 @@ from matplotlib.patches import Patch
 from matplotlib.ticker import FuncFormatter
 
 from analysis import style
+from study import systems
 
 NAME = "fig_time_to_rest"
-FREEZING = ("sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep", "pybullet-sleep")
+FREEZING = systems.FREEZING
 
 
 def runs_of(table):

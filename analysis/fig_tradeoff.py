@@ -45,6 +45,7 @@ import numpy as np
 import pandas as pd
 
 from analysis import style
+from study import systems
 
 NAME = "fig_tradeoff"
 #: (column, axis label, short name in the numbers) of each error measure drawn
@@ -52,8 +53,8 @@ MEASURES = (
     ("pose_error_max_m", "largest pose error (m)", "pose"),
     ("penetration_final_m", "deepest overlap at the end (m)", "penetration"),
 )
-FREEZING = ("sim-paper", "sim-extended", "sim-sleep", "pymunk-sleep", "pybullet-sleep")
-OFF = {"sim": "sim-off", "pymunk": "pymunk", "pybullet": "pybullet"}
+FREEZING = systems.FREEZING
+OFF = systems.OFF
 #: sim-off's solver knobs (role "solver"): series name -> (system, parameter, style)
 SOLVER_SERIES = {
     "sim-off substeps": (
@@ -67,7 +68,7 @@ SOLVER_SERIES = {
         {"color": "#666666", "marker": "X", "linestyle": (0, (1, 1.5))},
     ),
 }
-PEERS = ("pymunk", "pybullet")
+PEERS = systems.PEERS
 #: a setting "matches the baseline" in penetration when the overlap it leaves at the end exceeds the
 #: baseline's by at most this fraction of the slop (0.5 mm at slop 5 mm)
 PENETRATION_MARGIN = 0.1

@@ -108,7 +108,7 @@ def lines():
     firsts = [
         f"{axis.replace('_', ' ')}: {', '.join(a['breaks_first'])} (at {a['breaks_first_at']})"
         for axis, a in ex["per_axis"].items()
-        if 0 < len(a["breaks_first"]) < 8
+        if a["breaks_first"]
     ]
     failed = ", ".join(f"{s} {c['failed']}" for s, c in ex["counts"].items())
     out.append(

@@ -21,22 +21,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
 import pandas as pd  # noqa: E402
 
-from study import paths  # noqa: E402
+from study import paths, systems  # noqa: E402
 from study.metadata import jsonable  # noqa: E402
 from sim.files import write_text_atomically  # noqa: E402
 
-#: one colour, marker and line per system, everywhere (colour-blind-safe Okabe-Ito palette; sleeping
-#: variants of the peers dashed)
-SYSTEM_STYLE = {
-    "sim-off": {"color": "#000000", "marker": "o", "linestyle": "-"},
-    "sim-sleep": {"color": "#56B4E9", "marker": "s", "linestyle": "-"},
-    "sim-paper": {"color": "#E69F00", "marker": "^", "linestyle": "-"},
-    "sim-extended": {"color": "#009E73", "marker": "D", "linestyle": "-"},
-    "pymunk": {"color": "#CC79A7", "marker": "v", "linestyle": ":"},
-    "pymunk-sleep": {"color": "#CC79A7", "marker": "v", "linestyle": "--"},
-    "pybullet": {"color": "#D55E00", "marker": "P", "linestyle": ":"},
-    "pybullet-sleep": {"color": "#D55E00", "marker": "P", "linestyle": "--"},
-}
+#: one colour, marker and line per system, everywhere (the registry's: study.systems)
+SYSTEM_STYLE = {name: systems.style(name) for name in systems.SYSTEMS}
 #: body state -> RGB 0..255 (FREE, VERTICAL_STABLE, ROTATION_STABLE, SLEEPING); the recordings use
 #: the same colours, frozen bodies drawn darker
 STATE_RGB = ((66, 135, 245), (245, 166, 35), (80, 190, 90), (150, 150, 150))
@@ -72,7 +62,8 @@ def state_color(state, frozen=False):
 
 
 def system_style(system):
-    return SYSTEM_STYLE.get(system, {"color": "#777777", "marker": ".", "linestyle": "-"})
+    """Colour, marker and line of a system (grey dots for a name the registry does not know)."""
+    return systems.style(system)
 
 
 def load(name):

@@ -4,7 +4,7 @@ rules (experiments/table_extremes.py, study/extremes/), drawn as a grid; the num
 axis, which system breaks first and how many cells each system has of each mark.
 
 Two things are kept apart, for fairness by construction:
-- the eight systems as they run by default (sim with its presolve: a scene placed at rest starts
+- every system as it runs by default (sim with its presolve: a scene placed at rest starts
   in equilibrium), which give ``counts``, ``per_axis`` (which system breaks first) and the rest;
 - sim's four policies with the presolve off ("sim-off (no presolve)" ...), run only on the placed
   axes: the peers have no presolve, so this is sim without an advantage only it has. They are

@@ -19,11 +19,12 @@ from matplotlib.colors import ListedColormap
 import numpy as np
 
 from analysis import style
+from study import systems
 
 NAME = "table_failures"
 OK, WRONG_FREEZING, WRONG_ENGINE = 0, 1, 2
 CELL_COLORS = ("#cfe8c9", "#e9a3a0", "#d4d4d4")  # right, wrong by freezing, wrong as the engine
-REFERENCES = ("sim-off", "pymunk", "pybullet")
+REFERENCES = tuple(systems.OFF.values())  # each engine with nothing frozen
 
 
 def _bool(series):

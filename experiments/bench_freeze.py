@@ -103,7 +103,14 @@ DRIFT_SPEED = 3.0  # m/s, the drifting block's common velocity along x (part 4)
 DRIFT_SPREAD = 0.5  # m/s, +- uniform spread per velocity component; spin +- 1 rad/s
 SEED = 0  # the drift scene's random velocities
 
-FROZEN_SYSTEMS = ("sim-off", "sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep")
+FROZEN_SYSTEMS = (
+    "sim-off",
+    "sim-sleep",
+    "sim-paper",
+    "sim-extended",
+    "pymunk-sleep",
+    "box2d-sleep",
+)
 FROZEN_SYSTEMS_PB = FROZEN_SYSTEMS + ("pybullet-sleep",)
 FLIGHT_SYSTEMS = ("sim-off", "sim-extended")
 

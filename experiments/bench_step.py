@@ -1,5 +1,5 @@
-"""Table "bench_step": milliseconds per step, sim (freeze off) vs pymunk (sleeping off), nothing
-frozen, and where sim's step spends its time.
+"""Table "bench_step": milliseconds per step, sim (freeze off) vs pymunk and Box2D 2.3 (sleeping
+off), nothing frozen, and where sim's step spends its time.
 
 Question (issue "Solver v2", done when): before any freezing, how fast is sim's solver against an
 established engine on the same scenes? Target: sim-off at least 3x pymunk's step rate on
@@ -17,7 +17,8 @@ Scenes
 Systems: each at its own defaults (study.peers.DEFAULT_ITERATIONS), so the comparison is
 fair by construction: same scene, same start state, dt 1/60 s, slop 0.005 m, no sleeping, each
 system's settings recorded. sim: the soft step with 4 substeps per step, 1 biased solve sweep and
-1 relax sweep per substep (8 sweeps over the contacts per step); pymunk: 10 iterations per step.
+1 relax sweep per substep (8 sweeps over the contacts per step); pymunk: 10 iterations per step;
+box2d: 8 velocity and 3 position iterations per step (Box2D 2.3's testbed defaults).
 The columns ``substeps``, ``iterations`` and ``contact_sweeps_per_step``
 (``study.peers.solver_summary``) say so on every row; the metadata holds every setting of
 both (``system_settings``).
@@ -30,9 +31,10 @@ one profiled step, so profiling compiles nothing either).
 - settling scene: every repeat builds both systems afresh (building is not timed: sim's includes
   its initial-impulse solve) and times the same window, steps 1..WINDOW, in one call per system,
   interleaved as above.
-Reported per step: median and min over repeats, ms; on the sim rows the ratio pymunk/sim of
-medians (``speedup_vs_pymunk``, > 1 means sim is faster). ``max_displacement_m`` (largest distance
-any body moved from its start) guards resting scenes against a blow-up or collapse looking fast;
+Reported per step: median and min over repeats, ms; on the sim rows the ratio peer/sim of
+medians (``speedup_vs_pymunk``, ``speedup_vs_box2d``: > 1 means sim is faster).
+``max_displacement_m`` (largest distance any body moved from its start) guards resting scenes
+against a blow-up or collapse looking fast;
 ``bodies_in_bin`` (settling scene: bodies between the walls, below their top, at the end of the
 window) guards the drop.
 
@@ -96,7 +98,7 @@ SETTLING = ("drop",)  # timed from the start, fresh builds
 TARGETS = (("pyramid", 40), ("rest_row", 5000), ("drop", 200))
 
 #: Systems timed, by their study.peers name, each at its own default settings.
-SYSTEMS = ("sim-off", "pymunk")
+SYSTEMS = ("sim-off", "pymunk", "box2d")
 
 
 def max_displacement(runner, start):
@@ -291,9 +293,10 @@ def run(config, repeats, steps):
     table = pd.DataFrame(rows)
     # ratio of medians, on the sim rows: how many times faster sim is than pymunk
     med = table.pivot_table(index=["scene", "param"], columns="system", values="ms_per_step_median")
-    ratio = (med["pymunk"] / med["sim-off"]).rename("speedup_vs_pymunk")
-    table = table.join(ratio, on=["scene", "param"])
-    table.loc[table["system"] != "sim-off", "speedup_vs_pymunk"] = np.nan
+    for peer in SYSTEMS[1:]:
+        column = f"speedup_vs_{peer}"
+        table = table.join((med[peer] / med["sim-off"]).rename(column), on=["scene", "param"])
+        table.loc[table["system"] != "sim-off", column] = np.nan
     return table, pd.DataFrame(profile_rows), scenes
 
 

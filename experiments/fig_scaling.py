@@ -14,7 +14,8 @@ N_awake in {100, 200, 400, 800} (16 mixes), wide enough to draw a line per fixed
 Systems: sim-extended (the row frozen within 2 steps), sim-off (nothing frozen: the row is
 *solved*, so its "b" is the cost of a resting body that is solved, the cost freezing removes),
 and pymunk-sleep (Chipmunk's sleeping, for comparison: the row put to sleep by its 0.5 s timer;
-after the 10 warm-up steps it is stepped until only the flyers are solved, at most 2 s).
+after the 10 warm-up steps it is stepped until only the flyers are solved, at most 2 s), and
+box2d-sleep (Box2D 2.3's sleeping, the same way: its b2_timeToSleep is 0.5 s too).
 sim-sleep is left out to keep within the time budget (building the worlds dominates the run): its
 asleep bodies leave sim's awake list exactly as extended's frozen ones do, so its b is the same
 mechanism measured twice. pybullet is left out: its deactivation takes 2 s and it costs ~40 ms
@@ -54,7 +55,7 @@ from study.cost_fit import fit_cost, relative_to_off
 from study.protocols import FALL_HEIGHT, FLY_PITCH, WARMUP_STEPS, flight_budget, per_body_cost
 
 NAME = "fig_scaling"
-SYSTEMS = ("sim-extended", "sim-off", "pymunk-sleep")
+SYSTEMS = ("sim-extended", "sim-off", "pymunk-sleep", "box2d-sleep")
 
 FULL = {
     "mix_frozen": (0, 1000, 2000, 4000),

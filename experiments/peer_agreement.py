@@ -1,5 +1,5 @@
-"""Table "peer_agreement": do sim (freeze off), pymunk and pybullet agree on the same scenes, and
-what does a step cost in each?
+"""Table "peer_agreement": do sim (freeze off), pymunk, pybullet and Box2D 2.3 agree on the same
+scenes, and what does a step cost in each?
 
 Question: every later comparison runs one sim.Scene in three systems. Before reading anything into
 those comparisons we need to know where the three already agree with each other and with known
@@ -9,7 +9,8 @@ how much; and the per-step cost of each peer next to sim's.
 Settings: each system runs the same scene from the same start state at dt 1/60 s, no sleeping,
 at its own defaults (study.peers.DEFAULT_ITERATIONS), which are not the same thing in each:
 sim the soft step with 4 substeps per step, 1 biased solve sweep and 1 relax sweep per substep;
-pymunk 10 iterations per step; pybullet 50 iterations per step (one Bullet step per step). Every
+pymunk 10 iterations per step; pybullet 50 iterations per step (one Bullet step per step); box2d
+8 velocity + 3 position iterations per step, float32, its polygons inset by their 1 cm skin. Every
 setting of each system is in the metadata (``system_settings``, from the runners). Where the
 integrators differ (sim's substeps, Chipmunk's order), the known answers are the continuous ones
 and the tolerances say how far a discrete integrator may sit from them.
@@ -51,7 +52,7 @@ from study.peers import PybulletRunner, make_runner, solver_summary
 NAME = "peer_agreement"
 DT = 1 / 60
 G = 9.81
-SYSTEMS = ("sim-off", "pymunk", "pybullet")
+SYSTEMS = ("sim-off", "pymunk", "pybullet", "box2d")
 REFERENCE = "sim-off"
 WARMUP_STEPS = 10
 TIP_OFFSET_DEG = 2.0

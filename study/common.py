@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 import sim
-from study import executor, paths
+from study import executor, paths, systems
 from study.metadata import git_state, jsonable, collect, write_results
 from study.peers import engine_of, make_runner
 from study.timing import timed
@@ -32,29 +32,11 @@ SYSTEM_SETTINGS = {
     "pybullet": {},
     "box2d": {},
 }
-#: every system of the study, and each one's sleeping-off reference
-SYSTEMS = (
-    "sim-off",
-    "sim-sleep",
-    "sim-paper",
-    "sim-extended",
-    "pymunk",
-    "pymunk-sleep",
-    "pybullet",
-    "pybullet-sleep",
-)
+#: every system of the study, and each one's sleeping-off reference (the registry's)
+SYSTEMS = systems.SYSTEMS
+REFERENCE = systems.REFERENCE
 #: what "frozen" means in every table (the metadata says so)
-FROZEN_MEANS = "sim: out of the awake list (World.frozen); pymunk/pybullet: asleep"
-REFERENCE = {
-    "sim-off": "sim-off",
-    "sim-sleep": "sim-off",
-    "sim-paper": "sim-off",
-    "sim-extended": "sim-off",
-    "pymunk": "pymunk",
-    "pymunk-sleep": "pymunk",
-    "pybullet": "pybullet",
-    "pybullet-sleep": "pybullet",
-}
+FROZEN_MEANS = "sim: out of the awake list (World.frozen); pymunk/pybullet/box2d: asleep"
 
 
 def compile_kernels():

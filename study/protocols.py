@@ -15,6 +15,7 @@ import numpy as np
 import sim
 from study.common import DT, awake_mask, build, calibrate, label, n_awake, step_until_frozen
 from study.cost_fit import FIT_UNITS, fit_cost, relative_to_off
+from study import systems
 from study.peers import engine_of
 from study.timing import interleaved
 
@@ -24,7 +25,7 @@ FLY_PITCH = 2.0  # m between falling/drifting boxes (unit boxes: never touching 
 FREEZE_HOLD_S = 1.0  # s stepped after all froze, to see whether the freeze holds
 
 #: the systems that freeze or sleep (the others are the references: nothing frozen)
-FREEZING = ("sim-sleep", "sim-paper", "sim-extended", "pymunk-sleep", "pybullet-sleep")
+FREEZING = systems.FREEZING  # the systems that freeze: time-to-rest runs each
 #: per_body_cost's default systems (bench_freeze part 2)
 MIX_SYSTEMS = ("sim-extended", "sim-off")
 

@@ -22,6 +22,8 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from study import systems
+
 from .box2d_runner import DEFAULT_ITERATIONS as BOX2D_DEFAULT_ITERATIONS
 from .box2d_runner import Box2dRunner
 from .pybullet_runner import DEFAULT_ITERATIONS as PYBULLET_DEFAULT_ITERATIONS
@@ -31,19 +33,8 @@ from .sim_runner import DEFAULT_ITERATIONS as SIM_DEFAULT_ITERATIONS
 from .sim_runner import DEFAULT_SUBSTEPS as SIM_DEFAULT_SUBSTEPS
 from .sim_runner import SimRunner
 
-#: Every system name ``make_runner`` knows, sim's policies first.
-SYSTEMS = (
-    "sim-off",
-    "sim-sleep",
-    "sim-paper",
-    "sim-extended",
-    "pymunk",
-    "pymunk-sleep",
-    "pybullet",
-    "pybullet-sleep",
-    "box2d",
-    "box2d-sleep",
-)
+#: Every system name ``make_runner`` knows, sim's policies first (study.systems' registry).
+SYSTEMS = systems.SYSTEMS
 
 #: Solver iterations when ``make_runner`` is given none: each engine's own default, so that every
 #: system runs as its authors tuned it and a comparison is fair by construction (same scene, same
@@ -94,10 +85,8 @@ class Runner(Protocol):
 
 def engine_of(system):
     """ "sim", "pymunk", "pybullet" or "box2d" for a system name; ValueError for an unknown
-    one."""
-    if system not in SYSTEMS:
-        raise ValueError(f"unknown system {system!r}; choose one of {', '.join(SYSTEMS)}")
-    return system.split("-", 1)[0]
+    one (study.systems.engine_of)."""
+    return systems.engine_of(system)
 
 
 def sim_world(runner):

@@ -75,7 +75,7 @@ from sim.geometry import mass_properties
 from sim.scene import Scene
 
 from .limits import LIMITS_WHY, MAX_ITERATIONS
-from .pybullet_runner import inset
+from .pybullet_urdf import inset
 
 #: Box2D's testbed defaults (b2World::Step's velocityIterations, positionIterations).
 DEFAULT_ITERATIONS = 8

@@ -14,13 +14,8 @@ Axes and angles
   puts a velocity motor on each such joint and its cost grows with N^2.) The joint's origin is the
   body's initial pose, so all joint coordinates start at 0 (pybullet's resetJointStateMultiDof
   ignores planar joints, and getJointStateMultiDof returns only 2 of their 3 coordinates).
-- The link frame is the centre of mass; mass and moment about y are sim's own values
-  (URDF_USE_INERTIA_FROM_FILE; the body is extruded 1 m in y, density unchanged, so the mass and
-  the moment about the extrusion axis equal sim's 2D values).
-- Shapes: an axis-aligned rectangle (in the body frame) becomes a URDF box, anything else a convex
-  OBJ mesh (the polygon extruded in y). Bullet inflates a convex hull by its collision margin
-  (0.001 m) but keeps a box's surface where it is, so meshes are inset by the margin: the contact
-  surface is then the polygon itself, with corners rounded by 1 mm.
+- Mass, inertia and shapes (a URDF box, or a convex mesh inset by the collision margin) are
+  sim's own: ``pybullet_urdf`` writes them.
 - The floor is a static box whose top is floor_y, 1 m thick and 1 km wider than the scene on each
   side (a plane gave a resting box a one-corner contact in its first step); static polygons are
   fixed URDF links.
@@ -84,15 +79,22 @@ import pybullet as pb
 
 import sim
 from sim.arguments import count, flag, positive
-from sim.geometry import mass_properties
 from sim.scene import Scene
 
 from .limits import LIMITS_WHY, MAX_ITERATIONS
+from .pybullet_urdf import (
+    COLLISION_MARGIN,
+    HALF_DEPTH,
+    com_pose,
+    dynamic_urdf,
+    geometry_xml,
+    pitch_quaternion,
+    static_urdf,
+    x_extent,
+)
 
 #: Solver iterations when none are given (see the module docstring).
 DEFAULT_ITERATIONS = 50
-#: Bullet's collision margin for URDF shapes, m; meshes are inset by it.
-COLLISION_MARGIN = 0.001
 #: btMultiBody's sleep timeout, s: fixed in Bullet, not settable from pybullet.
 DEACTIVATION_TIME = 2.0
 #: btMultiBody's default sleep threshold: sum of squared joint velocities, (m/s)^2 + (rad/s)^2.
@@ -101,139 +103,8 @@ DEFAULT_SLEEP_THRESHOLD = 0.05
 RESTITUTION_THRESHOLD = inspect.signature(sim.World).parameters["restitution_threshold"].default
 #: Largest planar-joint velocity Bullet allows (its default, 100, could clip a long fall).
 MAX_JOINT_VELOCITY = 1000.0
-#: Half the extrusion depth in y, m.
-HALF_DEPTH = 0.5
 #: Thickness of the floor box under floor_y, m.
 FLOOR_THICKNESS = 1.0
-
-
-def _com_pose(body):
-    """Centre of mass (world, m), vertices about it (K,2) m, mass kg, moment kg m^2."""
-    mass, centroid, inertia = mass_properties(body.vertices, body.density)
-    c, s = math.cos(body.angle), math.sin(body.angle)
-    com = (
-        body.position[0] + c * centroid[0] - s * centroid[1],
-        body.position[1] + s * centroid[0] + c * centroid[1],
-    )
-    return com, np.asarray(body.vertices, dtype=np.float64) - centroid, mass, inertia
-
-
-def _x_extent(scene):
-    """Smallest and largest x any body or static polygon reaches at the start, m."""
-    xs = [
-        c[0] + sign * float(np.max(np.hypot(local[:, 0], local[:, 1])))
-        for b in list(scene.bodies) + list(scene.static_bodies)
-        for c, local, _, _ in [_com_pose(b)]
-        for sign in (-1.0, 1.0)
-    ]
-    return min(xs), max(xs)
-
-
-def _num(x):
-    """A number as text that reads back to the same double (numpy scalars included)."""
-    return repr(float(x))
-
-
-def box_size(local):
-    """(width, height) if ``local`` (K,2) is an axis-aligned rectangle centred on the origin
-    (within 1e-12 of its size), else None."""
-    v = np.asarray(local, dtype=np.float64)
-    if len(v) != 4:
-        return None
-    w, h = np.abs(v).max(axis=0)
-    tol = 1e-12 * max(w, h)
-    corners = {(1, 1), (1, -1), (-1, 1), (-1, -1)}
-    found = set()
-    for x, y in v:
-        if abs(abs(x) - w) > tol or abs(abs(y) - h) > tol:
-            return None
-        found.add((int(math.copysign(1, x)), int(math.copysign(1, y))))
-    return (2.0 * float(w), 2.0 * float(h)) if found == corners else None
-
-
-def inset(local, distance):
-    """The convex CCW polygon (K,2) with every edge moved ``distance`` inwards."""
-    v = np.asarray(local, dtype=np.float64)
-    e = np.roll(v, -1, axis=0) - v
-    n = np.stack([e[:, 1], -e[:, 0]], axis=1)
-    n /= np.hypot(n[:, 0], n[:, 1])[:, None]  # outward normal of edge i (v_i -> v_i+1)
-    n_prev = np.roll(n, 1, axis=0)  # edge ending at vertex i
-    # vertex i moves to where the two offset edges meet: along n_prev + n by d / (1 + n_prev.n)
-    denom = 1.0 + np.einsum("ij,ij->i", n_prev, n)
-    return v - distance * (n_prev + n) / denom[:, None]
-
-
-def _obj_text(local):
-    """A Wavefront OBJ of the polygon (K,2) extruded over y in [-HALF_DEPTH, HALF_DEPTH], inset by
-    the collision margin in every direction."""
-    v = inset(local, COLLISION_MARGIN)
-    k = len(v)
-    y = HALF_DEPTH - COLLISION_MARGIN
-    lines = [f"v {_num(x)} {_num(-y)} {_num(z)}" for x, z in v] + [
-        f"v {_num(x)} {_num(y)} {_num(z)}" for x, z in v
-    ]
-    for i in range(1, k - 1):  # caps as fans (OBJ indices from 1)
-        lines.append(f"f 1 {i + 2} {i + 1}")
-        lines.append(f"f {k + 1} {k + i + 1} {k + i + 2}")
-    for i in range(k):  # sides as two triangles each
-        j = (i + 1) % k
-        lines.append(f"f {i + 1} {j + 1} {k + j + 1}")
-        lines.append(f"f {i + 1} {k + j + 1} {k + i + 1}")
-    return "\n".join(lines) + "\n"
-
-
-def _geometry_xml(local, folder, stem):
-    size = box_size(local)
-    if size is not None:
-        return f'<box size="{_num(size[0])} {_num(2 * HALF_DEPTH)} {_num(size[1])}"/>', "box"
-    path = Path(folder) / f"{stem}.obj"
-    path.write_text(_obj_text(local))
-    return f'<mesh filename="{path}" scale="1 1 1"/>', "mesh"
-
-
-def _dynamic_urdf(geometry, mass, inertia, com, angle):
-    """A fixed massless base and a link on a planar joint (axis y) at the body's initial pose."""
-    # Only rotation about y is possible; ixx and izz just need to be valid (positive, triangle
-    # inequality), so they repeat iyy.
-    i = _num(inertia)
-    return f"""<?xml version="1.0"?>
-<robot name="body">
-  <link name="base">
-    <inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>
-  </link>
-  <joint name="plane" type="planar">
-    <parent link="base"/>
-    <child link="body"/>
-    <origin xyz="{_num(com[0])} 0 {_num(com[1])}" rpy="0 {_num(-angle)} 0"/>
-    <axis xyz="0 1 0"/>
-    <dynamics damping="0" friction="0"/>
-  </joint>
-  <link name="body">
-    <inertial>
-      <origin xyz="0 0 0" rpy="0 0 0"/>
-      <mass value="{_num(mass)}"/>
-      <inertia ixx="{i}" ixy="0" ixz="0" iyy="{i}" iyz="0" izz="{i}"/>
-    </inertial>
-    <collision><origin xyz="0 0 0" rpy="0 0 0"/><geometry>{geometry}</geometry></collision>
-  </link>
-</robot>
-"""
-
-
-def _static_urdf(geometry):
-    return f"""<?xml version="1.0"?>
-<robot name="static">
-  <link name="body">
-    <inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>
-    <collision><origin xyz="0 0 0" rpy="0 0 0"/><geometry>{geometry}</geometry></collision>
-  </link>
-</robot>
-"""
-
-
-def _pitch_quaternion(angle):
-    """Bullet quaternion (x, y, z, w) of the sim angle ``angle``: a rotation by -angle about y."""
-    return (0.0, math.sin(-0.5 * angle), 0.0, math.cos(-0.5 * angle))
 
 
 def restitution_values(scene):
@@ -324,11 +195,11 @@ class PybulletRunner:
         self.files_folder = folder  # deleted below; kept as a name for tests
         try:
             for i, b in enumerate(scene.bodies):
-                com, local, mass, inertia = _com_pose(b)
-                geometry, kind = _geometry_xml(local, folder, f"body{i}")
+                com, local, mass, inertia = com_pose(b)
+                geometry, kind = geometry_xml(local, folder, f"body{i}")
                 shapes[kind] += 1
                 path = Path(folder) / f"body{i}.urdf"
-                path.write_text(_dynamic_urdf(geometry, mass, inertia, com, b.angle))
+                path.write_text(dynamic_urdf(geometry, mass, inertia, com, b.angle))
                 uid = pb.loadURDF(str(path), useFixedBase=True, flags=flags, physicsClientId=c)
                 kwargs = {}
                 if sleep_threshold is not None:
@@ -370,15 +241,15 @@ class PybulletRunner:
                     )
             self._static_ids = []
             for j, b in enumerate(scene.static_bodies):
-                com, local, _, _ = _com_pose(b)
-                geometry, kind = _geometry_xml(local, folder, f"static{j}")
+                com, local, _, _ = com_pose(b)
+                geometry, kind = geometry_xml(local, folder, f"static{j}")
                 shapes[kind] += 1
                 path = Path(folder) / f"static{j}.urdf"
-                path.write_text(_static_urdf(geometry))
+                path.write_text(static_urdf(geometry))
                 uid = pb.loadURDF(
                     str(path),
                     basePosition=(com[0], 0.0, com[1]),
-                    baseOrientation=_pitch_quaternion(b.angle),
+                    baseOrientation=pitch_quaternion(b.angle),
                     useFixedBase=True,
                     physicsClientId=c,
                 )
@@ -401,7 +272,7 @@ class PybulletRunner:
             # A box rather than a plane: against Bullet's plane a resting box gets one contact
             # point in its first step (a corner) and is knocked ~1 mm sideways; box-box contacts
             # come with all four corners at once. Wide like pymunk's floor segment.
-            x_lo, x_hi = _x_extent(scene)
+            x_lo, x_hi = x_extent(scene)
             margin = (x_hi - x_lo) + 1000.0
             self.floor_span = (x_lo - margin, x_hi + margin)
             half = (
@@ -611,7 +482,7 @@ class PybulletRunner:
         """World vertices (K,2) of dynamic body ``i`` as Bullet places its shape: the scene's
         polygon carried by the link's position and quaternion (for axis tests)."""
         _, _, _, _, _, raw_pos, raw_orn, _ = self._read()
-        _, local, _, _ = _com_pose(self.scene.bodies[i])
+        _, local, _, _ = com_pose(self.scene.bodies[i])
         m = np.array(pb.getMatrixFromQuaternion(raw_orn[i].tolist()), dtype=np.float64).reshape(
             3, 3
         )

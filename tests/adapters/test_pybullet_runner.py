@@ -15,7 +15,8 @@ import pytest
 import sim
 from conftest import tilted_box
 from study.peers import PybulletRunner
-from study.peers.pybullet_runner import COLLISION_MARGIN, box_size, inset, restitution_values
+from study.peers.pybullet_runner import restitution_values
+from study.peers.pybullet_urdf import COLLISION_MARGIN, box_size, inset
 
 DT = 1 / 60
 G = 9.81

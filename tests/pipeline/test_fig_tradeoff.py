@@ -1,7 +1,7 @@
-"""experiments.fig_tradeoff and analysis.fig_tradeoff: the one penetration routine against sim's own
-separating-axis kernel and known overlaps, the landing scene and its exact rest pose, the solver
-sweep's grid, and the experiment end to end on --quick sizes (into a temporary folder) followed by
-its analysis.
+"""experiments.fig_tradeoff, its library study.tradeoff and analysis.fig_tradeoff: the one
+penetration routine against sim's own separating-axis kernel and known overlaps, the landing scene
+and its exact rest pose, the solver sweep's grid, and the experiment end to end on --quick sizes
+(into a temporary folder) followed by its analysis.
 
 Wall-clock speed-ups are checked only where a wrong result could not come from machine load (the
 ratio of minima, for a setting that freezes the whole scene within a step)."""
@@ -16,7 +16,7 @@ import pytest
 import sim
 from analysis import fig_tradeoff as analysis
 from experiments import fig_tradeoff as exp
-from study import paths
+from study import paths, tradeoff
 from study.common import SLOP, build
 from sim.geometry import edge_normals, mass_properties, max_separation
 
@@ -51,9 +51,9 @@ def test_overlap_matches_sims_separating_axis_kernel():
             for _ in range(2)
         ]
         scene = sim.Scene(bodies=bodies, floor_y=None)
-        polygons = exp.Polygons(scene)
+        polygons = tradeoff.Polygons(scene)
         positions, angles = _pose(scene)
-        got = exp.deepest_overlap(polygons, positions, angles)
+        got = tradeoff.deepest_overlap(polygons, positions, angles)
         w = polygons.world(positions, angles)
         a = np.ascontiguousarray(w[0][: len(bodies[0].vertices)])
         b = np.ascontiguousarray(w[1][: len(bodies[1].vertices)])
@@ -69,25 +69,25 @@ def test_overlap_of_known_poses():
     box = lambda x, y, angle=0.0: sim.Body.box(1.0, 1.0, position=(x, y), angle=angle)
     # two unit boxes 0.9 m apart overlap by 0.1 m; the floor is not touched
     scene = sim.Scene(bodies=[box(0.0, 2.0), box(0.9, 2.0)])
-    assert exp.deepest_overlap(exp.Polygons(scene), *_pose(scene)) == pytest.approx(0.1)
+    assert tradeoff.deepest_overlap(tradeoff.Polygons(scene), *_pose(scene)) == pytest.approx(0.1)
     # apart: nothing; a box sunk 3 cm into the floor: 0.03
     scene = sim.Scene(bodies=[box(0.0, 2.0), box(1.2, 0.47)])
-    assert exp.deepest_overlap(exp.Polygons(scene), *_pose(scene)) == pytest.approx(0.03)
+    assert tradeoff.deepest_overlap(tradeoff.Polygons(scene), *_pose(scene)) == pytest.approx(0.03)
     # a box rotated 45 degrees whose corner is 2 cm into the floor
     h = math.sqrt(0.5)
     scene = sim.Scene(bodies=[box(0.0, h - 0.02, math.pi / 4)])
-    assert exp.deepest_overlap(exp.Polygons(scene), *_pose(scene)) == pytest.approx(0.02)
+    assert tradeoff.deepest_overlap(tradeoff.Polygons(scene), *_pose(scene)) == pytest.approx(0.02)
     # a static ledge (a triangle: padding to the box's 4 vertices is exercised) 5 cm into a box
     ledge = sim.Body(vertices=[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)], position=(0.45, 1.5))
     scene = sim.Scene(bodies=[box(0.0, 2.0)], static_bodies=[ledge])
-    assert exp.deepest_overlap(exp.Polygons(scene), *_pose(scene)) == pytest.approx(0.05)
+    assert tradeoff.deepest_overlap(tradeoff.Polygons(scene), *_pose(scene)) == pytest.approx(0.05)
 
 
 # ---- the landing scene -------------------------------------------------------------------------
 def test_landing_starts_apart_and_settles_in_rows():
-    scene = exp.landing(base=4, layers=1, loners=2)
+    scene = tradeoff.landing(base=4, layers=1, loners=2)
     assert len(scene.bodies) == 4 + 3 + 2
-    assert exp.deepest_overlap(exp.Polygons(scene), *_pose(scene)) == 0.0
+    assert tradeoff.deepest_overlap(tradeoff.Polygons(scene), *_pose(scene)) == 0.0
     runner = build("sim-off", scene)
     runner.step(150)
     y = runner.positions[:, 1]
@@ -105,25 +105,27 @@ def test_rest_pose_is_the_exact_answer():
     """The pyramid's exact final pose is its start; the landing's has every box where it started
     in x, flat, on the row below (rows at 0.5, 1.5 m; loners at 0.5 m)."""
     pyramid = sim.scenes.pyramid(3)
-    positions, angles = exp.rest_pose(pyramid)
+    positions, angles = tradeoff.rest_pose(pyramid)
     start, start_angles = _pose(pyramid)
     assert np.array_equal(positions, start) and np.array_equal(angles, start_angles)
-    scene = exp.landing(base=4, layers=1, loners=2)
-    positions, angles = exp.rest_pose(scene)
+    scene = tradeoff.landing(base=4, layers=1, loners=2)
+    positions, angles = tradeoff.rest_pose(scene)
     start, _ = _pose(scene)
     assert np.array_equal(positions[:, 0], start[:, 0]) and not angles.any()
     assert positions[:, 1].tolist() == [0.5] * 4 + [1.5] * 3 + [0.5] * 2
     # at rest nothing overlaps and every box touches what carries it
-    assert exp.deepest_overlap(exp.Polygons(scene), positions, angles) == pytest.approx(0.0)
+    assert tradeoff.deepest_overlap(tradeoff.Polygons(scene), positions, angles) == pytest.approx(
+        0.0
+    )
     with pytest.raises(ValueError, match="no exact rest pose"):
-        exp.rest_pose(sim.scenes.drop(3))
+        tradeoff.rest_pose(sim.scenes.drop(3))
 
 
 def test_solver_grid_and_reference_check():
-    assert exp.solver_grid(4, range(-2, 3)) == [1, 2, 4, 8, 16]
-    assert exp.solver_grid(1, range(0, 4)) == [1, 2, 4, 8]
+    assert tradeoff.solver_grid(4, range(-2, 3)) == [1, 2, 4, 8, 16]
+    assert tradeoff.solver_grid(1, range(0, 4)) == [1, 2, 4, 8]
     with pytest.raises(ValueError, match="whole number"):
-        exp.solver_grid(1, [-1])
+        tradeoff.solver_grid(1, [-1])
     # sim's reference must run more sweeps per substep than any swept setting
     with pytest.raises(ValueError, match="finer than every swept"):
         exp.check_reference(
@@ -135,16 +137,16 @@ def test_solver_grid_and_reference_check():
 
 def test_bad_scene_input_is_refused():
     with pytest.raises(ValueError, match="layers"):
-        exp.landing(base=2, layers=2)
+        tradeoff.landing(base=2, layers=2)
     with pytest.raises(ValueError, match="unknown scene"):
-        exp.make_scene("heap", {})
+        tradeoff.make_scene("heap", {})
 
 
 def test_grid_is_log_spaced_around_the_default():
-    assert exp.grid(0.5, 0.5, range(-2, 3)) == pytest.approx(
+    assert tradeoff.grid(0.5, 0.5, range(-2, 3)) == pytest.approx(
         [0.05, 0.158113883, 0.5, 1.58113883, 5.0]
     )
-    assert exp.grid(0.05, 1.0, [0])[0] == 0.05  # the default exactly
+    assert tradeoff.grid(0.05, 1.0, [0])[0] == 0.05  # the default exactly
 
 
 def test_pareto_front():

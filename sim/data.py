@@ -11,7 +11,7 @@ Data is split by how it is used (as Box2D v3 splits body sims, body states and c
   Activity   which bodies are awake, and the freeze policies' per-body state
   counters   an int64 array of running counts, columns named below
 
-Every array's unit is stated where it is declared (``sim/world.py`` builds them). Columns of the
+Every array's unit is stated where it is declared (``sim/buffers.py`` builds them). Columns of the
 2-D arrays are named by the module-level constants below; kernels never index a tuple by position.
 """
 
@@ -213,7 +213,7 @@ CONTACT_INT = 11
 CONTACT_FLOAT = 16
 # FIT_*: the relative pose of B in A's frame (position m, rotation cos/sin) and the speculative
 #   margin (m) at the last full narrowphase of the contact: while neither has changed more than a
-#   fraction of the slop, the manifold is refreshed from its stored points instead (contacts.py).
+#   fraction of the slop, the manifold is refreshed from its stored points instead (narrowphase.py).
 #   FIT_GAP (m): a lower bound on the distance between the shapes then (their separating-axis
 #   gap); a pair without points is not looked at again until its bodies could have closed it.
 # point_float columns

@@ -27,7 +27,7 @@ from .activity import resting_bodies
 from .body import MAX_COORDINATE
 from .broadphase import build_grid, drop_stale_pairs, find_new_pairs, update_geometry
 from .clock import cycles
-from .contacts import sort_awake, update_manifolds
+from .contacts import sort_awake
 from .data import (
     BAD_BODY,
     GROW_AWAKE_GRID,
@@ -62,6 +62,7 @@ from .data import (
     STEP_COUNT,
 )
 from .freeze.dispatch import freeze_after_solve, freeze_before_solve
+from .narrowphase import update_manifolds
 from .sweep import sweep_fast_bodies
 from .jit import inline_kernel, kernel
 from .soft_step import (

@@ -59,7 +59,7 @@ def pack(scene):
         [dynamic.vert_start, static.vert_start[1:] + dynamic.vert_start[-1]]
     )
     # extreme but finite fields can overflow these: the World checks them and names the body
-    # (world._check_mass_properties), so numpy need not warn as well
+    # (validation.check_mass_properties), so numpy need not warn as well
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         mass, centroid, inertia = mass_properties_many(
             vertices, vert_start, np.concatenate([dynamic.density, static.density])

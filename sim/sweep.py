@@ -1,14 +1,14 @@
 """Stage ``continuous``: fast bodies swept through the step, so that none passes through a body
 or buries itself in one.
 
-Speculative contacts (``contacts.update_manifolds`` makes them as far ahead as a pair can close in
-one step) stop most fast bodies. They can miss: a contact is made from the poses at the start of
-the step, and a body that turns, or passes a corner, meets features no manifold held (a box falling
-at 27 m/s onto a box spinning at 15 rad/s ended 10 cm inside it). So after the solve, every awake
-body that moved more than FAST_FRACTION of its own size in the step is swept from its start pose
-to its end pose (linear in position and angle) against what its swept box reaches, each at its
-own end pose, and put back to the earliest time of impact (``continuous.time_of_impact``),
-keeping its velocity: the next step's contact stops it there.
+Speculative contacts (``narrowphase.update_manifolds`` makes them as far ahead as a pair can close
+in one step) stop most fast bodies. They can miss: a contact is made from the poses at the start
+of the step, and a body that turns, or passes a corner, meets features no manifold held (a box
+falling at 27 m/s onto a box spinning at 15 rad/s ended 10 cm inside it). So after the solve,
+every awake body that moved more than FAST_FRACTION of its own size in the step is swept from its
+start pose to its end pose (linear in position and angle) against what its swept box reaches,
+each at its own end pose, and put back to the earliest time of impact
+(``continuous.time_of_impact``), keeping its velocity: the next step's contact stops it there.
 
 Only where the contact solver failed: a pair already within its slop at the start of the step
 (touching, not tunnelling: the sweep would stop the body dead on every resting contact), and one

@@ -9,7 +9,7 @@ a thousandth of them:
   touching
   speculative reach   min(speculative_distance, SPECULATIVE_FRACTION * size)
                       + the distance the pair can close in one step (the sum of the bodies'
-                      speeds * dt: ``contacts._closing_speed``): a
+                      speeds * dt: ``narrowphase._closing_speed``): a
                       contact exists before bodies meet, however fast they approach
   face-choice bias    FACE_FRACTION * contact slop            (reference face kept unless the other
                                                               polygon's face is better by this)

@@ -1,6 +1,11 @@
 """``sim.World``: the Python facade. It validates a Scene and the settings, packs the bodies into
 struct-of-arrays (``sim.packing``), builds the named state the kernels share (``sim.data``), and
-hands whole runs of steps to the compiled step loop (``sim.kernel.run``)."""
+hands whole runs of steps to the compiled step loop (``sim.kernel.run``).
+
+This module is the facade as a caller sees it: construction, stepping, and the observables. What
+it delegates, by job: ``sim.validation`` what a World refuses (and why), ``sim.buffers`` the
+arrays the step loop works in (their sizes, and their growth when a step outgrows them),
+``sim.reports`` the read-only reports (``contacts()``, ``inspect()``)."""
 
 import contextlib
 import math
@@ -16,14 +21,27 @@ from . import soft_step
 from .arguments import count, flag, positive
 from .activity import CAUSES, initial_activity
 from .broadphase import grid_buffers
+from .buffers import grown, new_bodies, new_contacts, new_geometry, new_solver
 from .clock import ticks_per_second
-from .contacts import sort_awake, update_manifolds
-from .continuous import toi_scratch
+from .contacts import sort_awake
 from .freeze import POLICY_NAMES, resolve
+from .narrowphase import update_manifolds
 from .packing import pack
+from .reports import Inspection, contact_points
 from .scene import Scene
 from .state import State
-from .tolerances import body_margin, body_slop, body_speculative, check_step
+from .tolerances import check_step
+from .validation import (
+    LIMITS_WHY,
+    MAX_INITIAL_ITERATIONS,
+    MAX_SUBSTEPS,
+    MAX_SWEEPS,
+    REMOVED,
+    check_initial_overlap,
+    check_mass_properties,
+    fast_path_names,
+    mixed_masses,
+)
 
 #: Initial-impulse solve stops when no contact's impulse changes by more than this fraction of the
 #: largest over 10 sweeps.
@@ -32,16 +50,6 @@ INITIAL_TOLERANCE = 1e-6
 #: Room for this many contacts per body (and grid entries per body) when a World is built; the
 #: step loop reports a buffer it outgrows and the World grows it (tests set it small).
 INITIAL_CAPACITY = 4
-
-#: Settings of the solver before soft step, refused with the reason.
-REMOVED = {
-    "position_iterations": "the soft-step solver has no position-correction sweeps (the soft "
-    "contact pushes bodies apart within the velocity solve); use substeps",
-    "baumgarte": "the soft-step solver has no Baumgarte factor; contact stiffness is "
-    "contact_hertz and damping_ratio",
-    "max_correction": "the soft-step solver has no position correction; the push-out speed is "
-    "push_speed (m/s)",
-}
 
 
 class SimulationError(RuntimeError):
@@ -54,78 +62,6 @@ class SimulationError(RuntimeError):
 CHUNK_S = 0.05
 #: steps of the first piece, before the World has measured how long a step takes
 FIRST_CHUNK = 64
-
-#: Caps on the solver's counts. A step is compiled code that Ctrl-C cannot stop (it is seen only
-#: between steps): iterations=10**9 made one step of one box take over a minute. Far beyond any
-#: accuracy the sweeps buy (fig_tradeoff: the error stops falling long before), and each step
-#: still a fraction of a second on a small scene.
-MAX_SUBSTEPS = 1000
-MAX_SWEEPS = 1000  # iterations, and relax_iterations, per substep
-MAX_INITIAL_ITERATIONS = 10**6
-LIMITS_WHY = (
-    "a step cannot be interrupted, and more sweeps than this buy no accuracy "
-    "(see sim.world.MAX_SWEEPS)"
-)
-
-#: the solver's fast paths (see World's ``fast_paths``)
-FAST_PATHS = ("friction",)
-
-
-def _fast_paths(value):
-    """The fast paths switched on, as a sorted tuple of names; ValueError for unknown names."""
-    if value is True:
-        return tuple(sorted(FAST_PATHS))
-    if value is False or value is None:
-        return ()
-    if isinstance(value, str):
-        value = (value,)
-    try:
-        names = tuple(sorted(set(value)))
-    except TypeError:
-        raise ValueError(
-            f"fast_paths must be True, False or a collection of names from "
-            f"{FAST_PATHS}, got {value!r}"
-        ) from None
-    unknown = [n for n in names if n not in FAST_PATHS]
-    if unknown:
-        raise ValueError(
-            f"fast_paths: unknown fast path(s) {unknown}; choose from {sorted(FAST_PATHS)}"
-        )
-    return names
-
-
-#: kg and kg m^2: a dynamic body's mass and moment of inertia must lie in this range. A step
-#: multiplies them by speeds squared (kinetic energy), by each other (a pair's effective mass) and
-#: by their inverses; float64 holds 1e308, and 1e100 either way leaves room for all of those (a
-#: 1 m box of density 1e308 built a World whose kinetic energy was inf).
-MASS_RANGE = (1e-100, 1e100)
-
-
-def _check_mass_properties(packed, describe):
-    """ValueError naming the first dynamic body whose mass properties the solver cannot use:
-    finite fields can still overflow them (vertices at 1e155 m square to inf: mass inf, inertia
-    NaN), underflow them (density 1e-320 kg/m^2: a mass whose inverse is inf), or leave
-    ``MASS_RANGE``."""
-    n = packed.n_dynamic
-    lo, hi = MASS_RANGE
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        fine = (
-            (packed.mass >= lo)
-            & (packed.mass <= hi)
-            & (packed.inertia >= lo)
-            & (packed.inertia <= hi)
-            & np.isfinite(packed.position[:n]).all(axis=1)
-            & np.isfinite(packed.extent[:n])
-            & np.isfinite(packed.size[:n])
-        )
-    if not fine.all():
-        i = int(np.flatnonzero(~fine)[0])
-        raise ValueError(
-            f"{describe(i)}: its mass properties are beyond what the solver can use (mass "
-            f"{packed.mass[i]:.4g} kg, moment of inertia {packed.inertia[i]:.4g} kg m^2, extent "
-            f"{packed.extent[i]:.4g} m; both must lie in [{lo:g}, {hi:g}]): its size or density "
-            f"is too extreme; scale the scene"
-        )
 
 
 @contextlib.contextmanager
@@ -146,24 +82,6 @@ def _deferred_sigint():
         yield lambda: bool(came)
     finally:
         signal.signal(signal.SIGINT, previous)
-
-
-def _aligned(shape, dtype=np.float64):
-    """A zeroed array whose data starts on a 64-byte boundary (a solver row is one cache line)."""
-    n = int(np.prod(shape))
-    itemsize = np.dtype(dtype).itemsize
-    raw = np.zeros(n * itemsize + 64, np.uint8)
-    offset = (-raw.ctypes.data) % 64
-    return raw[offset : offset + n * itemsize].view(dtype).reshape(shape)
-
-
-def _mixed_masses(inv_mass):
-    """Can any contact be "hard" (soft_step.HARD_RATIO)? Only if two dynamic bodies' masses
-    differ by more than the ratio: a freeze policy only ever zeroes solver masses (immovable
-    bodies are never hard), so this holds for the World's life and the colouring skips the
-    search for hard contacts in uniform scenes."""
-    movable = inv_mass[inv_mass > 0.0]
-    return bool(movable.size and movable.max() > soft_step.HARD_RATIO * movable.min())
 
 
 class World:
@@ -202,10 +120,11 @@ class World:
                             impulses to convergence (nothing moves; stops early when converged;
                             default 5000, 0 disables): a scene placed at rest starts in
                             equilibrium. Needs warm_starting.
-      fast_paths            True (default), False, or a collection of names from FAST_PATHS:
-                            work skipped when the scene does not need it ("friction": no
-                            friction rows for batches of frictionless contacts, which is exact).
-                            False exists to measure the saving (experiments/bench_fast_paths.py).
+      fast_paths            True (default), False, or a collection of names from
+                            ``sim.validation.FAST_PATHS``: work skipped when the scene does not
+                            need it ("friction": no friction rows for batches of frictionless
+                            contacts, which is exact). False exists to measure the saving
+                            (experiments/bench_fast_paths.py).
       **policy_parameters   the freeze policy's own parameters (e.g. impulse_threshold)
 
     Arrays read from a World are copies: positions (N,2) m (centres of mass), angles (N,) rad,
@@ -272,7 +191,7 @@ class World:
         )
         self.warm_starting = flag(warm_starting, "warm_starting")
         self.continuous = flag(continuous, "continuous")
-        self.fast_paths = _fast_paths(fast_paths)
+        self.fast_paths = fast_path_names(fast_paths)
         self.overlap_tolerance = positive(overlap_tolerance, "overlap_tolerance", allow_zero=True)
         self.initial_iterations = count(
             initial_iterations, "initial_iterations", 0, MAX_INITIAL_ITERATIONS, LIMITS_WHY
@@ -286,7 +205,7 @@ class World:
         self.inertias = packed.inertia  # (N,) kg m^2 about the COM
         self.extents = packed.extent  # (M,) m, COM to farthest vertex
         self.sizes = packed.size  # (M,) m, thinnest width
-        _check_mass_properties(packed, self._describe)
+        check_mass_properties(packed, self._describe)
         g = float(np.hypot(*scene.gravity))
         check_step(packed.size[: self.n_bodies], self._describe, self.dt, self.substeps, g)
         self._build(scene, packed)
@@ -305,39 +224,8 @@ class World:
     def _build(self, scene, p):
         n = p.n_dynamic
         m = len(p.angle)
-        self._bodies = D.Bodies(
-            position=p.position,
-            angle=p.angle,
-            velocity=p.velocity,
-            angular_velocity=p.angular_velocity,
-            inv_mass=p.inv_mass,
-            inv_inertia=p.inv_inertia,
-            friction=p.friction,
-            restitution=p.restitution,
-            vert_start=p.vert_start,
-            local_verts=p.local_verts,
-            local_normals=p.local_normals,
-            extent=p.extent,
-            size=p.size,
-            slop=body_slop(p.size, self.slop),
-            speculative=body_speculative(p.size, self.speculative_distance),
-            margin=body_margin(p.size, self.speculative_distance),
-            bullet=p.bullet,
-        )
-        v_total = len(p.local_verts)
-        fat = np.empty((m, 4))
-        fat[:, :2] = np.inf  # an empty box: every body's first box refits it
-        fat[:, 2:] = -np.inf
-        self._geometry = D.Geometry(
-            rotation=np.empty((m, 2)),
-            world_verts=np.empty((v_total, 2)),
-            world_normals=np.empty((v_total, 2)),
-            aabb=np.empty((m, 4)),
-            fat=fat,
-            moved=np.zeros(n, np.int64),
-            moved_flag=np.zeros(n, bool),
-            toi_scratch=toi_scratch(int(np.diff(p.vert_start).max())),
-        )
+        self._bodies = new_bodies(p, self.slop, self.speculative_distance)
+        self._geometry = new_geometry(p)
         # Grid cell, m: about two typical bodies wide, but large enough that the biggest body (a
         # long wall, a plank) covers at most ~32 cells per axis.
         typical = float(np.quantile(p.extent[:n], 0.9))
@@ -380,7 +268,7 @@ class World:
             slip_speed=float(params.get("slip_speed", 0.0)),
             friction_margin=float(params.get("friction_margin", 0.0)),
             tip_margin=float(params.get("tip_margin", 0.0)),
-            mixed_masses=_mixed_masses(p.inv_mass[:n]),
+            mixed_masses=mixed_masses(p.inv_mass[:n]),
             profile=False,
         )
         self._counters = np.zeros(D.N_COUNTERS, np.int64)
@@ -397,46 +285,9 @@ class World:
             k * m + (0 if small else 64), k if small else max(4 * k * m, 4096)
         )
         self._scratch = np.zeros(m, np.int64)
-        self._contacts = self._new_contacts(k if small else max(64, k * m), n)
-        self._solver = self._new_solver(len(self._contacts.awake), 1 if small else 4)
+        self._contacts = new_contacts(k if small else max(64, k * m), n)
+        self._solver = new_solver(n, len(self._contacts.awake), 1 if small else 4)
         self._regrown = 0
-
-    @staticmethod
-    def _new_contacts(capacity, n):
-        return D.Contacts(
-            contact_int=np.zeros((capacity, D.CONTACT_INT), np.int64),
-            contact_float=np.zeros((capacity, D.CONTACT_FLOAT)),
-            point_float=np.zeros((capacity, 2, D.POINT_FLOAT)),
-            point_id=np.full((capacity, 2), -1, np.int64),
-            head=np.full(n, -1, np.int64),
-            degree=np.zeros(n, np.int64),
-            awake=np.zeros(capacity, np.int64),
-            active=np.zeros(capacity, np.int64),
-            scratch_points=np.zeros((2, 2)),
-            scratch_separations=np.zeros(2),
-            scratch_ids=np.zeros(2, np.int64),
-            scratch_normal=np.zeros(2),
-        )
-
-    def _new_solver(self, n_contacts, max_degree):
-        n = self.n_bodies
-        batches = soft_step.capacity(n_contacts, max_degree)
-        words = soft_step.mask_words(max_degree)
-        old = getattr(self, "_solver", None)
-        return D.Solver(
-            state=_aligned((n + 1, D.STATE_COLUMNS)),
-            colour_mask=np.zeros((n + 1, words), np.uint64),
-            colour_batches=np.zeros(64 * words + 1, np.int64),
-            colour_cursor=np.zeros(64 * words, np.int64),
-            order=np.zeros(n_contacts, np.int64),
-            wide=_aligned((batches * soft_step.STRIDE,)),
-            lane_row=np.zeros(batches * 2 * soft_step.LANES, np.uint64),
-            lane_slot=np.full(batches * soft_step.LANES, -1, np.int64),
-            batch_hard=np.zeros(batches, bool),
-            row_mark=np.zeros(n + 1, bool),
-            profile=old.profile if old is not None else np.zeros(D.N_STAGES, np.int64),
-            steps_profiled=(old.steps_profiled if old is not None else np.zeros(1, np.int64)),
-        )
 
     def _state(self, settings=None):
         """The arguments every step-level kernel in ``sim.kernel`` takes."""
@@ -458,34 +309,15 @@ class World:
         self._regrown += 1
         need = int(self._counters[D.GROW_NEEDED])
         self._counters[D.GROW_NEEDED] = 0
-        c = self._counters
-        if need & D.GROW_CONTACTS:
-            old = self._contacts
-            cap = 2 * len(old.awake)
-            new = self._new_contacts(cap, self.n_bodies)
-            k = int(c[D.N_SLOTS])
-            for name in ("contact_int", "contact_float", "point_float", "point_id"):
-                getattr(new, name)[:k] = getattr(old, name)[:k]
-            new.head[:] = old.head
-            new.degree[:] = old.degree
-            na = int(c[D.N_AWAKE_CONTACTS])
-            new.awake[:na] = old.awake[:na]
-            self._contacts = new
-        if need & (D.GROW_CONTACTS | D.GROW_SOLVER):
-            self._solver = self._new_solver(
-                len(self._contacts.awake), 2 * max(1, int(c[D.MAX_DEGREE]))
-            )
-        for bit, attr in (
-            (D.GROW_AWAKE_GRID, "_awake_grid"),
-            (D.GROW_RESTING_GRID, "_resting_grid"),
-        ):
-            if need & bit:
-                info = getattr(self, attr).info
-                setattr(
-                    self,
-                    attr,
-                    grid_buffers(2 * int(info[D.NEEDED_ENTRIES]), 2 * int(info[D.NEEDED_BUCKETS])),
-                )
+        self._contacts, self._solver, self._awake_grid, self._resting_grid = grown(
+            need,
+            self._counters,
+            self.n_bodies,
+            self._contacts,
+            self._solver,
+            self._awake_grid,
+            self._resting_grid,
+        )
         if not need:
             raise AssertionError("the kernel asked to grow but named no buffer")
 
@@ -501,20 +333,7 @@ class World:
     def _check_initial_overlap(self):
         """Refuse scenes whose bodies start interpenetrated beyond ``overlap_tolerance``: the
         contacts would launch them apart and the run would measure nothing real."""
-        points = self._points()
-        if not len(points["separation"]):
-            return
-        k = int(np.argmin(points["separation"]))
-        depth = -float(points["separation"][k])
-        if depth > self.overlap_tolerance:
-            a, b = int(points["body_a"][k]), int(points["body_b"][k])
-            what_b = self._describe(b)
-            what = (
-                f"{what_b} starts {depth:.4g} m below the floor"
-                if a < 0
-                else f"{self._describe(a)} and {what_b} start overlapping by {depth:.4g} m"
-            )
-            raise ValueError(f"{what} (overlap_tolerance is {self.overlap_tolerance} m)")
+        check_initial_overlap(self._points(), self._describe, self.overlap_tolerance)
 
     def _describe(self, i):
         dynamic, static = self._names
@@ -665,24 +484,7 @@ class World:
 
     def _points(self):
         """Every point of this step's active contacts (see ``contacts``)."""
-        c = self._contacts
-        slots = c.active[: int(self._counters[D.N_ACTIVE])]
-        n_pts = c.contact_int[slots, D.POINT_COUNT]
-        rows = np.repeat(slots, n_pts)
-        cols = np.concatenate([np.arange(k) for k in n_pts]) if len(slots) else np.zeros(0, int)
-        b = c.contact_int[rows, D.BODY_B]
-        pf = c.point_float[rows, cols]
-        return {
-            "body_a": c.contact_int[rows, D.BODY_A].copy(),
-            "body_b": b.copy(),
-            "point": pf[:, [D.ANCHOR_BX, D.ANCHOR_BY]] + self._bodies.position[b],
-            "normal": c.contact_float[rows][:, [D.NORMAL_X, D.NORMAL_Y]].copy(),
-            "separation": pf[:, D.SEPARATION].copy(),
-            "end_separation": pf[:, D.END_SEPARATION].copy(),
-            "slop": c.contact_float[rows, D.SLOP].copy(),
-            "normal_impulse": pf[:, D.NORMAL_IMPULSE].copy(),
-            "tangent_impulse": pf[:, D.TANGENT_IMPULSE].copy(),
-        }
+        return contact_points(self._contacts, self._counters, self._bodies.position)
 
     def contacts(self):
         """The contact points of the last step: dict of arrays over points —
@@ -696,81 +498,19 @@ class World:
     def inspect(self):
         """A read-only snapshot of the solver's bookkeeping (copies), for tests, benchmarks and
         recordings: see ``Inspection``."""
-        return Inspection(self)
+        return Inspection(
+            self._points(),
+            self._counters,
+            self._activity,
+            self._solver,
+            self._contacts,
+            self.n_bodies,
+            self._regrown,
+        )
 
     def __repr__(self):
         return (
             f"World(scene={self.scene.name!r}, bodies={self.n_bodies}, dt={self.dt}, "
             f"substeps={self.substeps}, iterations={self.iterations}, "
             f"freeze={self.freeze!r}, step={self.step_count})"
-        )
-
-
-def _pair_colours(solver, contact_int, n_colours):
-    out = {}
-    for colour in range(n_colours):
-        lanes = solver.lane_slot[
-            solver.colour_batches[colour] * soft_step.LANES : solver.colour_batches[colour + 1]
-            * soft_step.LANES
-        ]
-        for slot in lanes[lanes >= 0]:
-            out[(int(contact_int[slot, D.BODY_A]), int(contact_int[slot, D.BODY_B]))] = colour
-    return out
-
-
-class Inspection:
-    """What a World's solver holds after its last step, as plain copies (changing them changes
-    nothing in the World).
-
-      contacts             the active contacts' points (``World.contacts()``)
-      n_contacts           live contact slots: pairs whose fat boxes overlap
-      n_awake_contacts     of those, the ones with an awake body (looked at every step)
-      n_active             of those, the ones with points this step (solved)
-      n_refreshed          of the awake ones, refreshed from their stored points last step
-      n_skipped            of the awake ones, skipped last step: apart by more than they could
-                           close (``contacts.update_manifolds``)
-      awake                (n_awake,) indices of the awake bodies
-      solver_inv_mass      (N,) 1/kg the solver used (0 for frozen and held bodies)
-      n_colours, n_batches the last step's constraint colours and batches of ``LANES``
-      pair_colour          {(body_a, body_b): colour} of the last step's active contacts, in the
-                           order the sweeps solve them (body_a = -1: the floor)
-      lanes                soft_step.LANES
-      batch_fill           fraction of the batch lanes that hold a contact
-      resting_rebuilds     how many times the resting grid was rebuilt since the start
-      presolve_sweeps      sweeps the initial-impulse solve took
-      regrown              how many times a buffer the step loop outgrew was grown
-      sweeps, impacts      fast bodies swept (stage ``continuous``), and cut back to an impact
-      n_hard_batches       batches that got soft_step.HARD_SWEEPS extra relax sweeps (they hold a
-                           contact touching a body in a contact of mass ratio > HARD_RATIO)
-      certificates         rest certificates tried since the start (extended:
-                           ``sim.freeze.certificate``; one per candidate body per step)
-    """
-
-    def __init__(self, world):
-        c = world._counters
-        self.contacts = world.contacts()
-        self.n_contacts = int(c[D.N_LIVE])
-        self.n_awake_contacts = int(c[D.N_AWAKE_CONTACTS])
-        self.n_active = int(c[D.N_ACTIVE])
-        self.n_refreshed = int(c[D.N_REFRESHED])
-        self.n_skipped = int(c[D.N_SKIPPED])
-        self.awake = world._activity.awake[: int(c[D.N_AWAKE])].copy()
-        self.solver_inv_mass = world._activity.solver_inv_mass[: world.n_bodies].copy()
-        self.n_colours = int(c[D.N_COLOURS])
-        self.n_batches = int(c[D.N_BATCHES])
-        self.pair_colour = _pair_colours(world._solver, world._contacts.contact_int, self.n_colours)
-        self.lanes = soft_step.LANES
-        self.batch_fill = self.n_active / (self.n_batches * self.lanes) if self.n_batches else 1.0
-        self.resting_rebuilds = int(c[D.N_REBUILDS])
-        self.presolve_sweeps = int(c[D.PRESOLVE_SWEEPS])
-        self.regrown = world._regrown
-        self.sweeps = int(c[D.N_SWEPT])
-        self.impacts = int(c[D.N_IMPACTS])
-        self.n_hard_batches = int(c[D.N_HARD])
-        self.certificates = int(c[D.N_CERTIFICATES])
-
-    def __repr__(self):
-        return (
-            f"Inspection(contacts={self.n_contacts}, awake_contacts={self.n_awake_contacts}, "
-            f"active={self.n_active}, colours={self.n_colours}, batches={self.n_batches})"
         )

@@ -46,35 +46,72 @@ bodies touch (so resting bodies cost nothing otherwise):
   - support removed or moved: when any body wakes, everything it supports wakes in the same step,
     transitively through the support graph (a breadth-first walk of the links).
 
-Per-body state: body_int[:, REST_COUNT] steps slow in a row; body_real columns below.
+Per-body state: body_int[:, REST_COUNT] steps slow in a row; the columns are named in
+``extended_layout.py``.
+
+This module is the policy as the dispatch sees it (NAME, PARAMETERS, the two hooks); the hooks'
+stages live by job, as Box2D v3 splits its solver stages: ``extended_rest.py`` the rest test
+(unsettled contacts, whole groups), ``extended_wake.py`` the wake rules and the support graph,
+``extended_layout.py`` the per-body state both read. The hooks keep the loops over the step's
+contacts (the order in which they read and write the state is the policy); the stages are what
+those loops call.
 """
 
 import numpy as np
 
-from ..activity import CAUSE, freeze, record, wake
+from ..activity import CAUSE, freeze, record
 from ..data import (
     ANCHOR_BX,
     ANCHOR_BY,
     BODY_A,
     BODY_B,
     FRICTION,
-    N_ACTIVE,
-    N_AWAKE,
-    N_LINKS,
-    N_CERTIFICATES,
-    NORMAL_IMPULSE,
     NORMAL_X,
     NORMAL_Y,
+    N_ACTIVE,
+    N_AWAKE,
+    N_CERTIFICATES,
+    N_LINKS,
     POINT_COUNT,
-    END_SEPARATION,
-    SEPARATION,
-    SLOP,
-    TANGENT_IMPULSE,
 )
-from ..jit import inline_kernel, kernel
-from ..state import State
-from . import certificate
-from .contact_math import arrives, stopping_impulse, touching
+from ..jit import kernel
+from . import certificate, extended_layout
+from .contact_math import arrives, stopping_impulse
+from .extended_layout import (
+    FREE,
+    FROZEN,
+    LOAD_M,
+    LOAD_X,
+    LOAD_Y,
+    MARK,
+    PREVIOUS_VX,
+    PREVIOUS_VY,
+    PREVIOUS_W,
+    PUSH_M,
+    PUSH_NORMAL,
+    PUSH_X,
+    PUSH_Y,
+    REST_COUNT,
+    SUPPORT_H,
+    SUPPORT_HI,
+    SUPPORT_LO,
+    SUPPORT_MU,
+    SUPPORT_NX,
+    SUPPORT_NY,
+    TOUCHED,
+    impulse_on,
+    is_movable,
+)
+from .extended_rest import DEEP, SLIDING, unsettled, whole_groups
+from .extended_wake import (
+    add_load,
+    drop_links_of_awake,
+    equilibrium_broken,
+    push_on_support,
+    touch,
+    wake_one,
+    wake_supported,
+)
 
 NAME = "extended"
 PARAMETERS = {
@@ -89,67 +126,13 @@ PARAMETERS = {
 INT_PARAMETERS = ("rest_steps",)
 #: parameters that must stay below a bound (exclusive): a friction cone shrunk by 100% is a line
 BELOW = {"friction_margin": 1.0}
-# body_real columns: support summary and equilibrium load (see module docstring), and this step's
-# impulses from awake bodies (scratch)
-(
-    SUPPORT_NX,
-    SUPPORT_NY,
-    SUPPORT_LO,
-    SUPPORT_HI,
-    SUPPORT_H,
-    SUPPORT_MU,
-    LOAD_X,
-    LOAD_Y,
-    LOAD_M,
-    PUSH_X,
-    PUSH_Y,
-    PUSH_M,
-    PUSH_NORMAL,
-    PREVIOUS_VX,
-    PREVIOUS_VY,
-    PREVIOUS_W,
-) = range(16)
-REAL_COLUMNS = 16
-#: a contact whose friction is at this share of its Coulomb limit, or more, is sliding
-SLIDING_SHARE = 0.98
-#: the centre of pressure may sit this far (m) outside the support extent before a frozen body
-#: counts as tipping: round-off in a body balanced on one point must not wake it
-TIP_TOLERANCE = 1e-4
-# body_int columns
-REST_COUNT, MARK, TOUCHED = range(3)
-# what _unsettled finds in a contact
-_SLIDING, _DEEP = 1, 2
-INT_COLUMNS = 3
+#: the per-body state the World allocates for the policy (``activity.initial_activity``),
+#: in the columns ``extended_layout`` names
+REAL_COLUMNS = extended_layout.REAL_COLUMNS
+INT_COLUMNS = extended_layout.INT_COLUMNS
 
-
-_FREE = np.int8(State.FREE)
-_FROZEN = np.int8(State.ROTATION_STABLE)  # extended reports frozen bodies as ROTATION_STABLE
 _RESTED = CAUSE["rested"]
 _IMPACT = CAUSE["impact"]
-_PUSHED = CAUSE["pushed"]
-_TIPPING = CAUSE["tipping"]
-_SUPPORT_LOST = CAUSE["support_lost"]
-
-
-@inline_kernel
-def _impulse_on(body, c, j, contacts):
-    """Impulse (x, y) that point j of contact c applied to ``body`` over the step (normal and
-    friction, N s)."""
-    nx = contacts.contact_float[c, NORMAL_X]
-    ny = contacts.contact_float[c, NORMAL_Y]
-    pn = contacts.point_float[c, j, NORMAL_IMPULSE]
-    pt = contacts.point_float[c, j, TANGENT_IMPULSE]
-    px = pn * nx + pt * ny  # tangent = (ny, -nx), as in the solver
-    py = pn * ny - pt * nx
-    if contacts.contact_int[c, BODY_B] == body:
-        return px, py
-    return -px, -py
-
-
-@inline_kernel
-def _is_movable(i, n_dyn, awake_slot):
-    """An awake dynamic body (floor -1, static and frozen bodies are not)."""
-    return 0 <= i < n_dyn and awake_slot[i] >= 0
 
 
 @kernel
@@ -183,10 +166,10 @@ def before_solve(settings, counters, bodies, contacts, activity):
             if not (
                 0 <= frozen_body < n_dyn
                 and awake_slot[frozen_body] < 0
-                and _is_movable(mover, n_dyn, awake_slot)
+                and is_movable(mover, n_dyn, awake_slot)
             ):
                 continue
-            n_touched = _touch(frozen_body, touched, n_touched, body_real, body_int)
+            n_touched = touch(frozen_body, touched, n_touched, body_real, body_int)
             # n points from a to b: a push on the frozen body is along +n if it is b, -n if a
             sign = 1.0 if frozen_body == b else -1.0
             for j in range(ci[c, POINT_COUNT]):
@@ -210,55 +193,14 @@ def before_solve(settings, counters, bodies, contacts, activity):
         if body_real[i, PUSH_NORMAL] > settings.impulse_threshold:
             cause = _IMPACT
         elif body_real[i, PUSH_NORMAL] > 0.0:
-            cause = _equilibrium_broken(i, body_real, position)
+            cause = equilibrium_broken(i, body_real, position)
         else:
             cause = -1
         if cause >= 0:
-            n_queue = _wake_one(
+            n_queue = wake_one(
                 i, cause, n_queue, queue, settings, counters, bodies, contacts, activity
             )
-    return _wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity)
-
-
-@inline_kernel
-def _touch(i, touched, n_touched, body_real, body_int):
-    """Add frozen body i to this pass's touched list, its push accumulators zeroed."""
-    if body_int[i, TOUCHED] == 0:
-        body_int[i, TOUCHED] = 1
-        body_real[i, PUSH_X] = 0.0
-        body_real[i, PUSH_Y] = 0.0
-        body_real[i, PUSH_M] = 0.0
-        body_real[i, PUSH_NORMAL] = 0.0
-        touched[n_touched] = i
-        return n_touched + 1
-    return n_touched
-
-
-@kernel
-def _wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity):
-    """Support removed: everything the bodies in queue[0..n_queue-1] carry wakes too, in this
-    same step, transitively (breadth first over the links). Returns the number woken in all."""
-    links, awake_slot = activity.links, activity.awake_slot
-    head = 0
-    while head < n_queue:
-        s = queue[head]
-        head += 1
-        for k in range(counters[N_LINKS]):
-            if links[k, 0] == s and awake_slot[links[k, 1]] < 0:
-                n_queue = _wake_one(
-                    links[k, 1],
-                    _SUPPORT_LOST,
-                    n_queue,
-                    queue,
-                    settings,
-                    counters,
-                    bodies,
-                    contacts,
-                    activity,
-                )
-    if n_queue > 0:
-        _drop_links_of_awake(counters, activity)
-    return n_queue
+    return wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity)
 
 
 @kernel
@@ -299,12 +241,12 @@ def after_solve(settings, counters, bodies, contacts, activity):
             if not (
                 0 <= frozen_body < n_dyn
                 and awake_slot[frozen_body] < 0
-                and _is_movable(other, n_dyn, awake_slot)
+                and is_movable(other, n_dyn, awake_slot)
             ):
                 continue
-            n_touched = _touch(frozen_body, touched, n_touched, body_real, body_int)
+            n_touched = touch(frozen_body, touched, n_touched, body_real, body_int)
             for j in range(ci[c, POINT_COUNT]):
-                px, py = _impulse_on(frozen_body, c, j, contacts)
+                px, py = impulse_on(frozen_body, c, j, contacts)
                 body_real[frozen_body, PUSH_X] += px
                 body_real[frozen_body, PUSH_Y] += py
                 # the anchor relative to B's centre; A's anchor is the same world point
@@ -318,12 +260,12 @@ def after_solve(settings, counters, bodies, contacts, activity):
     for k in range(n_touched):
         i = touched[k]
         body_int[i, TOUCHED] = 0
-        cause = _equilibrium_broken(i, body_real, position)
+        cause = equilibrium_broken(i, body_real, position)
         if cause >= 0:
-            n_queue = _wake_one(
+            n_queue = wake_one(
                 i, cause, n_queue, queue, settings, counters, bodies, contacts, activity
             )
-    _wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity)
+    wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity)
 
     # ---- 2. the rest test -----------------------------------------------------------------
     n_awake = counters[N_AWAKE]
@@ -379,16 +321,16 @@ def after_solve(settings, counters, bodies, contacts, activity):
             or (0 <= b < n_dyn and body_int[b, MARK] == 1)
         ):
             continue
-        state = _unsettled(c, settings.slip_speed, dt, bodies, contacts)
-        if state == _SLIDING:
+        state = unsettled(c, settings.slip_speed, dt, bodies, contacts)
+        if state == SLIDING:
             for body in (a, b):
                 if 0 <= body < n_dyn:
                     body_int[body, MARK] = 0
-        elif state == _DEEP:
+        elif state == DEEP:
             for body in (a, b):
                 if 0 <= body < n_dyn and body_int[body, MARK] == 1:
                     body_int[body, MARK] = 2
-    if not _whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
+    if not whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
         return
     # the certificate (sim/freeze/certificate.py): static equilibrium with margin. A body that
     # is still but not certified (MARK 2: on a point, at its friction limit) stays awake, but
@@ -422,20 +364,20 @@ def after_solve(settings, counters, bodies, contacts, activity):
         a = ci[c, BODY_A]
         b = ci[c, BODY_B]
         for i, other in ((a, b), (b, a)):
-            if not (_is_movable(i, n_dyn, awake_slot) and body_int[i, MARK] == 1):
+            if not (is_movable(i, n_dyn, awake_slot) and body_int[i, MARK] == 1):
                 continue
             sx = 0.0
             sy = 0.0
             onto_frozen = 0 <= other < n_dyn and awake_slot[other] < 0
             for j in range(ci[c, POINT_COUNT]):
-                px, py = _impulse_on(i, c, j, contacts)
+                px, py = impulse_on(i, c, j, contacts)
                 if px * up_x + py * up_y > 0.1 * np.hypot(px, py):  # a support
                     sx += px
                     sy += py
                     if onto_frozen:
                         # resting on an already frozen body: that body now carries this push,
                         # the opposite of the support impulse, at this very point
-                        _add_load(other, -px, -py, c, j, contacts, position, body_real)
+                        add_load(other, -px, -py, c, j, contacts, position, body_real)
                 else:  # a load
                     wx = pf[c, j, ANCHOR_BX] + position[b, 0]
                     wy = pf[c, j, ANCHOR_BY] + position[b, 1]
@@ -449,14 +391,14 @@ def after_solve(settings, counters, bodies, contacts, activity):
                 if 0 <= other < n_dyn:
                     n_links = counters[N_LINKS]
                     if n_links == links.shape[0]:
-                        _drop_links_of_awake(counters, activity)
+                        drop_links_of_awake(counters, activity)
                         n_links = counters[N_LINKS]
                     if n_links < links.shape[0]:
                         links[n_links, 0] = other
                         links[n_links, 1] = i
                         # what i puts on its support (the support's load holds it, whether the
                         # support froze before or with i): taken back when i wakes
-                        fx, fy, m = _push_on_support(i, other, c, contacts, position, up_x, up_y)
+                        fx, fy, m = push_on_support(i, other, c, contacts, position, up_x, up_y)
                         link_load[n_links, 0] = fx
                         link_load[n_links, 1] = fy
                         link_load[n_links, 2] = m
@@ -483,12 +425,12 @@ def after_solve(settings, counters, bodies, contacts, activity):
         a = ci[c, BODY_A]
         b = ci[c, BODY_B]
         for i in (a, b):
-            if not (_is_movable(i, n_dyn, awake_slot) and body_int[i, MARK] == 1):
+            if not (is_movable(i, n_dyn, awake_slot) and body_int[i, MARK] == 1):
                 continue
             tx = -body_real[i, SUPPORT_NY]
             ty = body_real[i, SUPPORT_NX]
             for j in range(ci[c, POINT_COUNT]):
-                px, py = _impulse_on(i, c, j, contacts)
+                px, py = impulse_on(i, c, j, contacts)
                 if px * up_x + py * up_y > 0.1 * np.hypot(px, py):
                     wx = pf[c, j, ANCHOR_BX] + position[b, 0]
                     wy = pf[c, j, ANCHOR_BY] + position[b, 1]
@@ -507,178 +449,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
             body_int[i, MARK] = 0
             body_int[i, REST_COUNT] = 0
             freeze(i, settings, counters, bodies, contacts, activity)
-            states[i] = _FROZEN
-            record(events, counters, i, _FREE, _FROZEN, _RESTED)
+            states[i] = FROZEN
+            record(events, counters, i, FREE, FROZEN, _RESTED)
             continue  # freeze() moved the last awake body into slot k
         k += 1
-
-
-@kernel
-def _whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
-    """Clear the mark of every candidate (MARK 1) that touches an awake body in motion (MARK 0),
-    to a fixed point: an awake body that is still moving keeps its neighbours awake, so nothing
-    freezes against something that pushes it. Returns whether any candidate is left."""
-    ci = contacts.contact_int
-    changed = True
-    while changed:
-        changed = False
-        for kk in range(count):
-            c = contacts.active[kk]
-            a = ci[c, BODY_A]
-            b = ci[c, BODY_B]
-            if not (_is_movable(a, n_dyn, awake_slot) and _is_movable(b, n_dyn, awake_slot)):
-                continue
-            if not touching(c, contacts):
-                continue  # made ahead for a fast body that did not arrive
-            if body_int[a, MARK] + body_int[b, MARK] == 1:  # a candidate and a mover
-                body_int[a, MARK] = 0
-                body_int[b, MARK] = 0
-                changed = True
-    for k in range(n_awake):
-        if body_int[awake[k], MARK] == 1:
-            return True
-    return False
-
-
-@inline_kernel
-def _unsettled(c, slip_speed, dt, bodies, contacts):
-    """Is contact c still working? ``_SLIDING``: its friction at the Coulomb limit while the
-    surfaces slip faster than ``slip_speed`` (m/s); else ``_DEEP``: a touching point deeper than
-    twice the pair's slop that opened faster than ``slip_speed`` over the step (dt, s); else 0."""
-    position, velocity, angular_velocity = bodies.position, bodies.velocity, bodies.angular_velocity
-    ci = contacts.contact_int
-    cf = contacts.contact_float
-    pf = contacts.point_float
-    a = ci[c, BODY_A]
-    b = ci[c, BODY_B]
-    sum_pn = 0.0
-    sum_pt = 0.0
-    slip = 0.0
-    deep = False
-    for j in range(ci[c, POINT_COUNT]):
-        # deep and still opening: the soft contact is pushing the bodies apart (a contact that
-        # carries a load sits at a steady depth, which freezing keeps as it is)
-        deep = deep or (
-            pf[c, j, END_SEPARATION] < -2.0 * cf[c, SLOP]
-            and pf[c, j, END_SEPARATION] - pf[c, j, SEPARATION] > slip_speed * dt
-        )
-        if pf[c, j, END_SEPARATION] > cf[c, SLOP]:
-            continue  # not touching
-        sum_pn += pf[c, j, NORMAL_IMPULSE]
-        sum_pt += pf[c, j, TANGENT_IMPULSE]
-        # B's surface against A's along the tangent (ny, -nx)
-        wx = pf[c, j, ANCHOR_BX] + position[b, 0]
-        wy = pf[c, j, ANCHOR_BY] + position[b, 1]
-        vx = velocity[b, 0] - angular_velocity[b] * (wy - position[b, 1])
-        vy = velocity[b, 1] + angular_velocity[b] * (wx - position[b, 0])
-        if a >= 0:
-            vx -= velocity[a, 0] - angular_velocity[a] * (wy - position[a, 1])
-            vy -= velocity[a, 1] + angular_velocity[a] * (wx - position[a, 0])
-        slip = max(slip, abs(vx * cf[c, NORMAL_Y] - vy * cf[c, NORMAL_X]))
-    # at the limit: the solver clamps |pt| <= mu pn point by point, so a manifold at 98% of it
-    # is sliding (a sticking contact sits well inside)
-    if (
-        slip > slip_speed
-        and sum_pn > 0.0
-        and abs(sum_pt) >= SLIDING_SHARE * cf[c, FRICTION] * sum_pn
-    ):
-        return _SLIDING
-    return _DEEP if deep else 0
-
-
-@inline_kernel
-def _add_load(i, fx, fy, c, j, contacts, position, body_real):
-    """Add impulse (fx, fy), applied at point j of contact c, to frozen body i's load."""
-    b = contacts.contact_int[c, BODY_B]
-    wx = contacts.point_float[c, j, ANCHOR_BX] + position[b, 0]
-    wy = contacts.point_float[c, j, ANCHOR_BY] + position[b, 1]
-    body_real[i, LOAD_X] += fx
-    body_real[i, LOAD_Y] += fy
-    body_real[i, LOAD_M] += (wx - position[i, 0]) * fy - (wy - position[i, 1]) * fx
-
-
-@inline_kernel
-def _equilibrium_broken(i, body_real, position):
-    """Cause code if frozen body i cannot stay at rest under its load plus this step's pushes,
-    else -1. The supports must supply the reaction R = -(load + push): it must press into them
-    (R . n_s > 0), stay inside the friction cone (|R . t_s| <= mu_s R . n_s) and act through the
-    support extent: its centre of pressure s in [lo, hi].
-
-    With q = h n + s t a point of the support line (h its offset along n) and x the centre of
-    mass, moment balance cross(q - x, R) + M = 0 gives, since cross(n, R) = R.t and
-    cross(t, R) = -R.n:  s = x.t + ((h - x.n) R.t + M) / R.n."""
-    lx = body_real[i, LOAD_X] + body_real[i, PUSH_X]
-    ly = body_real[i, LOAD_Y] + body_real[i, PUSH_Y]
-    moment = body_real[i, LOAD_M] + body_real[i, PUSH_M]
-    nx = body_real[i, SUPPORT_NX]
-    ny = body_real[i, SUPPORT_NY]
-    tx = -ny
-    ty = nx
-    rn = -(lx * nx + ly * ny)
-    rt = -(lx * tx + ly * ty)
-    if rn <= 0.0:
-        return _PUSHED  # lifted off its supports
-    if abs(rt) > body_real[i, SUPPORT_MU] * rn:
-        return _PUSHED  # friction cannot hold it: it slides
-    if body_real[i, SUPPORT_HI] < body_real[i, SUPPORT_LO]:
-        return -1  # no recorded support points (zero gravity)
-    x_t = position[i, 0] * tx + position[i, 1] * ty
-    x_n = position[i, 0] * nx + position[i, 1] * ny
-    s = x_t + ((body_real[i, SUPPORT_H] - x_n) * rt + moment) / rn
-    if s < body_real[i, SUPPORT_LO] - TIP_TOLERANCE or s > body_real[i, SUPPORT_HI] + TIP_TOLERANCE:
-        return _TIPPING
-    return -1
-
-
-@inline_kernel
-def _wake_one(i, cause, n_queue, queue, settings, counters, bodies, contacts, activity):
-    wake(i, settings, counters, bodies, contacts, activity)
-    record(activity.events, counters, i, activity.states[i], _FREE, cause)
-    activity.states[i] = _FREE
-    activity.body_int[i, REST_COUNT] = 0
-    queue[n_queue] = i
-    return n_queue + 1
-
-
-@kernel
-def _drop_links_of_awake(counters, activity):
-    """Compact the link list, keeping only links whose supported body is still frozen. A dropped
-    link's push leaves its support's load: the awake body's contacts now push live (else the
-    support would count that weight twice and could not see the body tip or leave)."""
-    links, link_load = activity.links, activity.link_load
-    awake_slot, body_real = activity.awake_slot, activity.body_real
-    kept = 0
-    for k in range(counters[N_LINKS]):
-        support = links[k, 0]
-        if awake_slot[links[k, 1]] < 0:
-            links[kept, 0] = support
-            links[kept, 1] = links[k, 1]
-            link_load[kept, 0] = link_load[k, 0]
-            link_load[kept, 1] = link_load[k, 1]
-            link_load[kept, 2] = link_load[k, 2]
-            kept += 1
-        elif awake_slot[support] < 0:
-            body_real[support, LOAD_X] -= link_load[k, 0]
-            body_real[support, LOAD_Y] -= link_load[k, 1]
-            body_real[support, LOAD_M] -= link_load[k, 2]
-    counters[N_LINKS] = kept
-
-
-@inline_kernel
-def _push_on_support(i, support, c, contacts, position, up_x, up_y):
-    """The impulse body i exerts on ``support`` through contact c at the points where it is
-    supported (the same points whose push enters the support's load), and its moment about the
-    support's centre of mass."""
-    b = contacts.contact_int[c, BODY_B]
-    fx = 0.0
-    fy = 0.0
-    m = 0.0
-    for j in range(contacts.contact_int[c, POINT_COUNT]):
-        px, py = _impulse_on(i, c, j, contacts)
-        if px * up_x + py * up_y > 0.1 * np.hypot(px, py):
-            wx = contacts.point_float[c, j, ANCHOR_BX] + position[b, 0]
-            wy = contacts.point_float[c, j, ANCHOR_BY] + position[b, 1]
-            fx -= px
-            fy -= py
-            m -= (wx - position[support, 0]) * py - (wy - position[support, 1]) * px
-    return fx, fy, m

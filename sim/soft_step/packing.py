@@ -172,7 +172,7 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
             wide[o + IMPULSE_SCALE + l] = impulse_scale
     if settings.mixed_masses:
         counters[N_HARD] = _mark_hard(counters[N_BATCHES], wide, solver)
-    else:  # no contact can be hard (World._mixed_masses)
+    else:  # no contact can be hard (validation.mixed_masses)
         for b in range(counters[N_BATCHES]):
             solver.batch_hard[b] = False
         counters[N_HARD] = 0

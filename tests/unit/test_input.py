@@ -271,7 +271,7 @@ def test_bodies_whose_mass_properties_overflow_are_refused_by_name(make, why):
         rf"the solver can use \({why}",
     ):
         sim.World(sim.Scene(bodies=[body]))
-    lo, hi = sim.world.MASS_RANGE
+    lo, hi = sim.validation.MASS_RANGE
     assert not lo <= body.mass <= hi or not lo <= body.inertia <= hi
 
 

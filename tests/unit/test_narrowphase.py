@@ -1,8 +1,8 @@
 """The narrowphase's shortcuts never hide a contact.
 
-``contacts.update_manifolds`` skips a pair that was apart while its last separating-axis gap, less
-how far its bodies have since moved, exceeds the speculative margin. That is safe only if the gap
-``geometry.collide_*_rows`` report is a lower bound on the distance between the shapes, and if
+``narrowphase.update_manifolds`` skips a pair that was apart while its last separating-axis gap,
+less how far its bodies have since moved, exceeds the speculative margin. That is safe only if the
+gap ``geometry.collide_*_rows`` report is a lower bound on the distance between the shapes, and if
 the skip is never taken for a pair that has come near. Both are checked here: the gap against an
 exact distance (``naive.polygon_distance``) on random polygons, and the whole pipeline on a
 settling pile, where every pair of bodies that starts a step within half its resting speculative

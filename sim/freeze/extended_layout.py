@@ -1,0 +1,64 @@
+"""What the ``extended`` policy's rest test and wake rules share: the per-body state it keeps
+(``activity.body_real`` and ``body_int`` columns), the states it moves bodies between, and how a
+contact is read (the impulse a point applied to a body; whether a body can move).
+
+Split from ``extended.py`` so that its stages (``extended_rest``: the rest test;
+``extended_wake``: the wake rules and the support graph) can each import the layout without
+importing one another or the policy's hooks: the data is named once, where every stage sees it.
+"""
+
+import numpy as np
+
+from ..data import BODY_B, NORMAL_IMPULSE, NORMAL_X, NORMAL_Y, TANGENT_IMPULSE
+from ..jit import inline_kernel
+from ..state import State
+
+# body_real columns: support summary and equilibrium load (the support graph's summary, see
+# ``sim.freeze.extended``), and this step's impulses from awake bodies (scratch)
+(
+    SUPPORT_NX,
+    SUPPORT_NY,
+    SUPPORT_LO,
+    SUPPORT_HI,
+    SUPPORT_H,
+    SUPPORT_MU,
+    LOAD_X,
+    LOAD_Y,
+    LOAD_M,
+    PUSH_X,
+    PUSH_Y,
+    PUSH_M,
+    PUSH_NORMAL,
+    PREVIOUS_VX,
+    PREVIOUS_VY,
+    PREVIOUS_W,
+) = range(16)
+REAL_COLUMNS = 16
+# body_int columns
+REST_COUNT, MARK, TOUCHED = range(3)
+INT_COLUMNS = 3
+
+#: the states the policy moves a body between
+FREE = np.int8(State.FREE)
+FROZEN = np.int8(State.ROTATION_STABLE)  # extended reports frozen bodies as ROTATION_STABLE
+
+
+@inline_kernel
+def impulse_on(body, c, j, contacts):
+    """Impulse (x, y) that point j of contact c applied to ``body`` over the step (normal and
+    friction, N s)."""
+    nx = contacts.contact_float[c, NORMAL_X]
+    ny = contacts.contact_float[c, NORMAL_Y]
+    pn = contacts.point_float[c, j, NORMAL_IMPULSE]
+    pt = contacts.point_float[c, j, TANGENT_IMPULSE]
+    px = pn * nx + pt * ny  # tangent = (ny, -nx), as in the solver
+    py = pn * ny - pt * nx
+    if contacts.contact_int[c, BODY_B] == body:
+        return px, py
+    return -px, -py
+
+
+@inline_kernel
+def is_movable(i, n_dyn, awake_slot):
+    """An awake dynamic body (floor -1, static and frozen bodies are not)."""
+    return 0 <= i < n_dyn and awake_slot[i] >= 0

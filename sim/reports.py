@@ -1,0 +1,113 @@
+"""What a ``sim.World`` reports about its solver, read-only: the contact points of the last step
+(``contact_points``, behind ``World.contacts()``) and the bookkeeping snapshot behind
+``World.inspect()`` (``Inspection``).
+
+Split from ``world.py`` by job: the World builds and steps; these only read the arrays the step
+loop left, and copy what they hand out, so that nothing a caller does with a report reaches the
+run. Each takes the arrays it reads, not the World, so that no private state crosses modules.
+"""
+
+import numpy as np
+
+from . import data as D
+from . import soft_step
+
+
+def contact_points(contacts, counters, position):
+    """Every point of this step's active contacts (``World.contacts()`` says what each array
+    holds): copies, from the contact store ``contacts``, the ``counters`` and the bodies'
+    positions ``position`` (anchors are stored relative to body B's centre)."""
+    c = contacts
+    slots = c.active[: int(counters[D.N_ACTIVE])]
+    n_pts = c.contact_int[slots, D.POINT_COUNT]
+    rows = np.repeat(slots, n_pts)
+    cols = np.concatenate([np.arange(k) for k in n_pts]) if len(slots) else np.zeros(0, int)
+    b = c.contact_int[rows, D.BODY_B]
+    pf = c.point_float[rows, cols]
+    return {
+        "body_a": c.contact_int[rows, D.BODY_A].copy(),
+        "body_b": b.copy(),
+        "point": pf[:, [D.ANCHOR_BX, D.ANCHOR_BY]] + position[b],
+        "normal": c.contact_float[rows][:, [D.NORMAL_X, D.NORMAL_Y]].copy(),
+        "separation": pf[:, D.SEPARATION].copy(),
+        "end_separation": pf[:, D.END_SEPARATION].copy(),
+        "slop": c.contact_float[rows, D.SLOP].copy(),
+        "normal_impulse": pf[:, D.NORMAL_IMPULSE].copy(),
+        "tangent_impulse": pf[:, D.TANGENT_IMPULSE].copy(),
+    }
+
+
+def pair_colours(solver, contact_int, n_colours):
+    """{(body_a, body_b): colour} of the contacts in the solver's batches, in the order the
+    sweeps solve them."""
+    out = {}
+    for colour in range(n_colours):
+        lanes = solver.lane_slot[
+            solver.colour_batches[colour] * soft_step.LANES : solver.colour_batches[colour + 1]
+            * soft_step.LANES
+        ]
+        for slot in lanes[lanes >= 0]:
+            out[(int(contact_int[slot, D.BODY_A]), int(contact_int[slot, D.BODY_B]))] = colour
+    return out
+
+
+class Inspection:
+    """What a World's solver holds after its last step, as plain copies (changing them changes
+    nothing in the World).
+
+      contacts             the active contacts' points (``World.contacts()``)
+      n_contacts           live contact slots: pairs whose fat boxes overlap
+      n_awake_contacts     of those, the ones with an awake body (looked at every step)
+      n_active             of those, the ones with points this step (solved)
+      n_refreshed          of the awake ones, refreshed from their stored points last step
+      n_skipped            of the awake ones, skipped last step: apart by more than they could
+                           close (``narrowphase.update_manifolds``)
+      awake                (n_awake,) indices of the awake bodies
+      solver_inv_mass      (N,) 1/kg the solver used (0 for frozen and held bodies)
+      n_colours, n_batches the last step's constraint colours and batches of ``LANES``
+      pair_colour          {(body_a, body_b): colour} of the last step's active contacts, in the
+                           order the sweeps solve them (body_a = -1: the floor)
+      lanes                soft_step.LANES
+      batch_fill           fraction of the batch lanes that hold a contact
+      resting_rebuilds     how many times the resting grid was rebuilt since the start
+      presolve_sweeps      sweeps the initial-impulse solve took
+      regrown              how many times a buffer the step loop outgrew was grown
+      sweeps, impacts      fast bodies swept (stage ``continuous``), and cut back to an impact
+      n_hard_batches       batches that got soft_step.HARD_SWEEPS extra relax sweeps (they hold a
+                           contact touching a body in a contact of mass ratio > HARD_RATIO)
+      certificates         rest certificates tried since the start (extended:
+                           ``sim.freeze.certificate``; one per candidate body per step)
+
+    Built by ``World.inspect()`` from the World's arrays: ``points`` its contact points,
+    ``counters``, ``activity``, ``solver`` and ``contacts`` the step loop's state, ``n_bodies``
+    the dynamic bodies, ``regrown`` the World's count of grown buffers.
+    """
+
+    def __init__(self, points, counters, activity, solver, contacts, n_bodies, regrown):
+        c = counters
+        self.contacts = points
+        self.n_contacts = int(c[D.N_LIVE])
+        self.n_awake_contacts = int(c[D.N_AWAKE_CONTACTS])
+        self.n_active = int(c[D.N_ACTIVE])
+        self.n_refreshed = int(c[D.N_REFRESHED])
+        self.n_skipped = int(c[D.N_SKIPPED])
+        self.awake = activity.awake[: int(c[D.N_AWAKE])].copy()
+        self.solver_inv_mass = activity.solver_inv_mass[:n_bodies].copy()
+        self.n_colours = int(c[D.N_COLOURS])
+        self.n_batches = int(c[D.N_BATCHES])
+        self.pair_colour = pair_colours(solver, contacts.contact_int, self.n_colours)
+        self.lanes = soft_step.LANES
+        self.batch_fill = self.n_active / (self.n_batches * self.lanes) if self.n_batches else 1.0
+        self.resting_rebuilds = int(c[D.N_REBUILDS])
+        self.presolve_sweeps = int(c[D.PRESOLVE_SWEEPS])
+        self.regrown = regrown
+        self.sweeps = int(c[D.N_SWEPT])
+        self.impacts = int(c[D.N_IMPACTS])
+        self.n_hard_batches = int(c[D.N_HARD])
+        self.certificates = int(c[D.N_CERTIFICATES])
+
+    def __repr__(self):
+        return (
+            f"Inspection(contacts={self.n_contacts}, awake_contacts={self.n_awake_contacts}, "
+            f"active={self.n_active}, colours={self.n_colours}, batches={self.n_batches})"
+        )

@@ -1,0 +1,122 @@
+"""What a ``sim.World`` refuses, and why: settings of the old solver, counts beyond what a step
+can afford, unknown fast paths, mass properties the solver cannot use, and scenes that start
+interpenetrated.
+
+Split from ``world.py`` by job: the World's constructor reads as what it builds, and the rules
+for what it accepts (each with the measurement behind it) are read here, in one place. The checks
+that the peer runners share (a count, a switch, a number) are ``sim.arguments``.
+"""
+
+import numpy as np
+
+from . import soft_step
+
+#: Settings of the solver before soft step, refused with the reason.
+REMOVED = {
+    "position_iterations": "the soft-step solver has no position-correction sweeps (the soft "
+    "contact pushes bodies apart within the velocity solve); use substeps",
+    "baumgarte": "the soft-step solver has no Baumgarte factor; contact stiffness is "
+    "contact_hertz and damping_ratio",
+    "max_correction": "the soft-step solver has no position correction; the push-out speed is "
+    "push_speed (m/s)",
+}
+
+#: Caps on the solver's counts. A step is compiled code that Ctrl-C cannot stop (it is seen only
+#: between steps): iterations=10**9 made one step of one box take over a minute. Far beyond any
+#: accuracy the sweeps buy (fig_tradeoff: the error stops falling long before), and each step
+#: still a fraction of a second on a small scene.
+MAX_SUBSTEPS = 1000
+MAX_SWEEPS = 1000  # iterations, and relax_iterations, per substep
+MAX_INITIAL_ITERATIONS = 10**6
+LIMITS_WHY = (
+    "a step cannot be interrupted, and more sweeps than this buy no accuracy "
+    "(see sim.validation.MAX_SWEEPS)"
+)
+
+#: the solver's fast paths (see World's ``fast_paths``)
+FAST_PATHS = ("friction",)
+
+
+def fast_path_names(value):
+    """The fast paths switched on, as a sorted tuple of names; ValueError for unknown names."""
+    if value is True:
+        return tuple(sorted(FAST_PATHS))
+    if value is False or value is None:
+        return ()
+    if isinstance(value, str):
+        value = (value,)
+    try:
+        names = tuple(sorted(set(value)))
+    except TypeError:
+        raise ValueError(
+            f"fast_paths must be True, False or a collection of names from "
+            f"{FAST_PATHS}, got {value!r}"
+        ) from None
+    unknown = [n for n in names if n not in FAST_PATHS]
+    if unknown:
+        raise ValueError(
+            f"fast_paths: unknown fast path(s) {unknown}; choose from {sorted(FAST_PATHS)}"
+        )
+    return names
+
+
+#: kg and kg m^2: a dynamic body's mass and moment of inertia must lie in this range. A step
+#: multiplies them by speeds squared (kinetic energy), by each other (a pair's effective mass) and
+#: by their inverses; float64 holds 1e308, and 1e100 either way leaves room for all of those (a
+#: 1 m box of density 1e308 built a World whose kinetic energy was inf).
+MASS_RANGE = (1e-100, 1e100)
+
+
+def check_mass_properties(packed, describe):
+    """ValueError naming the first dynamic body whose mass properties the solver cannot use:
+    finite fields can still overflow them (vertices at 1e155 m square to inf: mass inf, inertia
+    NaN), underflow them (density 1e-320 kg/m^2: a mass whose inverse is inf), or leave
+    ``MASS_RANGE``. ``describe(i)`` names body i in the message."""
+    n = packed.n_dynamic
+    lo, hi = MASS_RANGE
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        fine = (
+            (packed.mass >= lo)
+            & (packed.mass <= hi)
+            & (packed.inertia >= lo)
+            & (packed.inertia <= hi)
+            & np.isfinite(packed.position[:n]).all(axis=1)
+            & np.isfinite(packed.extent[:n])
+            & np.isfinite(packed.size[:n])
+        )
+    if not fine.all():
+        i = int(np.flatnonzero(~fine)[0])
+        raise ValueError(
+            f"{describe(i)}: its mass properties are beyond what the solver can use (mass "
+            f"{packed.mass[i]:.4g} kg, moment of inertia {packed.inertia[i]:.4g} kg m^2, extent "
+            f"{packed.extent[i]:.4g} m; both must lie in [{lo:g}, {hi:g}]): its size or density "
+            f"is too extreme; scale the scene"
+        )
+
+
+def mixed_masses(inv_mass):
+    """Can any contact be "hard" (soft_step.HARD_RATIO)? Only if two dynamic bodies' masses
+    differ by more than the ratio: a freeze policy only ever zeroes solver masses (immovable
+    bodies are never hard), so this holds for the World's life and the colouring skips the
+    search for hard contacts in uniform scenes."""
+    movable = inv_mass[inv_mass > 0.0]
+    return bool(movable.size and movable.max() > soft_step.HARD_RATIO * movable.min())
+
+
+def check_initial_overlap(points, describe, overlap_tolerance):
+    """Refuse scenes whose bodies start interpenetrated beyond ``overlap_tolerance`` (m): the
+    contacts would launch them apart and the run would measure nothing real. ``points`` are the
+    start poses' contact points (``reports.contact_points``); ``describe(i)`` names body i."""
+    if not len(points["separation"]):
+        return
+    k = int(np.argmin(points["separation"]))
+    depth = -float(points["separation"][k])
+    if depth > overlap_tolerance:
+        a, b = int(points["body_a"][k]), int(points["body_b"][k])
+        what_b = describe(b)
+        what = (
+            f"{what_b} starts {depth:.4g} m below the floor"
+            if a < 0
+            else f"{describe(a)} and {what_b} start overlapping by {depth:.4g} m"
+        )
+        raise ValueError(f"{what} (overlap_tolerance is {overlap_tolerance} m)")

@@ -248,7 +248,7 @@ POINT_FLOAT = 14
 
 
 class Solver(NamedTuple):
-    """Per-step data of the soft-step solver (``sim/soft_step.py``).
+    """Per-step data of the soft-step solver (``sim/soft_step/``).
 
     ``state`` has one 64-byte row per awake body (row k+1 for the body in awake slot k) and a
     dummy row 0 that stands for every body the solver cannot move (static, frozen, the floor):
@@ -259,7 +259,7 @@ class Solver(NamedTuple):
     colour_batches: np.ndarray  # (64 words + 1,) int64 first batch of each colour
     colour_cursor: np.ndarray  # (64 words,) int64 scratch: next lane of each colour
     order: np.ndarray  # (C,) int64 scratch: the colour of each active contact
-    wide: np.ndarray  # flat float64: constraint batches (see soft_step.py)
+    wide: np.ndarray  # flat float64: constraint batches (see sim/soft_step/layout.py)
     lane_row: np.ndarray  # flat uint64: solver rows of each lane's bodies A, B
     lane_slot: np.ndarray  # flat int64: contact slot of each lane, -1 padding
     batch_hard: np.ndarray  # (B,) bool: the batch touches a body in a high mass ratio contact

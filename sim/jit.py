@@ -7,7 +7,7 @@ a
   puts a test-and-raise branch on every division, which costs ~15% of a solver sweep. Non-finite
   state is caught once per step instead (``kernel.first_diverged``).
 
-Vectorisation (see ``sim/soft_step.py``). The contact solver works on batches of ``LANES``
+Vectorisation (see ``sim/soft_step/``). The contact solver works on batches of ``LANES``
 constraints laid out field by field, and relies on LLVM's SLP vectoriser to turn each batch's
 lane loop into packed instructions (``experiments/bench_kernels.py`` shows them in the compiled
 code). Numba switches SLP off by default, so it is switched on here, before any kernel compiles.

@@ -8,7 +8,8 @@ from ..jit import inline_kernel
 
 #: Default soft-contact parameters. The damping ratio is three times Box2D's 10: with contacts that
 #: carry their load (see LOAD_TIME), a 50-box column started without any initial solve oscillated
-#: and buckled at 10 and settles at 30 (experiments/tune_soft_step.py). push_speed is Box2D's.
+#: and buckled at 10 and settles at 30 (measured when the soft step was tuned). push_speed is
+#: Box2D's.
 DAMPING_RATIO = 30.0
 PUSH_SPEED = 3.0
 #: Stiffness caps as fractions of the substep rate: hertz * h. A contact stiffer than 1/8 of the

@@ -153,3 +153,15 @@ def test_no_experiment_script_runs_another_nor_does_analysis():
                 f"{path.relative_to(ROOT)} imports {sorted(runs(path, layer))}: the study "
                 f"library never imports the scripts above it"
             )
+
+
+def test_no_module_outside_tests_is_over_600_lines():
+    """ARCHITECTURE §5: small modules with one job. A module that grows past this is split by job
+    (as sim/soft_step/, sim/freeze/extended*.py, study/scenarios/ were)."""
+    long = {
+        str(path.relative_to(ROOT)): n
+        for folder in ("sim", "study", "experiments", "analysis", "tools")
+        for path in sorted((ROOT / folder).rglob("*.py"))
+        if (n := len(path.read_text().splitlines())) > 600
+    }
+    assert not long, f"modules over 600 lines: {long}"

@@ -185,6 +185,8 @@ def draw(table, meta):
     slop = float(meta["parameters"]["slop"])
     scenes = list(dict.fromkeys(table["scene"]))
     timed = table[table["role"].isin(["baseline", "sweep", "solver"])]
+    # the freezing systems the experiment swept (it runs the engines whose sleeping it can set)
+    freezing = [s for s in FREEZING if s in set(table["system"])]
 
     fig, axes = plt.subplots(
         len(scenes), len(MEASURES), squeeze=False, figsize=(style.WIDTH, 2.6 * len(scenes) + 0.9)
@@ -248,7 +250,7 @@ def draw(table, meta):
             }
             for _, p in idle.iterrows()
         }
-        for system in FREEZING:
+        for system in freezing:
             pts = rows[rows["system"] == system]
             if pts.empty:
                 continue
@@ -317,7 +319,7 @@ def draw(table, meta):
                 )
             series = [
                 (system, rows[rows["system"] == system], style.system_style(system))
-                for system in FREEZING
+                for system in freezing
             ]
             series += [
                 (
@@ -414,7 +416,7 @@ def draw(table, meta):
             ls=style.system_style(s)["linestyle"],
             label=s,
         )
-        for s in FREEZING
+        for s in freezing
     ]
     handles += [
         Line2D(

@@ -24,6 +24,7 @@ PACKAGES = (
     "numba",
     "pymunk",
     "pybullet",
+    "box2d",
     "pandas",
     "matplotlib",
     "rerun-sdk",

@@ -31,13 +31,14 @@ DATA := $(RESULTS_DIR)/data
 GEN  := $(PAPER_OUT)/generated
 RECS := $(RESULTS_DIR)/recordings
 
-# One experiment script (experiments/<name>.py) and one analysis script (analysis/<name>.py) each.
+# The experiments: every experiments/<name>.py that has an analysis/<name>.py (one script per
+# figure or table each), found here, so adding an experiment is adding its two scripts: no list to
+# edit. (experiments/bench_setup.py has no analysis: a standalone benchmark, not in the pipeline.)
+# In name order, so the benchmarks (bench_*) run first, on a machine not yet warmed by the sweeps.
 # (bench_step also writes $(DATA)/bench_step_profile.csv, read by analysis/bench_step.py;
 # bench_kernels reads the solver's compiled code: packed vector instructions, ns per contact.)
-TABLES  := bench_step bench_freeze peer_agreement bench_fast_paths bench_kernels
-STUDY   := fig_states fig_edge_as_floor fig_overhang fig_speedup fig_scaling fig_time_to_rest \
-           fig_tradeoff table_failures table_extremes
-ALL     := $(TABLES) $(STUDY)
+script_names = $(basename $(notdir $(wildcard $(1)/*.py)))
+ALL := $(sort $(filter-out __init__,$(filter $(call script_names,analysis),$(call script_names,experiments))))
 # One recording per figure scene, <builder>__<policy> (that policy alone), and one per row of the
 # failure catalogue with every system of the table (table_failures/<scenario>.rrd; its index.txt
 # lists them and their sizes)

@@ -165,3 +165,15 @@ def test_no_module_outside_tests_is_over_600_lines():
         if (n := len(path.read_text().splitlines())) > 600
     }
     assert not long, f"modules over 600 lines: {long}"
+
+
+def test_every_experiment_with_an_analysis_is_in_the_pipeline():
+    """ARCHITECTURE §5: adding an experiment is adding experiments/<name>.py and analysis/<name>.py;
+    the Makefile finds the pairs, so there is no list to forget."""
+    pairs = {
+        p.stem
+        for p in ROOT.glob("experiments/*.py")
+        if not p.stem.startswith("_") and (ROOT / "analysis" / p.name).exists()
+    }
+    assert set(_make_list("ALL")) == pairs and len(pairs) == 14
+    assert "bench_setup" not in pairs  # a standalone benchmark: no analysis, not in reproduce

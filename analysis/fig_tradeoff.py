@@ -2,9 +2,13 @@
 Pareto front per system, and on the same axes sim-off's own solver knobs (substeps, iterations per
 substep; freezing off): the trade a user makes with the solver, beside the one freezing makes.
 
-One row of panels per scene, one column per error measure (the largest distance between a body's
-final centre of mass and the fine-dt reference's; the deepest overlap between two bodies or a body
-and the floor at the end of the run: what freezing locks in. The deepest overlap *during* the run
+One row of panels per scene, one column per error measure: first freezing's own error (the
+largest distance between a body's final centre of mass and the same engine's with sleeping off
+at the same dt and its defaults: what freezing adds, apart from the engine's solver), then the
+error against the engine's converged reference (the largest distance between a body's final
+centre of mass and the fine-dt reference's: the engine's solver error plus freezing's), then the
+deepest overlap between two bodies or a body and the floor at the end of the run (what freezing
+locks in). The deepest overlap *during* the run
 is set by the impacts, the same under every setting, and goes to the numbers only). x is
 the speed-up of the whole run over the same engine with sleeping off at the same dt (log), y the
 error (log; an error at or below the experiment's ``error_floor`` (1e-9: round-off, or exactly 0,
@@ -26,6 +30,10 @@ dt/(fine/2) run against the dt/fine reference: closer than that cannot be told a
 overlap at most the baseline's plus a tenth of the slop. ``never_froze_speedups`` are the
 speed-ups of settings under which no body ever froze: they do the baseline's work, so their
 distance from 1 is the run's timing noise.
+
+Per scene, ``solver_and_freezing`` gives per freezing system its engine's solver error (the
+baseline's pose error against the reference), freezing's own error at the default setting and the
+largest over its settings, and the default's error against the reference (the two together).
 
 Per scene the numbers also hold ``solver`` (every sim-off solver setting: value, speed-up, errors)
 and ``defaults_comparison``: each engine's pose error at its defaults with sleeping off (sim-off,
@@ -53,6 +61,10 @@ MEASURES = (
     ("pose_error_max_m", "largest pose error (m)", "pose"),
     ("penetration_final_m", "deepest overlap at the end (m)", "penetration"),
 )
+#: freezing's own error, drawn in the first column: the largest distance from the final pose of
+#: the same engine with sleeping off at the same dt (its baseline run), so that what freezing
+#: costs is read apart from each engine's solver error (the baseline's error, in ``MEASURES``)
+FREEZE_MEASURE = ("freeze_error_max_m", "pose change from sleeping off (m)", "freezing")
 FREEZING = systems.FREEZING
 OFF = systems.OFF
 #: sim-off's solver knobs (role "solver"): series name -> (system, parameter, style)
@@ -87,6 +99,7 @@ REQUIRED = {
     "pose_error_max_m",
     "pose_error_mean_m",
     "exact_error_max_m",
+    "freeze_error_max_m",
     "penetration_max_m",
     "penetration_final_m",
 }
@@ -119,6 +132,7 @@ def _errors(row):
         "pose_error_mean_m": row["pose_error_mean_m"],
         "angle_error_max_rad": row["angle_error_max_rad"],
         "exact_error_max_m": row["exact_error_max_m"],
+        "freeze_error_max_m": row["freeze_error_max_m"],
         "penetration_max_m": row["penetration_max_m"],
         "penetration_final_m": row["penetration_final_m"],
     }
@@ -188,8 +202,9 @@ def draw(table, meta):
     # the freezing systems the experiment swept (it runs the engines whose sleeping it can set)
     freezing = [s for s in FREEZING if s in set(table["system"])]
 
+    panels = (FREEZE_MEASURE,) + MEASURES
     fig, axes = plt.subplots(
-        len(scenes), len(MEASURES), squeeze=False, figsize=(style.WIDTH, 2.6 * len(scenes) + 0.9)
+        len(scenes), len(panels), squeeze=False, figsize=(style.WIDTH, 2.4 * len(scenes) + 1.0)
     )
     numbers = {"error_floor": floor, "scenes": {}}
     fronts = []
@@ -203,6 +218,7 @@ def draw(table, meta):
             "reference_exact_error_max_m": {},
             "match_limit": {},
             "systems": {},
+            "solver_and_freezing": {},
         }
         for engine, off in OFF.items():
             base = rows[(rows["system"] == off) & (rows["role"] == "baseline")]
@@ -262,6 +278,8 @@ def draw(table, meta):
                 d = default.iloc[0]  # every parameter at its default: the same run
                 entry["default"] = {
                     "speedup": d["speedup"],
+                    "freeze_error_max_m": d["freeze_error_max_m"],
+                    "freeze_angle_error_max_rad": d["freeze_angle_error_max_rad"],
                     "pose_error_max_m": d["pose_error_max_m"],
                     "pose_error_mean_m": d["pose_error_mean_m"],
                     "penetration_max_m": d["penetration_max_m"],
@@ -269,10 +287,19 @@ def draw(table, meta):
                     "n_awake_final": int(d["n_awake_final"]),
                     "awake_fraction": d["awake_fraction"],
                 }
+                # the two errors apart: the engine's solver's (its baseline against its
+                # reference) and what freezing adds (against the baseline run itself)
+                scene_numbers["solver_and_freezing"][system] = {
+                    "solver_error_max_m": base.get("pose_error_max_m", math.nan),
+                    "freeze_error_max_m": d["freeze_error_max_m"],
+                    "worst_freeze_error_max_m": float(pts["freeze_error_max_m"].max()),
+                    "pose_error_max_m": d["pose_error_max_m"],
+                }
             fastest = pts.loc[pts["speedup"].idxmax()]
             entry["fastest"] = {
                 "setting": _setting(fastest),
                 "speedup": fastest["speedup"],
+                "freeze_error_max_m": fastest["freeze_error_max_m"],
                 "pose_error_max_m": fastest["pose_error_max_m"],
                 "penetration_final_m": fastest["penetration_final_m"],
                 "penetration_max_m": fastest["penetration_max_m"],
@@ -294,12 +321,15 @@ def draw(table, meta):
                 entry["best_matching_pose_error_max_m"] = best["pose_error_max_m"]
                 entry["best_matching_penetration_final_m"] = best["penetration_final_m"]
 
-        for c, (column, ylabel, short) in enumerate(MEASURES):
+        for c, (column, ylabel, short) in enumerate(panels):
             ax = axes[r, c]
+            freezing_only = column == FREEZE_MEASURE[0]
             values = rows[column][np.isfinite(rows[column])]
             above = values[values > floor]
             bottom = max(floor, float(above.min()) / 3) if len(above) else floor
             for engine, off in OFF.items():
+                if freezing_only:  # the baseline is the zero of this measure
+                    break
                 base = rows[(rows["system"] == off) & (rows["role"] == "baseline")]
                 if base.empty:
                     continue
@@ -332,6 +362,7 @@ def draw(table, meta):
                     st,
                 )
                 for name, (system, parameter, st) in SOLVER_SERIES.items()
+                if not freezing_only  # the solver knobs freeze nothing
             ]
             for name, pts, st in series:
                 if pts.empty:
@@ -403,9 +434,9 @@ def draw(table, meta):
                 mid = math.sqrt(lo * hi)
                 ax.set_ylim(mid / 10**0.5, mid * 10**0.5)
             ax.set_ylabel(ylabel)
-            ax.set_title(f"{scene}, {int(rows['bodies'].iloc[0])} bodies: {short}")
-            if r == len(scenes) - 1:
-                ax.set_xlabel("speed-up over its engine at defaults, sleeping off")
+            ax.set_title(f"{scene} ({int(rows['bodies'].iloc[0])} bodies): {short}", fontsize=8)
+            if r == len(scenes) - 1 and c == len(panels) // 2:  # one label for the row
+                ax.set_xlabel("speed-up over the same engine at its defaults, sleeping off")
 
     handles = [
         Line2D(

@@ -52,8 +52,12 @@ around the parameter's default (the default itself included), from "freezes almo
   default 0.05; study/peers/pybullet_runner.py; the 2 s deactivation time is fixed in
   Bullet). A squared speed, so the grid steps by whole decades: default x 10^k, k = -3..2
   (speeds 7 mm/s .. 2.2 m/s).
-- sim-off, pymunk, pybullet at dt 1/60 and their default settings: the baseline (speed-up 1 by
-  definition; its error is the time step's and the default iterations' own).
+- box2d-sleep at its default only (``time_to_sleep`` 0.5 s, a row that sets nothing): Box2D 2.3's
+  sleep tolerances (b2_timeToSleep, b2_linearSleepTolerance 0.01 m/s, b2_angularSleepTolerance 2
+  deg/s) are compiled into the binding, so there is nothing to sweep; its one point still sits on
+  the same axes as every other system's front.
+- sim-off, pymunk, pybullet, box2d at dt 1/60 and their default settings: the baseline (speed-up 1
+  by definition; its error is the time step's and the default iterations' own).
 - sim-off's solver knobs (role "solver"), freezing off, one at a time, the other at its default:
   ``substeps`` per step (default 4, sim.World's) x 2^k, k = -2..2 (1 .. 16 substeps), and
   ``iterations`` (biased sweeps per substep; default 1, what the runners give sim) x 2^k,
@@ -62,12 +66,14 @@ around the parameter's default (the default itself included), from "freezes almo
   sim-off at its defaults, error against sim's reference), so both trades share the axes.
 Settings: each engine at its own defaults (study.peers.DEFAULT_ITERATIONS): sim's soft step
 with 4 substeps and 1 biased + 1 relax sweep per substep; pymunk 10 iterations per step; pybullet
-50 per step. Sim slop and pymunk collision_slop 0.005 m (study.common). Every run's full
+50 per step; Box2D 8 velocity and 3 position iterations per step. Sim slop and pymunk
+collision_slop 0.005 m (study.common). Every run's full
 settings (``runner.settings``) are in the metadata's ``system_settings``.
 
 Reference per engine: the same engine with sleeping off at dt / ``fine`` (fine = 8: dt 1/480 s,
 2400 steps) *and* ``reference_iterations`` (sim 16 biased sweeps per substep at its default 4
-substeps; pymunk 40 and pybullet 200 per step: 4x their defaults). A fine dt alone is not a
+substeps; pymunk 40, pybullet 200 and Box2D 32 velocity iterations per step: 4x their defaults;
+Box2D's 3 position iterations stay). A fine dt alone is not a
 reference for sim since solver v2: on the landing, sim-off at dt/8 with 1 sweep per substep ends
 2.6 cm from the converged pose, farther than sim-off at dt with 4 sweeps (5 mm); with 16 sweeps
 per substep, dt/8 and dt/16 (8 substeps, 16 sweeps) agree to 0.09 mm (measured, full size). The
@@ -87,6 +93,13 @@ the code is study.tradeoff's, as are the scenes and the timed runs):
   row below), columns ``exact_error_max_m``, ``exact_angle_error_max_rad``. It needs no engine's
   reference, so it also holds where a reference has not converged (its resolution row says so),
   and it is the same yardstick for every engine. The reference rows have it too;
+- freezing's own error, ``freeze_error_max_m`` and ``freeze_angle_error_max_rad``: the largest
+  distance and angle between the final pose under a freezing setting and the final pose of the
+  same engine with sleeping off at the same dt and default settings (the baseline run; 0 for the
+  baseline itself; NaN for the solver rows, which freeze nothing). The pose error against the
+  reference is that engine's solver error plus what freezing adds; this column is what freezing
+  adds alone, so that "what freezing costs" is not confounded with "whose solver is more
+  accurate";
 - penetration: the deepest overlap between two bodies, or between a body and the floor (or a static
   body), from positions, angles and the scene's polygons (separating-axis test on the convex
   polygons: the overlap is the smallest push along any edge normal of either polygon that
@@ -108,9 +121,9 @@ Speed-up: wall time of the whole run (build excluded; the first step excluded, a
 the study; steps 2..300 timed in one ``runner.step`` call with the garbage collector paused)
 under the setting, divided into that of the same engine with sleeping off at its default
 settings and the same dt (for sim: sim-off at 4 substeps, 1 sweep per substep).
-Kernels are compiled first (common.compile_kernels). Each repeat builds a fresh runner per
-setting; within an engine the settings run round-robin in one process (order reversed every other
-repeat), repeats: sim 15, pymunk 15, pybullet 5 (a sim or pymunk run lasts 2-40 ms, so a single
+Kernels are compiled first (common.compile_kernels). Each repeat builds a fresh runner per setting;
+within an engine the settings run round-robin in one process (order reversed every other repeat),
+repeats: sim 15, pymunk 15, pybullet 5, box2d 15 (a sim or pymunk run lasts 2-40 ms, so a single
 preemption by another process on this shared 2-core machine can triple one repeat: seen in a
 5-repeat trial, where settings doing identical work differed 3x in median; a pybullet run of
 pyramid(10) lasts ~1.5 s and averages such bursts out). Reported: median and min over repeats and
@@ -124,7 +137,8 @@ parameter, value, unit, is_default, dt_s, steps, repeats, wall_s_median, wall_s_
 wall_s_all (every repeat, s, space-separated), off_wall_s_median, speedup, speedup_min,
 n_awake_final, awake_fraction, all_asleep_at_s,
 pose_error_max_m, pose_error_mean_m, angle_error_max_rad, exact_error_max_m,
-exact_angle_error_max_rad, penetration_max_m, penetration_final_m, replay_difference_m (reference
+exact_angle_error_max_rad, freeze_error_max_m, freeze_angle_error_max_rad, penetration_max_m,
+penetration_final_m, replay_difference_m (reference
 and resolution rows: parameter "iterations", value the iterations they ran).
 
     python -m experiments.fig_tradeoff [--quick]
@@ -145,7 +159,9 @@ import sim
 from study import common
 from study.common import DT, SLOP, compile_kernels, sweep_store
 from study.executor import run_tasks
+from study import systems
 from study.peers import DEFAULT_ITERATIONS, engine_of
+from study.peers.box2d_runner import BOX2D_SLEEP
 from study.peers.pybullet_runner import DEFAULT_SLEEP_THRESHOLD
 from study.peers.pymunk_runner import PymunkRunner
 from study.tradeoff import (
@@ -164,8 +180,8 @@ NAME = "fig_tradeoff"
 G = 9.81  # m/s^2, |gravity| of every scene here
 
 #: the sleeping-off system of each engine (the speed-up's denominator and the reference)
-OFF = {"sim": "sim-off", "pymunk": "pymunk", "pybullet": "pybullet"}
-ENGINES = ("sim", "pymunk", "pybullet")
+OFF = dict(systems.OFF)
+ENGINES = tuple(OFF)
 
 _PYMUNK_SLEEP_TIME = inspect.signature(PymunkRunner).parameters["sleep_time"].default
 #: sim-off's solver defaults, as the baseline runs them: substeps are sim.World's own, iterations
@@ -212,9 +228,11 @@ SWEEPS = (
     # Chipmunk's rule when idle_speed is unset: |g| dt (cpSpaceProcessComponents)
     ("pymunk-sleep", "idle_speed", "m/s", G * DT, 0.5, range(-3, 4)),
     ("pybullet-sleep", "sleep_threshold", "(m/s)^2", DEFAULT_SLEEP_THRESHOLD, 1.0, range(-3, 3)),
+    # Box2D 2.3's sleep tolerances are compile-time constants (b2Settings.h): its default alone
+    ("box2d-sleep", "time_to_sleep", "s", BOX2D_SLEEP["b2_timeToSleep"], 0.5, range(0, 1)),
 )
 #: settings whose default row leaves the parameter unset (the engine's own rule applies)
-UNSET_AT_DEFAULT = {("pymunk-sleep", "idle_speed")}
+UNSET_AT_DEFAULT = {("pymunk-sleep", "idle_speed"), ("box2d-sleep", "time_to_sleep")}
 #: sim-off's solver knobs, freezing off (role "solver"): (system, parameter, unit, default,
 #: exponents k: value = default * 2^k, whole numbers). One varies at a time.
 SOLVER_SWEEPS = (
@@ -228,17 +246,17 @@ FULL = {
     "fine": 8,  # reference dt = DT / fine; resolution run at DT / (fine/2)
     # the references' iterations (sim: biased sweeps per substep; the peers: per step); the
     # resolution runs use half (see the docstring for the convergence measured)
-    "reference_iterations": {"sim": 16, "pymunk": 40, "pybullet": 200},
+    "reference_iterations": {"sim": 16, "pymunk": 40, "pybullet": 200, "box2d": 32},
     "every_other_grid_point": False,
-    "repeats": {"sim": 15, "pymunk": 15, "pybullet": 5},
+    "repeats": {"sim": 15, "pymunk": 15, "pybullet": 5, "box2d": 15},
 }
 QUICK = {
     "scenes": (("pyramid", {"base": 4}), ("landing", {"base": 4, "layers": 1, "loners": 1})),
     "duration_s": 2.5,
     "fine": 4,
-    "reference_iterations": {"sim": 16, "pymunk": 40, "pybullet": 200},
+    "reference_iterations": {"sim": 16, "pymunk": 40, "pybullet": 200, "box2d": 32},
     "every_other_grid_point": True,  # k = -2, 0, 2 only
-    "repeats": {"sim": 3, "pymunk": 3, "pybullet": 3},
+    "repeats": {"sim": 3, "pymunk": 3, "pybullet": 3, "box2d": 3},
 }
 ERROR_FLOOR = 1e-9  # m or rad; analysis draws smaller errors (round-off) at this value
 
@@ -419,6 +437,7 @@ def run(config, args):
                     res,
                     ref,
                     exact,
+                    off=results[tag, engine, "setting", 0] if role != "solver" else None,
                 )
                 med, low = statistics.median(times[k]), min(times[k])
                 end_pose, end_awake = final[k]
@@ -510,7 +529,12 @@ def run(config, args):
 
 
 #: what an engine's iteration count counts
-ITERATIONS_UNIT = {"sim": "per substep", "pymunk": "per step", "pybullet": "per step"}
+ITERATIONS_UNIT = {
+    "sim": "per substep",
+    "pymunk": "per step",
+    "pybullet": "per step",
+    "box2d": "velocity, per step",
+}
 
 
 main = common.entry(NAME, __doc__, FULL, QUICK, run)

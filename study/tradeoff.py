@@ -267,6 +267,8 @@ COLUMNS = [
     "angle_error_max_rad",
     "exact_error_max_m",
     "exact_angle_error_max_rad",
+    "freeze_error_max_m",
+    "freeze_angle_error_max_rad",
     "penetration_max_m",
     "penetration_final_m",
     "replay_difference_m",
@@ -274,12 +276,31 @@ COLUMNS = [
 
 
 def error_row(
-    tag, scene, system, engine, role, parameter, unit, value, is_default, dt, steps, res, ref, exact
+    tag,
+    scene,
+    system,
+    engine,
+    role,
+    parameter,
+    unit,
+    value,
+    is_default,
+    dt,
+    steps,
+    res,
+    ref,
+    exact,
+    off=None,
 ):
     """One table row (every column of ``COLUMNS``; the timing columns NaN, for the caller to fill):
     the run ``res``'s pose errors against its engine's reference ``ref`` (none for the reference
     itself) and against the exact pose ``exact`` (positions, angles), its penetration and how
-    much of it slept."""
+    much of it slept.
+
+    ``off``: the same engine's run with sleeping off at the same dt and default settings (the
+    baseline), given for the freezing rows (roles baseline and sweep). Their ``freeze_error_*``
+    is the pose difference from it: the error freezing adds, apart from the engine's own solver
+    error (the baseline's error against the reference). NaN for the other roles."""
     if role == "reference":
         d_max = d_mean = a_max = math.nan  # the reference itself: no error to speak of
     else:
@@ -287,6 +308,10 @@ def error_row(
         d_mean = float(np.hypot(*(res["positions"] - ref["positions"]).T).mean())
     e_max, e_angle = pose_error(res["positions"], res["angles"], *exact)
     row = dict.fromkeys(COLUMNS, math.nan)
+    if off is not None:
+        row["freeze_error_max_m"], row["freeze_angle_error_max_rad"] = pose_error(
+            res["positions"], res["angles"], off["positions"], off["angles"]
+        )
     row.update(
         exact_error_max_m=e_max,
         exact_angle_error_max_rad=e_angle,

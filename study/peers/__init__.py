@@ -6,7 +6,7 @@ A system is named by a string (``SYSTEMS``); ``make_runner(system, scene, ...)``
     pymunk, pymunk-sleep                         Chipmunk2D, sleeping off / on (PymunkRunner)
     pybullet, pybullet-sleep                     Bullet, 2D by planar joints (PybulletRunner)
     box2d, box2d-sleep                           Box2D 2.3 (float32), sleeping off / on
-                                                 (Box2dRunner; not yet in any experiment)
+                                                 (Box2dRunner)
 
 Every runner has ``step(n=1)`` and the observables ``positions`` (N,2) m (centres of mass, row i =
 scene body i), ``angles`` (N,) rad CCW, ``velocities`` (N,2) m/s, ``angular_velocities`` (N,)
@@ -14,6 +14,9 @@ rad/s, ``asleep`` (N,) bool (the system does not solve the body this step), plus
 system string), ``scene``, ``dt`` s, ``step_count``, ``time`` s, ``settings`` (a JSON-ready dict
 of everything that matters: dt, iterations, sleeping and its thresholds, mixing rules...; what
 experiments store in their metadata) and ``close()`` (runners are also context managers).
+A runner that does work of its own around the engine's steps (Box2dRunner: its motion-cap check;
+PybulletRunner with sleeping: the pose before the last step) also has ``engine_seconds``, the wall
+time spent inside the engine's step calls, which benchmarks time (study.timing.timed).
 
 Peers never leak into ``sim``: this package imports sim, never the reverse.
 """

@@ -12,8 +12,12 @@ Matching sim's conventions
   would otherwise slow every benchmark for nothing. (In pymunk 7 the arbiter attribute is
   ``restitution``; assigning ``arbiter.elasticity`` just adds a Python attribute and does nothing.)
   Unlike sim, Chipmunk has no restitution velocity threshold: slow impacts bounce too.
-- The floor half-plane y <= floor_y becomes a static Segment of radius 0 along y = floor_y, wide
-  enough that nothing in the scene can slide off its ends.
+- The floor half-plane y <= floor_y becomes a static box FLOOR_THICKNESS (1 m) thick whose top
+  face is y = floor_y, wide enough that nothing in the scene can slide off its ends (the scene's
+  extent again plus 1 km on each side), as the other peers' floors. A box, not a zero-thickness
+  segment: a small fast body that ends a step below a segment's line is pushed out of whichever
+  side it is nearer, so it could fall through; below a box's top face it is pushed back up
+  (until it is more than half the thickness deep).
 - Integration order differs: Chipmunk moves positions with the old velocity, then updates the
   velocity, so in free flight its positions trail sim's by one velocity update (g dt t: 0.16 m
   after 1 s at dt 1/60); velocities agree exactly.
@@ -50,6 +54,8 @@ from .limits import LIMITS_WHY, MAX_ITERATIONS
 
 #: First shape id given out by the space: above every vertex index a sim polygon can have.
 SHAPE_ID_START = MAX_VERTICES
+#: Thickness of the floor box under floor_y, m (the pybullet and Box2D runners' floors too).
+FLOOR_THICKNESS = 1.0
 
 
 def canonical_vertices(local):
@@ -152,17 +158,17 @@ class PymunkRunner:
             pm.position, pm.angle = com, b.angle
             space.add(pm, self._material(_poly(pm, local), b.friction, b.restitution))
 
-        self.floor_span = None  # (x_min, x_max) m of the floor segment
+        self.floor_span = None  # (x_min, x_max) m of the floor box
         if scene.floor_y is not None:
             # Wider than anything travels in a run: the scene's extent again plus 1 km each side.
             margin = (x_hi - x_lo) + 1000.0
             self.floor_span = (x_lo - margin, x_hi + margin)
-            floor = pymunk.Segment(
-                space.static_body,
-                (self.floor_span[0], scene.floor_y),
-                (self.floor_span[1], scene.floor_y),
-                0.0,
+            (x0, x1), y = self.floor_span, scene.floor_y
+            # CCW from the top right corner: edge 0 is the top face, whatever the box's width
+            corners = np.array(
+                [(x1, y), (x0, y), (x0, y - FLOOR_THICKNESS), (x1, y - FLOOR_THICKNESS)]
             )
+            floor = _poly(space.static_body, corners)
             space.add(self._material(floor, scene.floor_friction, scene.floor_restitution))
 
         if min(s._hashid for s in space.shapes) < SHAPE_ID_START:  # pymunk changed underneath
@@ -193,7 +199,12 @@ class PymunkRunner:
             "polygon_vertices": "raw, lowest-then-rightmost first",
             "floor": None
             if self.floor_span is None
-            else {"shape": "segment", "radius": 0.0, "x_span": list(self.floor_span)},
+            else {
+                "shape": "box",
+                "thickness_m": FLOOR_THICKNESS,
+                "top_y": scene.floor_y,
+                "x_span": list(self.floor_span),
+            },
         }
 
     @staticmethod

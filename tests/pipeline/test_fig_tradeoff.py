@@ -179,9 +179,11 @@ def test_table_has_every_run(quick_run):
             for role in ("reference", "resolution", "baseline"):
                 rows = t[(t["engine"] == engine) & (t["role"] == role)]
                 assert len(rows) == 1 and rows["system"].iloc[0] == off, (scene, engine, role)
-        for system, parameter, _, default, _, _ in exp.SWEEPS:
+        for system, parameter, _, default, _, exponents in exp.SWEEPS:
             rows = t[(t["system"] == system) & (t["parameter"] == parameter)]
-            assert len(rows) == 3, (scene, system, parameter)  # k = -2, 0, 2
+            # k = -2, 0, 2; Box2D's compiled-in sleep rule: its default alone
+            expected = 1 if list(exponents) == [0] else 3
+            assert len(rows) == expected, (scene, system, parameter)
             assert rows.loc[rows["is_default"], "value"].tolist() == pytest.approx([default])
             assert rows["value"].is_monotonic_increasing
         # sim-off's solver knobs, on the same axes: every other grid point in quick
@@ -202,6 +204,34 @@ def test_table_has_every_run(quick_run):
     assert settings["sim-off iterations=4"]["iterations"] == 4
     assert settings["sim-off reference"]["iterations"] == exp.QUICK["reference_iterations"]["sim"]
     assert settings["pymunk"]["iterations"] == 10 and settings["pybullet"]["iterations"] == 50
+    # Box2D: its baseline, its reference and its one sleeping point, with what it ran
+    assert set(exp.ENGINES) == {"sim", "pymunk", "pybullet", "box2d"}
+    assert settings["box2d"]["iterations"] == 8 and settings["box2d"]["sleeping"] is False
+    assert settings["box2d-sleep"]["sleeping"] is True
+    assert settings["box2d-sleep"]["b2_timeToSleep"] == 0.5
+    assert settings["box2d reference"]["iterations"] == 32
+
+
+def test_freezings_own_error_is_apart_from_the_solvers(quick_run):
+    """``freeze_error_max_m`` is the distance from the same engine's sleeping-off run at dt: 0 for
+    that run itself, NaN for the solver rows (no freezing), and bound on both sides by the two
+    errors against the reference (triangle inequality: |e_setting - e_off| <= d <= e_setting +
+    e_off, per body; checked on the largest, which bounds it from above only)."""
+    table, _, _ = quick_run
+    timed = table[table["role"].isin(["baseline", "sweep"])]
+    assert (table.loc[table["role"] == "baseline", "freeze_error_max_m"] == 0.0).all()
+    assert table.loc[table["role"] == "solver", "freeze_error_max_m"].isna().all()
+    assert timed["freeze_error_max_m"].notna().all()
+    for (scene, engine), t in timed.groupby(["scene", "engine"]):
+        off = t[t["role"] == "baseline"].iloc[0]
+        for _, row in t[t["role"] == "sweep"].iterrows():
+            bound = row["pose_error_max_m"] + off["pose_error_max_m"]
+            assert row["freeze_error_max_m"] <= bound * (1 + 1e-9), (scene, row["system"])
+            if row["awake_fraction"] == 1.0 and engine == "sim":  # froze nothing: same run
+                assert row["freeze_error_max_m"] == 0.0, (scene, row["system"], row["value"])
+    # freezing that froze a landing body changes the landing's outcome somewhere
+    landing = timed[(timed["scene"] == "landing(4,1,1)") & (timed["awake_fraction"] < 1.0)]
+    assert (landing["freeze_error_max_m"] > 0).any()
 
 
 def test_timings_and_replays(quick_run):
@@ -301,12 +331,16 @@ def test_analysis_draws_and_quotes(quick_run, monkeypatch, tmp_path):
     svg = tmp_path / "figures" / f"{analysis.NAME}.svg"
     assert svg.exists() and svg.stat().st_size > 20_000
     fronts = pd.read_csv(tmp_path / "generated" / f"{analysis.NAME}.csv")
-    assert set(fronts["measure"]) == {"pose", "penetration"}
+    assert set(fronts["measure"]) == {"freezing", "pose", "penetration"}
     table = pd.read_csv(folder / f"{exp.NAME}.csv")
     swept = {s for s in analysis.FREEZING if s in set(table["system"])}
     assert swept == {s for s in analysis.FREEZING if s.split("-")[0] in exp.ENGINES}
     assert set(fronts["series"]) == swept | set(analysis.SOLVER_SERIES)
     assert set(fronts.loc[fronts["series"].isin(analysis.SOLVER_SERIES), "system"]) == {"sim-off"}
+    # freezing's own panel has no solver series: the solver knobs freeze nothing
+    assert (
+        not fronts.loc[fronts["measure"] == "freezing", "series"].isin(analysis.SOLVER_SERIES).any()
+    )
     for _, front in fronts.groupby(["scene", "measure", "series"]):
         # on a front, more speed costs strictly more error
         assert front["speedup"].is_monotonic_increasing
@@ -319,6 +353,20 @@ def test_analysis_draws_and_quotes(quick_run, monkeypatch, tmp_path):
     for entry in pyramid["systems"].values():
         assert entry["default"]["speedup"] > 0
         assert "best_speedup_matching_baseline" in entry
+    # the two errors apart, per freezing system: its engine's solver's and freezing's own
+    t = pd.read_csv(folder / f"{exp.NAME}.csv")
+    for scene, sn in numbers["scenes"].items():
+        assert set(sn["solver_and_freezing"]) == swept
+        for system, split in sn["solver_and_freezing"].items():
+            rows = t[(t["scene"] == scene) & (t["system"] == system)]
+            engine = rows["engine"].iloc[0]
+            base = t[(t["scene"] == scene) & (t["engine"] == engine) & (t["role"] == "baseline")]
+            assert split["solver_error_max_m"] == pytest.approx(base["pose_error_max_m"].item())
+            default = rows[rows["is_default"].astype(str).str.lower() == "true"].iloc[0]
+            assert split["freeze_error_max_m"] == pytest.approx(default["freeze_error_max_m"])
+            assert split["worst_freeze_error_max_m"] == pytest.approx(
+                rows["freeze_error_max_m"].max()
+            )
     # extended freezes a pyramid placed at rest where it stands: no body ends a micron off
     ext = pyramid["systems"]["sim-extended"]
     assert ext["default"]["pose_error_max_m"] < 1e-6

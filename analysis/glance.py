@@ -75,8 +75,15 @@ def lines():
     out.append(
         f"- **{headline}:** b/a = "
         f"{fmt(ext['b_over_a'], 2)} ± {fmt(ext['b_over_a_stderr'], 1)} under `extended` "
-        f"(at most {fmt(upper, 1)} at two standard errors; pymunk asleep: "
-        f"{fmt(pym['b_over_a'], 2)}); solved under `off` the same resting "
+        f"(at most {fmt(upper, 1)} at two standard errors; asleep, pymunk: "
+        f"{fmt(pym['b_over_a'], 2)} ± {fmt(pym['b_over_a_stderr'], 1)}"
+        + (
+            f", Box2D: {fmt(sc['box2d-sleep']['b_over_a'], 2)} ± "
+            f"{fmt(sc['box2d-sleep']['b_over_a_stderr'], 1)}"
+            if "box2d-sleep" in sc
+            else ""
+        )
+        + f"); solved under `off` the same resting "
         f"body costs {fmt(off['b_over_a'], 2)} awake bodies."
     )
     awake = pyr.get("n_awake", {})

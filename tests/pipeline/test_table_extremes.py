@@ -188,6 +188,15 @@ def test_analysis_outputs(quick_run):
     assert numbers["cells"] + nop["cells"] == len(table)
     assert set(numbers["per_axis"]) == set(T.QUICK["axes"])
     assert set(nop["per_axis"]) == set(axes.PLACED_AXES) & set(T.QUICK["axes"])
+    # the headline the study states reads the fair rows on every placed axis, the rest elsewhere
+    assert set(numbers["breaks_first"]) == set(numbers["per_axis"])
+    for axis, entry in numbers["breaks_first"].items():
+        source = nop["per_axis"] if axis in nop["per_axis"] else numbers["per_axis"]
+        assert entry["protocol"] == (
+            "sim without presolve" if axis in nop["per_axis"] else "as run"
+        )
+        assert entry["breaks_first"] == source[axis]["breaks_first"], axis
+        assert entry["breaks_first_at"] == source[axis]["breaks_first_at"], axis
     # a sim-only axis names nobody as breaking first
     for axis in axes.SIM_ONLY_AXES:
         assert numbers["per_axis"][axis]["breaks_first"] == []
@@ -493,3 +502,36 @@ def test_systems_breaking_together_break_first_nowhere():
     assert per_axis["dt"]["breaks_together_at"] == "1/15 s"
     assert per_axis["plank_flat"]["breaks_first"] == ["pymunk"]
     assert per_axis["plank_flat"]["breaks_together_at"] is None
+
+
+def test_the_headline_takes_placed_axes_from_the_fair_rows():
+    """Where sim's presolve is what keeps it standing, the headline must say sim breaks first:
+    on a placed axis the fair rows (sim without presolve, same peers) decide, elsewhere the
+    systems as run."""
+    values = {"stack_height": [10, 50], "dt": [1 / 60, 1 / 15]}
+    nop = "sim-off" + axes.NO_PRESOLVE
+    table = _cells(
+        [
+            ("stack_height", 10, "sim-off", "stable", ""),
+            ("stack_height", 50, "sim-off", "stable", ""),
+            ("stack_height", 10, nop, "degraded", "d"),
+            ("stack_height", 50, nop, "failed", "outcome collapsed"),
+            ("stack_height", 10, "pymunk", "stable", ""),
+            ("stack_height", 50, "pymunk", "degraded", "d"),
+            ("dt", 1 / 60, "sim-off", "stable", ""),
+            ("dt", 1 / 15, "sim-off", "stable", ""),
+            ("dt", 1 / 60, "pymunk", "stable", ""),
+            ("dt", 1 / 15, "pymunk", "failed", "outcome collapsed"),
+        ]
+    )
+    per_axis, _ = analysis.headline(table, ["sim-off", "pymunk"], values)
+    assert per_axis["stack_height"]["breaks_first"] == ["pymunk"]  # with sim's presolve
+    fair = analysis.no_presolve_numbers(table, ["sim-off", "pymunk"], [nop], values)
+    assert fair["axes"] == ["stack_height"]
+    headline = analysis.fair_headline(per_axis, fair)
+    assert headline["stack_height"]["protocol"] == "sim without presolve"
+    assert headline["stack_height"]["breaks_first"] == [nop]
+    assert headline["stack_height"]["breaks_first_at"] == "10"
+    assert headline["stack_height"]["with_presolve"]["breaks_first"] == ["pymunk"]
+    assert headline["dt"]["protocol"] == "as run"
+    assert headline["dt"]["breaks_first"] == ["pymunk"]

@@ -157,6 +157,32 @@ def test_pareto_front():
     assert list(zip(front["speedup"], front["err"])) == [(0.5, 0.5), (4.0, 1.0)]
 
 
+def test_beyond_front_lists_what_extendeds_front_does_not_dominate():
+    """A point beats the front when no extended setting is at least as fast and at least as
+    accurate (within the tie); a point faster than extended's fastest has nothing to compare
+    with; the baseline and the solver rows are not freezing settings."""
+    rows = pd.DataFrame(
+        [
+            ("sim-extended", "sweep", "p", 1.0, 2.0, 1e-3),
+            ("sim-extended", "sweep", "p", 2.0, 4.0, 1e-2),
+            ("sim-sleep", "sweep", "q", 1.0, 1.5, 2e-3),  # dominated (2.0x at 1e-3)
+            ("sim-sleep", "sweep", "q", 2.0, 3.0, 1e-4),  # more accurate at its speed
+            ("sim-sleep", "sweep", "q", 3.0, 3.9, 1e-2 - 5e-7),  # a tie with 4.0x: dominated
+            ("pymunk-sleep", "sweep", "r", 1.0, 8.0, 0.5),  # faster than any extended setting
+            ("sim-off", "baseline", "none", float("nan"), 1.0, 0.0),
+            ("sim-off", "solver", "substeps", 1.0, 1.2, 0.0),
+        ],
+        columns=["system", "role", "parameter", "value", "speedup", "err"],
+    )
+    out = analysis.beyond_front(rows, "err")
+    assert [(p["system"], p["speedup"]) for p in out] == [("pymunk-sleep", 8.0), ("sim-sleep", 3.0)]
+    assert out[0]["challenger_error_m"] is None
+    assert out[1]["challenger_error_m"] == 1e-2 and out[1]["error_m"] == 1e-4
+    assert (
+        analysis.beyond_front(rows[rows["system"] != "pymunk-sleep"].iloc[[0, 1, 2]], "err") == []
+    )
+
+
 # ---- end to end --------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def quick_run(tmp_path_factory):
@@ -353,6 +379,15 @@ def test_analysis_draws_and_quotes(quick_run, monkeypatch, tmp_path):
     for entry in pyramid["systems"].values():
         assert entry["default"]["speedup"] > 0
         assert "best_speedup_matching_baseline" in entry
+    # what extended's front does not dominate, per measure, with the counts the paper quotes
+    for scene, sn in numbers["scenes"].items():
+        for short, points in sn["beyond_extended_front"].items():
+            counts = sn["beyond_extended_front_counts"][short]
+            assert counts["beyond"] == len(points)
+            assert counts["faster_than_extended"] + counts["more_accurate_at_its_speed"] == len(
+                points
+            )
+            assert all(p["system"] != analysis.CHALLENGER for p in points)
     # the two errors apart, per freezing system: its engine's solver's and freezing's own
     t = pd.read_csv(folder / f"{exp.NAME}.csv")
     for scene, sn in numbers["scenes"].items():

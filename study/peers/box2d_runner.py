@@ -74,10 +74,10 @@ import Box2D
 import numpy as np
 
 from sim.arguments import count, flag, positive
-from sim.geometry import mass_properties
 from sim.scene import Scene
 
 from .limits import LIMITS_WHY, MAX_ITERATIONS
+from .pose import com_pose
 from .pybullet_urdf import inset
 
 #: Box2D's testbed defaults (b2World::Step's velocityIterations, positionIterations).
@@ -100,17 +100,6 @@ BOX2D_SLEEP = {
 }
 #: Relative round-off of a float32, with room for a few operations.
 FLOAT32_TOL = 8 * float(np.finfo(np.float32).eps)
-
-
-def _com_pose(body):
-    """Centre of mass (world, m), vertices about it (K,2) m, mass kg, moment kg m^2."""
-    mass, centroid, inertia = mass_properties(body.vertices, body.density)
-    c, s = math.cos(body.angle), math.sin(body.angle)
-    com = (
-        body.position[0] + c * centroid[0] - s * centroid[1],
-        body.position[1] + s * centroid[0] + c * centroid[1],
-    )
-    return com, np.asarray(body.vertices, dtype=np.float64) - centroid, mass, inertia
 
 
 def _where(kind, i, name):
@@ -304,7 +293,7 @@ class Box2dRunner:
         x_lo, x_hi = math.inf, -math.inf
         for i, b in enumerate(scene.bodies):
             where = _where("body", i, b.name)
-            com, local, mass, inertia = _com_pose(b)
+            com, local, mass, inertia = com_pose(b)
             v0, w0 = math.hypot(*b.velocity), abs(b.angular_velocity)
             if v0 >= self.max_speed or w0 >= self.max_angular_speed:
                 raise ValueError(
@@ -334,7 +323,7 @@ class Box2dRunner:
 
         for j, b in enumerate(scene.static_bodies):
             where = _where("static body", j, b.name)
-            com, local, _, _ = _com_pose(b)
+            com, local, _, _ = com_pose(b)
             body = world.CreateStaticBody(position=com, angle=float(b.angle))
             self._fixture(body, local, b.friction, b.restitution, where)
             body.userData = n + j

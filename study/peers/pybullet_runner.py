@@ -85,10 +85,10 @@ from sim.arguments import count, flag, positive
 from sim.scene import Scene
 
 from .limits import LIMITS_WHY, MAX_ITERATIONS
+from .pose import com_pose
 from .pybullet_urdf import (
     COLLISION_MARGIN,
     HALF_DEPTH,
-    com_pose,
     dynamic_urdf,
     geometry_xml,
     pitch_quaternion,

@@ -19,23 +19,13 @@ from pathlib import Path
 
 import numpy as np
 
-from sim.geometry import mass_properties
+
+from .pose import com_pose
 
 #: Bullet's collision margin for URDF shapes, m; meshes are inset by it.
 COLLISION_MARGIN = 0.001
 #: Half the extrusion depth in y, m.
 HALF_DEPTH = 0.5
-
-
-def com_pose(body):
-    """Centre of mass (world, m), vertices about it (K,2) m, mass kg, moment kg m^2."""
-    mass, centroid, inertia = mass_properties(body.vertices, body.density)
-    c, s = math.cos(body.angle), math.sin(body.angle)
-    com = (
-        body.position[0] + c * centroid[0] - s * centroid[1],
-        body.position[1] + s * centroid[0] + c * centroid[1],
-    )
-    return com, np.asarray(body.vertices, dtype=np.float64) - centroid, mass, inertia
 
 
 def x_extent(scene):

@@ -47,10 +47,11 @@ import pymunk
 from pymunk._chipmunk import lib as _chipmunk  # the C API; pymunk's own pickling uses this call
 
 from sim.arguments import count, flag, positive
-from sim.geometry import MAX_VERTICES, mass_properties
+from sim.geometry import MAX_VERTICES
 from sim.scene import Scene
 
 from .limits import LIMITS_WHY, MAX_ITERATIONS
+from .pose import com_pose
 
 #: First shape id given out by the space: above every vertex index a sim polygon can have.
 SHAPE_ID_START = MAX_VERTICES
@@ -68,17 +69,6 @@ def canonical_vertices(local):
     lowest = np.flatnonzero(v[:, 1] <= v[:, 1].min() + tol)
     start = int(lowest[np.argmax(v[lowest, 0])])
     return np.roll(v, -start, axis=0)
-
-
-def _com_pose(body):
-    """Centre of mass (world, m), local vertices about it (K,2) m, mass kg, moment kg m^2."""
-    mass, centroid, inertia = mass_properties(body.vertices, body.density)
-    c, s = math.cos(body.angle), math.sin(body.angle)
-    com = (
-        body.position[0] + c * centroid[0] - s * centroid[1],
-        body.position[1] + s * centroid[0] + c * centroid[1],
-    )
-    return com, canonical_vertices(body.vertices - centroid), mass, inertia
 
 
 def _poly(pm_body, local):
@@ -143,7 +133,8 @@ class PymunkRunner:
         self._bodies = []
         x_lo, x_hi = math.inf, -math.inf
         for b in scene.bodies:
-            com, local, mass, inertia = _com_pose(b)
+            com, local, mass, inertia = com_pose(b)
+            local = canonical_vertices(local)
             pm = pymunk.Body(mass, inertia)
             pm.position, pm.angle = com, b.angle
             pm.velocity, pm.angular_velocity = b.velocity, b.angular_velocity
@@ -153,7 +144,8 @@ class PymunkRunner:
             x_lo, x_hi = min(x_lo, com[0] - reach), max(x_hi, com[0] + reach)
 
         for b in scene.static_bodies:
-            com, local, _, _ = _com_pose(b)
+            com, local, _, _ = com_pose(b)
+            local = canonical_vertices(local)
             pm = pymunk.Body(body_type=pymunk.Body.STATIC)
             pm.position, pm.angle = com, b.angle
             space.add(pm, self._material(_poly(pm, local), b.friction, b.restitution))

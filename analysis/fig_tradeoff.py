@@ -135,8 +135,8 @@ def beyond_front(rows, column, challenger=CHALLENGER, tie=TIE_M):
     """The freezing settings of ``rows`` (one scene's timed rows) that ``challenger``'s front does
     not dominate in ``column``: no setting of the challenger is at least as fast *and* at least
     as accurate (errors within ``tie`` m count as equal). [] when its front dominates every other
-    system's settings (NaN errors are left out). Each: system, setting, speed-up, error, and the challenger's best error at that
-    speed-up or more (None: the challenger is never that fast)."""
+    system's settings (NaN errors are left out). Each: system, setting, speed-up, error, and the
+    challenger's best error at that speed-up or more (None: the challenger is never that fast)."""
     own = rows[(rows["system"] == challenger) & np.isfinite(rows[column])]
     others = rows[
         rows["system"].isin(FREEZING)

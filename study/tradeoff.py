@@ -278,6 +278,7 @@ COLUMNS = [
 def error_row(
     tag,
     scene,
+    *,
     system,
     engine,
     role,

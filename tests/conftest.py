@@ -24,6 +24,22 @@ def tilted_box(width, height, angle, friction=0.6):
     return sim.Body.box(width, height, position=(0.0, -lowest), angle=angle, friction=friction)
 
 
+def assert_timed_on_engine_alone(runner, steps):
+    """study.timing.timed of a runner that does Python work of its own around its engine's step
+    calls (``engine_seconds``) returns the engine's time, not the call's: equal to what
+    ``engine_seconds`` gained, and under half the whole call, where the runner's work is several
+    times the engine's (the caller picks such a scene)."""
+    import time
+
+    from study.timing import timed
+
+    before, t0 = runner.engine_seconds, time.perf_counter()
+    engine = timed(runner, steps)
+    whole = time.perf_counter() - t0
+    assert engine == pytest.approx(runner.engine_seconds - before)
+    assert 0 < engine < whole / 2, (engine, whole)
+
+
 def run_until(world, seconds):
     world.step(int(round(seconds / world.dt)))
     return world

@@ -13,7 +13,7 @@ import pybullet as pb
 import pytest
 
 import sim
-from conftest import tilted_box
+from conftest import assert_timed_on_engine_alone, tilted_box
 from study.peers import PybulletRunner
 from study.peers.pybullet_runner import restitution_values
 from study.peers.pybullet_urdf import COLLISION_MARGIN, box_size, inset
@@ -382,16 +382,8 @@ def test_benchmarks_time_bullet_not_the_runners_pose_read():
     runner's docstring); that read is the runner's, not Bullet's, so ``engine_seconds`` (what
     study.timing.timed returns) leaves it out: on a sleeping row of 300 boxes one step of Bullet
     costs a fraction of the read."""
-    import time
-
-    from study.timing import timed
-
     runner = PybulletRunner(sim.scenes.rest_row(300), dt=DT, sleeping=True)
     runner.step(150)  # asleep after Bullet's 2 s
     assert runner.asleep.all()
-    before, t0 = runner.engine_seconds, time.perf_counter()
-    engine = timed(runner, 1)
-    whole = time.perf_counter() - t0
-    assert engine == pytest.approx(runner.engine_seconds - before)
-    assert 0 < engine < whole / 2, (engine, whole)
+    assert_timed_on_engine_alone(runner, 1)
     assert runner.asleep.all()  # and the read still tells sleep

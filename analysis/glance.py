@@ -112,6 +112,18 @@ def lines():
         "engines' velocity-based sleeping misses slow tipping, slow sliding and creep, "
         "which `extended`'s certificate of equilibrium does not freeze."
     )
+    out.append(extremes_line(ex))
+    out += ["", "| figure / table | what it shows | make target |", "| --- | --- | --- |"]
+    for name, what in FIGURES:
+        target = "table_extremes" if name == "fig_extremes" else name
+        out.append(f"| `paper/figures/{name}.svg` | {what} | `make {target}` |")
+    return out
+
+
+def extremes_line(ex):
+    """The README's extremes bullet from table_extremes' numbers: failed cells per system, the
+    no-presolve rows, and which system breaks first per axis as the study states it
+    (``breaks_first``: the fair rows on the placed axes), never sim with its presolve there."""
     firsts = [
         f"{axis.replace('_', ' ')}: {', '.join(a['breaks_first'])} (at {a['breaks_first_at']})"
         for axis, a in ex["breaks_first"].items()
@@ -123,7 +135,7 @@ def lines():
         f"{s.removesuffix(np_['suffix'])} {c['failed']} failed / {c['degraded']} degraded"
         for s, c in np_["counts"].items()
     )
-    out.append(
+    return (
         f"- **Extremes** ({ex['cells']} cells; failed per system: {failed}). On the "
         f"{len(np_['axes'])} axes that start placed at rest sim also ran without its initial "
         f"solve of the start pose, which no peer has ({np_['cells']} cells: {fair}); which "
@@ -131,11 +143,6 @@ def lines():
         + "; ".join(firsts)
         + "."
     )
-    out += ["", "| figure / table | what it shows | make target |", "| --- | --- | --- |"]
-    for name, what in FIGURES:
-        target = "table_extremes" if name == "fig_extremes" else name
-        out.append(f"| `paper/figures/{name}.svg` | {what} | `make {target}` |")
-    return out
 
 
 def write(readme=None):

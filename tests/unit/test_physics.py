@@ -317,3 +317,41 @@ def test_fast_paths_are_validated():
         sim.World(sim.scenes.single_box(), fast_paths=["bogus"])
     assert sim.World(sim.scenes.single_box(), fast_paths=False).fast_paths == ()
     assert sim.World(sim.scenes.single_box()).fast_paths == ("friction",)
+
+
+#: m/s, the speed every body of each drop(30) pile still had in the 20th second, sim-off at its
+#: defaults (measured at 9424612, max over that second of the largest |v|); the displacement over
+#: that second was 1.2e-3, 4.7e-3, 5.5e-4, 3.0e-4, 3.4e-4 m. The same piles in pymunk moved at
+#: most 4e-7 m over that second, Box2D 2.3 2e-4 m, pybullet 2e-3 to 8e-3 m.
+PILE_CREEP = {0: 1.75e-2, 1: 1.05e-2, 2: 1.94e-2, 3: 1.65e-2, 4: 1.95e-3}
+
+
+@pytest.mark.parametrize(
+    "seed",
+    [
+        pytest.param(
+            seed,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason=(
+                    f"measured: the pile still moves at {speed:.2g} m/s after 19 s. sim's piles "
+                    "never come to rest: a limit cycle of about 3 Hz (seed 2: body 19, on one "
+                    "support point, drops 12-18 mm/s every 18 steps) and slow slides of contacts "
+                    "at their friction limit (seed 1). Neither the carried load (load_time 0 to "
+                    "1/3 s, or a carried load capped at the impulse) nor damping, iterations, "
+                    "relax sweeps, push speed or stiffness cured all five (issue 11's drift)"
+                ),
+            ),
+        )
+        for seed, speed in PILE_CREEP.items()
+    ],
+)
+def test_a_dropped_pile_comes_to_rest(seed):
+    # Static equilibrium: once a pile of polygons has settled in its bin (30 polygons dropped from
+    # up to ~8 m come to rest within ~3 s in every peer), nothing in it moves. Every body moves
+    # less than 0.1 mm over the 20th second.
+    world = sim.World(sim.scenes.drop(30, seed=seed))
+    world.step(19 * 60)
+    start = world.positions.copy()
+    world.step(60)
+    assert np.hypot(*(world.positions - start).T).max() < 1e-4

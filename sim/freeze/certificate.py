@@ -44,6 +44,19 @@ resting across it and on a neighbour cannot tip, since the box would have to mov
 load's body touches something else too. A box balanced on one corner with another box resting on
 it alone is still balanced on one point.
 
+Groups (``group_holds``). Bodies that each lean on the other are refused one by one: each one's
+support is the other, which may move (a polygon on one floor point leaning on a body that rests
+on it). Frozen one after the other, the first was woken by the second's push the next step, and
+so on every step (drop(30) seed 4: 573 freezes and wakes in 10 s, and the pile never froze
+whole). So the candidates a refused body touches are judged with it as one rigid body: its load
+is the group's weight plus the witness of every contact with a movable body outside it that is
+not a support; its supports are its contacts with the outside; the margins are the same, with
+its largest member's size. Every contact inside the group must stick by the witness (inside its
+shrunk cone): bodies sliding on each other are no rigid body. The witness also balances each
+member (the steadiness gate), so the group is held as a whole and in each part. A group is no
+way around the single point: a box balanced on one corner carrying a plank is, as one body,
+still on one point.
+
 Membership in a cone of K generators in three dimensions is decided exactly, without an LP
 solver: by Caratheodory's theorem, a wrench in the cone of generators that span all three
 dimensions is a non-negative combination of three linearly independent ones, so every
@@ -286,6 +299,108 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
             weights,
         )
     return out
+
+
+@kernel
+def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_active):
+    """Is the group members[:n_members] held at rest as one rigid body? A wedge of bodies each
+    resting on the other (body 10 on one floor point, leaning on body 16 that rests on 10) is
+    refused body by body: each one's support is the other, which may move. As one body it may be
+    held by what lies outside it.
+
+    The test is ``holds``'s, for the union: the load is the group's weight (at its centre of mass)
+    plus the witness of every contact with a movable body outside the group that is not a
+    support; the supports are the group's contacts with the outside that ``_supports`` accepts;
+    the margins are the same, with the group's largest body size and extent. A contact inside the
+    group must hold too: its witness inside the friction cone shrunk by ``friction_margin``
+    (bodies that slide on each other are no rigid body). No bracing. Returns bool."""
+    n_dyn = settings.n_dynamic
+    position, extent, size, inv_mass = (
+        bodies.position,
+        bodies.extent,
+        bodies.size,
+        bodies.inv_mass,
+    )
+    ci = contacts.contact_int
+    cf = contacts.contact_float
+    pf = contacts.point_float
+    g = np.hypot(settings.gravity_x, settings.gravity_y)
+    up_x = -settings.gravity_x / g if g > 0 else 0.0
+    up_y = -settings.gravity_y / g if g > 0 else 1.0
+    dt = settings.dt
+    in_group = np.zeros(n_dyn, np.bool_)
+    mass = 0.0
+    cx = 0.0
+    cy = 0.0
+    length = 0.0
+    width = 0.0
+    for k in range(n_members):
+        i = members[k]
+        in_group[i] = True
+        m = 1.0 / inv_mass[i]
+        mass += m
+        cx += m * position[i, 0]
+        cy += m * position[i, 1]
+        length = max(length, extent[i])
+        width = max(width, size[i])
+    cx /= mass
+    cy /= mass
+    lx = mass * settings.gravity_x * dt
+    ly = mass * settings.gravity_y * dt
+    lm = 0.0
+    cone = np.empty((2 * MAX_SUPPORT_POINTS, 3))
+    weights = np.empty(2 * MAX_SUPPORT_POINTS)
+    n_points = 0
+    for kk in range(n_active):
+        c = contacts.active[kk]
+        a = ci[c, BODY_A]
+        b = ci[c, BODY_B]
+        a_in = 0 <= a < n_dyn and in_group[a]
+        b_in = 0 <= b < n_dyn and in_group[b]
+        if not (a_in or b_in):
+            continue
+        if a_in and b_in:  # inside: it must stick, by the solver's witness
+            limit = (1.0 - settings.friction_margin) * cf[c, FRICTION]
+            for j in range(ci[c, POINT_COUNT]):
+                if pf[c, j, END_SEPARATION] > cf[c, SLOP]:
+                    continue
+                if abs(pf[c, j, TANGENT_IMPULSE]) > limit * pf[c, j, NORMAL_IMPULSE]:
+                    return False
+            continue
+        i = a if a_in else b
+        other = b if a_in else a
+        sign = 1.0 if b == i else -1.0  # the normal points from A to B
+        nx = sign * cf[c, NORMAL_X]  # into the group
+        ny = sign * cf[c, NORMAL_Y]
+        support = _supports(i, other, nx, ny, n_dyn, awake_slot, up_x, up_y)
+        mu = (1.0 - settings.friction_margin) * cf[c, FRICTION]
+        for j in range(ci[c, POINT_COUNT]):
+            if pf[c, j, END_SEPARATION] > cf[c, SLOP]:
+                continue
+            rx = pf[c, j, ANCHOR_BX] + position[b, 0] - cx
+            ry = pf[c, j, ANCHOR_BY] + position[b, 1] - cy
+            if not support:
+                pn = pf[c, j, NORMAL_IMPULSE]
+                pt = pf[c, j, TANGENT_IMPULSE]
+                px = sign * (pn * cf[c, NORMAL_X] + pt * cf[c, NORMAL_Y])
+                py = sign * (pn * cf[c, NORMAL_Y] - pt * cf[c, NORMAL_X])
+                lx += px
+                ly += py
+                lm += rx * py - ry * px
+                continue
+            if n_points == MAX_SUPPORT_POINTS:
+                return False  # too many to try: not certified (stays awake)
+            _edges(cone, n_points, nx, ny, rx, ry, mu, length)
+            n_points += 1
+    return _margin(
+        cone,
+        n_points,
+        -lx,
+        -ly,
+        -lm / length,
+        settings.tip_margin * width * np.hypot(lx, ly) / length,
+        weights,
+    )
 
 
 @inline_kernel

@@ -18,7 +18,9 @@ step it passes, with no timer (``rest_steps`` = 1):
      times its load either way (the centre of pressure inside the support by that margin). A
      body on a single point (a corner, an apex) is never certified; a box on a ramp its friction
      cannot hold is not, however slowly it creeps; a plank whose centre of mass overhangs its
-     support is not;
+     support is not. A body refused alone may still be certified with the candidates it touches,
+     as one rigid body held by what lies outside it (``extended_rest.wedges``): two bodies that
+     each lean on the other are refused one by one, since each one's support may move;
   6. whole groups only: no body it touches is awake and failing 1-4 (iterated to a fixed point).
      An awake body that is still moving keeps its neighbours awake, so nothing freezes against
      something that pushes it. A body that is still but not certified (on a point, at its
@@ -102,7 +104,7 @@ from .extended_layout import (
     impulse_on,
     is_movable,
 )
-from .extended_rest import DEEP, SLIDING, unsettled, whole_groups
+from .extended_rest import DEEP, SLIDING, unsettled, wedges, whole_groups
 from .extended_wake import (
     add_load,
     drop_links_of_awake,
@@ -346,6 +348,9 @@ def after_solve(settings, counters, bodies, contacts, activity):
         candidates, n_candidates, awake_slot, settings, bodies, contacts, count
     )
     counters[N_CERTIFICATES] += n_candidates
+    counters[N_CERTIFICATES] += wedges(
+        candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, contacts, count
+    )
     for k in range(n_candidates):
         if not held[k]:
             body_int[candidates[k], MARK] = 2

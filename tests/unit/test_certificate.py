@@ -178,18 +178,57 @@ def test_a_plank_leaning_on_a_wall_freezes_within_three_steps():
     """A 0.4 x 2 m plank leans 20 degrees onto a static wall, one corner on the floor and one on
     the wall: two single points in different directions hold it (friction 0.8 is more than the
     0.18 it needs at the floor)."""
-    w, h, tilt = 0.4, 2.0, math.radians(20.0)
-    c, s = math.cos(-tilt), math.sin(-tilt)  # top leans right, onto the wall
-    corners = np.array([(-w / 2, -h / 2), (w / 2, -h / 2), (w / 2, h / 2), (-w / 2, h / 2)])
-    world_corners = corners @ np.array([[c, s], [-s, c]])
-    # lowest corner on the floor, rightmost corner on the wall's face at x = 0
-    centre = (-world_corners[:, 0].max(), -world_corners[:, 1].min())
-    plank = sim.Body.box(w, h, angle=-tilt, friction=0.8, position=centre)
+    plank, centre = _plank_leaning_on()
     wall = sim.Body.box(0.5, 4.0, position=(0.25, 2.0), name="wall", friction=0.8)
     scene = sim.Scene(bodies=[plank], static_bodies=[wall], floor_friction=0.8)
     world = sim.World(scene, freeze="extended").step(3)
     assert world.frozen[0]
     np.testing.assert_allclose(world.positions[0], centre, atol=1e-3)  # it leans, held
+
+
+def _plank_leaning_on():
+    """A 0.4 x 2 m plank leaning 20 degrees onto a body whose left face is at x = 0,
+    one corner on the floor and one on that face. Returns (plank, centre)."""
+    w, h, tilt = 0.4, 2.0, math.radians(20.0)
+    c, s = math.cos(-tilt), math.sin(-tilt)  # top leans right, onto the partner
+    corners = np.array([(-w / 2, -h / 2), (w / 2, -h / 2), (w / 2, h / 2), (-w / 2, h / 2)])
+    world_corners = corners @ np.array([[c, s], [-s, c]])
+    # lowest corner on the floor, rightmost corner on the partner's face at x = 0
+    centre = (-world_corners[:, 0].max(), -world_corners[:, 1].min())
+    return sim.Body.box(w, h, angle=-tilt, friction=0.8, position=centre), centre
+
+
+def test_a_plank_leaning_on_a_box_freezes_with_it_in_the_first_step():
+    """The plank stands on one floor point and leans on a 0.5 x 4 m box that can move: alone it
+    is refused (its second support may move), the box is certified. As one body the pair stands
+    on three floor points, and both freeze in the step they are certified (before groups the
+    plank froze a step after the box, once the box was frozen under it)."""
+    plank, centre = _plank_leaning_on()
+    box = sim.Body.box(0.5, 4.0, position=(0.25, 2.0), friction=0.8)
+    scene = sim.Scene(bodies=[plank, box], floor_friction=0.8)
+    world = sim.World(scene, freeze="extended").step(1)
+    assert world.frozen.all()
+    world.step(60)
+    assert world.frozen.all() and not [e for e in world.events if e[0] > 1]
+    np.testing.assert_allclose(world.positions[0], centre, atol=1e-3)  # it leans, held
+
+
+@pytest.mark.parametrize("tilt", [1e-3, 1e-6])
+def test_a_box_on_one_corner_carrying_a_plank_is_never_frozen_upright(tilt):
+    """A group is no way around the single point: a box balanced on one corner with a plank
+    balanced on its top corner stands, as one body, on one point, and must fall as off has it."""
+    angle = math.pi / 4 + tilt
+    lowest = -0.5 * math.sin(angle) - 0.5 * math.cos(angle)
+    x_corner = -0.5 * math.cos(angle) + 0.5 * math.sin(angle)
+    box = sim.Body.box(1, 1, position=(-x_corner, -lowest), angle=angle, friction=0.6)
+    top = box.position[1] + 0.5 * math.sin(angle) + 0.5 * math.cos(angle)
+    x_top = box.position[0] + 0.5 * math.cos(angle) - 0.5 * math.sin(angle)
+    plank = sim.Body.box(1.0, 0.1, position=(x_top, top + 0.05), friction=0.6)
+    world = sim.World(sim.Scene(bodies=[box, plank]), freeze="extended")
+    for _ in range(6 * 60):
+        world.step()
+        if world.frozen[0]:
+            assert abs(world.angles[0] - math.pi / 4) > 0.3, "frozen balanced on a corner"
 
 
 def test_certificates_are_counted():

@@ -95,15 +95,7 @@ def lines():
         f"{ttr['sim-paper']['n_never']} of {len(ttr['scenes'])} scenes of "
         f"`fig_time_to_rest`."
     )
-    rr = next(s for s in ttr["scenes"] if s.startswith("rest_row"))
-    out.append(
-        f"- **Time to rest** ({rr}, steps of 1/{round(1 / ttr['dt'])} s): "
-        + ", ".join(
-            f"{s} {ttr[s]['steps'][rr]}"
-            for s in ("sim-paper", "sim-extended", "sim-sleep", "pymunk-sleep", "pybullet-sleep")
-        )
-        + "."
-    )
+    out.append(time_to_rest_line(ttr))
     out.append(
         f"- **Where freezing goes wrong** ({tf['n_scenarios']} scenarios; outcomes changed "
         "by freezing): "
@@ -118,6 +110,42 @@ def lines():
         target = "table_extremes" if name == "fig_extremes" else name
         out.append(f"| `paper/figures/{name}.svg` | {what} | `make {target}` |")
     return out
+
+
+#: the systems the time-to-rest bullet names, in its order
+TTR_SYSTEMS = (
+    "sim-paper",
+    "sim-extended",
+    "sim-sleep",
+    "pymunk-sleep",
+    "pybullet-sleep",
+    "box2d-sleep",
+)
+
+
+def time_to_rest_line(ttr):
+    """The time-to-rest bullet from fig_time_to_rest's numbers: a row placed at rest (where a
+    timer is all that separates the systems), the piles dropped into a bin (median over the
+    seeds, or how many never froze), and what extended's certificate costs."""
+    rr = next(s for s in ttr["scenes"] if s.startswith("rest_row"))
+    piles = [s for s in ttr["scenes"] if s.startswith("drop")]
+
+    def pile(system):
+        never = sum(1 for s in piles if s in ttr[system]["never"])
+        median = ttr[system]["family_median_steps"].get("drop")
+        return f"({never} of {len(piles)} never froze)" if median is None else f"{median:g}"
+
+    cert = ttr["certificate"]
+    return (
+        f"- **Time to rest** (steps of 1/{round(1 / ttr['dt'])} s). Placed at rest ({rr}): "
+        + ", ".join(f"{s} {ttr[s]['steps'][rr]}" for s in TTR_SYSTEMS if s in ttr)
+        + f". Piles dropped into a bin ({piles[0].split(',')[0]})), median over {len(piles)} "
+        "seeds: "
+        + ", ".join(f"{s} {pile(s)}" for s in TTR_SYSTEMS if s in ttr)
+        + ". `extended`'s certificate of rest costs "
+        f"{fmt(cert['median_us_per_certificate'], 2)} µs per certificate (median over the "
+        f"scenes; at most {fmt(cert['max_us_per_certificate'], 2)} µs)."
+    )
 
 
 def extremes_line(ex):

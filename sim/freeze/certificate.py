@@ -181,6 +181,28 @@ def _combination(gens, n_gens, tx, ty, tm, weights):
 
 
 @inline_kernel
+def _up(settings):
+    """The unit vector against gravity (straight up without gravity)."""
+    g = np.hypot(settings.gravity_x, settings.gravity_y)
+    if g > 0:
+        return -settings.gravity_x / g, -settings.gravity_y / g
+    return 0.0, 1.0
+
+
+@inline_kernel
+def _witness(c, j, sign, contacts):
+    """(px, py) N s: the solver's impulse at point j of contact c on body B (sign 1) or A (-1):
+    pn n + pt (ny, -nx) on B (the solver's tangent), minus that on A."""
+    cf = contacts.contact_float
+    pn = contacts.point_float[c, j, NORMAL_IMPULSE]
+    pt = contacts.point_float[c, j, TANGENT_IMPULSE]
+    return (
+        sign * (pn * cf[c, NORMAL_X] + pt * cf[c, NORMAL_Y]),
+        sign * (pn * cf[c, NORMAL_Y] - pt * cf[c, NORMAL_X]),
+    )
+
+
+@inline_kernel
 def _supports(i, other, nx, ny, n_dyn, awake_slot, up_x, up_y):
     """Does a contact whose normal into body i is (nx, ny) support i: its partner cannot move
     (floor -1, static, frozen), or i rests on it (the normal points up)?"""
@@ -203,9 +225,7 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
     ci = contacts.contact_int
     cf = contacts.contact_float
     pf = contacts.point_float
-    g = np.hypot(settings.gravity_x, settings.gravity_y)
-    up_x = -settings.gravity_x / g if g > 0 else 0.0
-    up_y = -settings.gravity_y / g if g > 0 else 1.0
+    up_x, up_y = _up(settings)
     dt = settings.dt
     # each candidate's contacts, in compressed rows: entries row[k]..row[k+1]-1 of ``entry``
     # hold positions in contacts.active
@@ -266,11 +286,7 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
                 rx = pf[c, j, ANCHOR_BX] + position[b, 0] - position[i, 0]
                 ry = pf[c, j, ANCHOR_BY] + position[b, 1] - position[i, 1]
                 if not support:  # ... plus every load, at its witness
-                    pn = pf[c, j, NORMAL_IMPULSE]
-                    pt = pf[c, j, TANGENT_IMPULSE]
-                    # on B: pn n + pt (ny, -nx) (the solver's tangent); on A minus that
-                    px = sign * (pn * cf[c, NORMAL_X] + pt * cf[c, NORMAL_Y])
-                    py = sign * (pn * cf[c, NORMAL_Y] - pt * cf[c, NORMAL_X])
+                    px, py = _witness(c, j, sign, contacts)
                     lx += px
                     ly += py
                     lm += rx * py - ry * px
@@ -324,9 +340,7 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
     ci = contacts.contact_int
     cf = contacts.contact_float
     pf = contacts.point_float
-    g = np.hypot(settings.gravity_x, settings.gravity_y)
-    up_x = -settings.gravity_x / g if g > 0 else 0.0
-    up_y = -settings.gravity_y / g if g > 0 else 1.0
+    up_x, up_y = _up(settings)
     dt = settings.dt
     in_group = np.zeros(n_dyn, np.bool_)
     mass = 0.0
@@ -380,10 +394,7 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
             rx = pf[c, j, ANCHOR_BX] + position[b, 0] - cx
             ry = pf[c, j, ANCHOR_BY] + position[b, 1] - cy
             if not support:
-                pn = pf[c, j, NORMAL_IMPULSE]
-                pt = pf[c, j, TANGENT_IMPULSE]
-                px = sign * (pn * cf[c, NORMAL_X] + pt * cf[c, NORMAL_Y])
-                py = sign * (pn * cf[c, NORMAL_Y] - pt * cf[c, NORMAL_X])
+                px, py = _witness(c, j, sign, contacts)
                 lx += px
                 ly += py
                 lm += rx * py - ry * px

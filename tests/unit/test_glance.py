@@ -1,6 +1,6 @@
 """The README's results bullets say what the numbers say, in the study's protocol."""
 
-from analysis.glance import extremes_line
+from analysis.glance import extremes_line, time_to_rest_line
 
 
 def _extremes(per_axis, fair):
@@ -36,3 +36,34 @@ def test_the_extremes_bullet_quotes_the_fair_headline():
     assert "failed per system: sim-off 0, pymunk 1" in line
     assert "On the 1 axes that start placed at rest" in line
     assert "sim-off 1 failed / 0 degraded" in line
+
+
+def _system(steps, never=()):
+    drops = [v for k, v in steps.items() if k.startswith("drop")]
+    return {
+        "steps": steps,
+        "never": list(never),
+        "family_median_steps": {
+            "drop": None if never else sorted(drops)[len(drops) // 2],
+        },
+    }
+
+
+def test_the_time_to_rest_bullet_quotes_the_piles_and_the_certificate_cost():
+    """Placed at rest every certificate is one step and every timer its length: the bullet must
+    also say how the systems do on piles that fall and settle (median over the seeds, or how many
+    never froze) and what the certificate costs."""
+    scenes = ["rest_row(50)", "drop(30,seed=0)", "drop(30,seed=1)", "drop(30,seed=2)"]
+    ttr = {
+        "dt": 1 / 60,
+        "scenes": scenes,
+        "sim-extended": _system(dict(zip(scenes, [1, 120, 140, 400]))),
+        "sim-sleep": _system(dict(zip(scenes, [31, 190, None, 150])), never=["drop(30,seed=1)"]),
+        "certificate": {"median_us_per_certificate": 3.51, "max_us_per_certificate": 9.46},
+    }
+    line = time_to_rest_line(ttr)
+    assert "Placed at rest (rest_row(50)): sim-extended 1, sim-sleep 31." in line
+    assert (
+        "(drop(30)), median over 3 seeds: sim-extended 140, sim-sleep (1 of 3 never froze)" in line
+    )
+    assert "3.5 µs per certificate" in line and "at most 9.5 µs" in line

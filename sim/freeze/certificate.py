@@ -52,10 +52,12 @@ whole). So the candidates a refused body touches are judged with it as one rigid
 is the group's weight plus the witness of every contact with a movable body outside it that is
 not a support; its supports are its contacts with the outside; the margins are the same, with
 its largest member's size. Every contact inside the group must stick by the witness (inside its
-shrunk cone): bodies sliding on each other are no rigid body. The witness also balances each
-member (the steadiness gate), so the group is held as a whole and in each part. A group is no
-way around the single point: a box balanced on one corner carrying a plank is, as one body,
-still on one point.
+shrunk cone): bodies sliding on each other are no rigid body. And each member refused alone
+must be held (``holds``) with the other members taken as immovable supports: the union can be
+held while a part of it turns on an edge inside it (a plank 2 mm past a box's edge, tipping too
+slowly for the steadiness gate, was frozen with the box as one body before this second test). A
+group is no way around the single point: a box balanced on one corner carrying a plank is, as
+one body, still on one point. (``extended_rest.wedges`` forms the groups and runs both tests.)
 
 Membership in a cone of K generators in three dimensions is decided exactly, without an LP
 solver: by Caratheodory's theorem, a wrench in the cone of generators that span all three

@@ -19,8 +19,9 @@ step it passes, with no timer (``rest_steps`` = 1):
      body on a single point (a corner, an apex) is never certified; a box on a ramp its friction
      cannot hold is not, however slowly it creeps; a plank whose centre of mass overhangs its
      support is not. A body refused alone may still be certified with the candidates it touches,
-     as one rigid body held by what lies outside it (``extended_rest.wedges``): two bodies that
-     each lean on the other are refused one by one, since each one's support may move;
+     as one rigid body held by what lies outside it, each refused member held with the others
+     taken as immovable (``extended_rest.wedges``): two bodies that each lean on the other are
+     refused one by one, since each one's support may move;
   6. whole groups only: no body it touches is awake and failing 1-4 (iterated to a fixed point).
      An awake body that is still moving keeps its neighbours awake, so nothing freezes against
      something that pushes it. A body that is still but not certified (on a point, at its

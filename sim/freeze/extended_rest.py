@@ -129,10 +129,13 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
     are refused one by one, since each one's support is the other, which may move; frozen one
     after the other, each froze and was woken by the other's push the next step, every step
     (drop(30) seed 4: 573 freezes and wakes in 10 s). Each refused candidate joins the candidates
-    it touches into a group (connected through touching contacts with a refused member), and a
-    group that ``certificate.group_holds`` certifies is certified whole: held[k] True for all of
-    its members. A body balanced on one corner with a box on top is still refused: as one body
-    the pair stands on one point. Returns the number of group certificates tried."""
+    it touches into a group (connected through touching contacts with a refused member). A group
+    is certified whole (held[k] True for all of its members) when ``certificate.group_holds``
+    holds it as one rigid body *and* each refused member is held (``certificate.holds``) with the
+    other members taken as immovable supports. A body balanced on one corner carrying a plank is
+    still refused (as one body the pair stands on one point), and so is a plank tipping slowly
+    off a box's edge (the box holds it on one point). Returns the number of group certificates
+    tried."""
     ci = contacts.contact_int
     row_of = np.full(n_dyn, -1, np.int64)
     parent = np.arange(n_candidates)
@@ -159,6 +162,8 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
         if ra != rb:
             parent[ra] = rb
     members = np.empty(n_candidates, np.int64)
+    refused_members = np.empty(n_candidates, np.int64)
+    saved = np.empty(n_dyn, np.int64)
     tried = 0
     for r in range(n_candidates):
         if _root(parent, r) != r:
@@ -173,9 +178,29 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
         if n_members < 2 or not refused:
             continue
         tried += 1
-        if certificate.group_holds(
+        if not certificate.group_holds(
             members, n_members, awake_slot, settings, bodies, contacts, count
         ):
+            continue
+        # Each refused member must also be held with the rest of its group taken as immovable:
+        # the union can be held while a part of it turns on an edge inside it (a plank tipping
+        # slowly off the box it lies on, 2 mm past the edge, was frozen as one body with the
+        # box). awake_slot is marked -1 (frozen) for the members, and restored after.
+        n_refused = 0
+        for k in range(n_candidates):
+            if _root(parent, k) == r:
+                saved[candidates[k]] = awake_slot[candidates[k]]
+                awake_slot[candidates[k]] = -1
+                if not held[k]:
+                    refused_members[n_refused] = candidates[k]
+                    n_refused += 1
+        parts = certificate.holds(
+            refused_members, n_refused, awake_slot, settings, bodies, contacts, count
+        )
+        for k in range(n_candidates):
+            if _root(parent, k) == r:
+                awake_slot[candidates[k]] = saved[candidates[k]]
+        if parts[:n_refused].all():
             for k in range(n_candidates):
                 if _root(parent, k) == r:
                     held[k] = True

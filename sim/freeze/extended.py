@@ -43,7 +43,9 @@ bodies touch (so resting bodies cost nothing otherwise):
   - impact: an awake body's contact pushes with a normal impulse above ``impulse_threshold`` (N s);
   - push: the frozen body's load plus this step's impulses from awake bodies would need more
     friction than mu_s provides at its supports (a horizontal push), or would lift it off its
-    supports;
+    supports. An awake body's impulse that holds the frozen body up (a support's reaction: a
+    still, uncertified body under it) is not a push: the support summary already supplies it;
+    an awake body that lifts it approaches it, and is judged before the solve;
   - tipping: the resultant's line of action leaves the support extent [lo, hi] (the centre of
     pressure leaves the base, as when a weight lands on the overhanging end of a plank);
   - support removed or moved: when any body wakes, everything it supports wakes in the same step,
@@ -104,6 +106,7 @@ from .extended_layout import (
     TOUCHED,
     impulse_on,
     is_movable,
+    is_support,
 )
 from .extended_rest import DEEP, SLIDING, unsettled, wedges, whole_groups
 from .extended_wake import (
@@ -250,6 +253,13 @@ def after_solve(settings, counters, bodies, contacts, activity):
             n_touched = touch(frozen_body, touched, n_touched, body_real, body_int)
             for j in range(ci[c, POINT_COUNT]):
                 px, py = impulse_on(frozen_body, c, j, contacts)
+                if is_support(px, py, up_x, up_y):
+                    # an awake body under the frozen one holds it up: a support's reaction, which
+                    # the support summary already supplies, not a load on it. Counted, the weight
+                    # it carries cancelled the body's own, and the body woke as lifted off its
+                    # supports (drop(30) seed 4: 92 of 270 wakes, a still support under it). An
+                    # awake body that lifts it approaches it: judged before the solve.
+                    continue
                 body_real[frozen_body, PUSH_X] += px
                 body_real[frozen_body, PUSH_Y] += py
                 # the anchor relative to B's centre; A's anchor is the same world point
@@ -377,7 +387,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
             onto_frozen = 0 <= other < n_dyn and awake_slot[other] < 0
             for j in range(ci[c, POINT_COUNT]):
                 px, py = impulse_on(i, c, j, contacts)
-                if px * up_x + py * up_y > 0.1 * np.hypot(px, py):  # a support
+                if is_support(px, py, up_x, up_y):
                     sx += px
                     sy += py
                     if onto_frozen:
@@ -437,7 +447,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
             ty = body_real[i, SUPPORT_NX]
             for j in range(ci[c, POINT_COUNT]):
                 px, py = impulse_on(i, c, j, contacts)
-                if px * up_x + py * up_y > 0.1 * np.hypot(px, py):
+                if is_support(px, py, up_x, up_y):
                     wx = pf[c, j, ANCHOR_BX] + position[b, 0]
                     wy = pf[c, j, ANCHOR_BY] + position[b, 1]
                     s = wx * tx + wy * ty

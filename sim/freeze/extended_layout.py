@@ -58,6 +58,18 @@ def impulse_on(body, c, j, contacts):
     return -px, -py
 
 
+#: an impulse on a body is a *support* when its component against gravity exceeds this fraction
+#: of its size (a contact from below or a slope); anything else is a *load* (a weight from above,
+#: a push from the side)
+SUPPORT_FRACTION = 0.1
+
+
+@inline_kernel
+def is_support(px, py, up_x, up_y):
+    """Is the impulse (px, py) on a body a support (it holds the body up), not a load?"""
+    return px * up_x + py * up_y > SUPPORT_FRACTION * np.hypot(px, py)
+
+
 @inline_kernel
 def is_movable(i, n_dyn, awake_slot):
     """An awake dynamic body (floor -1, static and frozen bodies are not)."""

@@ -8,8 +8,6 @@ consistent, and both hooks call them (``before_solve`` on the estimated pushes,
 ``after_solve`` on the solved impulses); the rest test is ``extended_rest.py``.
 """
 
-import numpy as np
-
 from ..activity import CAUSE, record, wake
 from ..data import ANCHOR_BX, ANCHOR_BY, BODY_B, N_LINKS, POINT_COUNT
 from ..jit import inline_kernel, kernel
@@ -30,6 +28,7 @@ from .extended_layout import (
     SUPPORT_NX,
     SUPPORT_NY,
     TOUCHED,
+    is_support,
     impulse_on,
 )
 
@@ -176,7 +175,7 @@ def push_on_support(i, support, c, contacts, position, up_x, up_y):
     m = 0.0
     for j in range(contacts.contact_int[c, POINT_COUNT]):
         px, py = impulse_on(i, c, j, contacts)
-        if px * up_x + py * up_y > 0.1 * np.hypot(px, py):
+        if is_support(px, py, up_x, up_y):
             wx = contacts.point_float[c, j, ANCHOR_BX] + position[b, 0]
             wy = contacts.point_float[c, j, ANCHOR_BY] + position[b, 1]
             fx -= px

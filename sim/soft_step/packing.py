@@ -26,7 +26,6 @@ from ..data import (
     POINT_COUNT,
     RESTITUTION,
     SEPARATION,
-    SLOP,
     TANGENT_IMPULSE,
     WARM_NORMAL,
     WARM_TANGENT,
@@ -34,7 +33,6 @@ from ..data import (
 from ..jit import inline_kernel, lean_kernel
 from .bodies import row_of
 from .layout import (
-    BAND,
     BASE1,
     BIAS_RATE,
     E,
@@ -68,14 +66,14 @@ from .layout import (
     TT1,
     U64,
 )
-from .parameters import BAND_FRACTION, HARD_RATIO, pair_hertz, softness
+from .parameters import HARD_RATIO, pair_hertz, softness
 
 
 @lean_kernel
 def prepare(settings, counters, bodies, contacts, activity, solver):
     """Fill every lane of every batch from its contact: body rows, masses, anchors, softness,
-    the dead band, effective masses, the separation at the start of the step, the relative normal
-    velocity (restitution) and the warm-start impulses. Empty lanes are all zero: no effect."""
+    effective masses, the separation at the start of the step, the relative normal velocity
+    (restitution) and the warm-start impulses. Empty lanes are all zero: no effect."""
     n_dyn = settings.n_dynamic
     h = settings.dt / settings.substeps
     g = np.hypot(settings.gravity_x, settings.gravity_y)
@@ -172,7 +170,6 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
             wide[o + BIAS_RATE + l] = bias_rate
             wide[o + MASS_SCALE + l] = mass_scale
             wide[o + IMPULSE_SCALE + l] = impulse_scale
-            wide[o + BAND + l] = BAND_FRACTION * cf[s, SLOP]
     if settings.mixed_masses:
         counters[N_HARD] = _mark_hard(counters[N_BATCHES], wide, solver)
     else:  # no contact can be hard (validation.mixed_masses)

@@ -50,22 +50,6 @@ HARD_SWEEPS = 2
 IMPACT_SPEED = 10.0
 #: Restitution sweeps after the substeps (see ``restitution``).
 RESTITUTION_SWEEPS = 4
-#: The soft contact's dead band, as a fraction of the pair's slop (the slop itself: 5 mm between
-#: 1 m bodies, 0.5% of the smaller body's size below that): an overlap within the band is left as
-#: it is, and one beyond it is pushed out only to the band (``batches._bias``), as pymunk and Box2D
-#: 2.x leave their slop in their position correction. Inside the band the biased solve holds the
-#: point with a rigid non-penetration row, no push and no softness.
-#: Why: pushed out to exactly zero, a resting point never rests. Each substep the soft row lets it
-#: sink a little and the bias pushes it back, a push along the contact normal with no friction in
-#: the biased solve; in a pile, where normals lean, each push moves a body a little sideways, and it
-#: ratchets. The drop(30) piles (seeds 0-4) still moved 1.2, 5.2, 0.55, 0.29 and 0.42 mm in their
-#: 20th second (bodies at up to 18 mm/s); with this band, 0.5, 0.017, 0.06, 2e-7 and 2e-4 mm.
-#: Measured as well: a soft band (push-out to the band, the row still soft inside it) at 0.5 slop:
-#: 2.3, 1.7, 0.3, 0.01, 0.04 mm; at 1 slop: 1e-4, 0.12, 0.94, 0.35, 0.07 mm; the rigid band at 0.5
-#: slop: 0.59, 0.018, 5e-5, 0.076, 0.0045 mm. What is left (seed 0) is Gauss-Seidel short of
-#: convergence at a friction limit: with 2 iterations or 2 relax sweeps the same pile stops (1.2e-3
-#: and 5.1e-3 mm).
-BAND_FRACTION = 1.0
 
 
 @inline_kernel

@@ -491,34 +491,11 @@ def test_extended_does_not_wake_a_body_for_what_holds_it_up():
     assert not spurious, f"{len(spurious)} wakes by a still support, first {spurious[:3]}"
 
 
-@pytest.mark.parametrize(
-    "seed",
-    [
-        pytest.param(
-            0,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason=(
-                    "measured: body 27 is at rest (1e-18 m/s at 25 s) on one vertex between bodies "
-                    "14 and 20, its centre of mass 5 mm beside that vertex, and a third "
-                    "point carrying 1% of its weight; an extra moment of tip_margin (0.02) x size "
-                    "against it tips it off the vertex, so it is never certified (with tip_margin "
-                    "0.005 it freezes at step 369). Before the contact's dead band the pile crept "
-                    "and froze whole at step 242"
-                ),
-            ),
-        ),
-        1,
-        2,
-        3,
-        4,
-    ],
-)
+@pytest.mark.parametrize("seed", range(5))
 def test_extended_freezes_a_settled_pile_whole(seed):
     # 30 polygons dropped into a bin settle within ~3 s in every peer (pymunk-sleep freezes them
     # in 118-186 steps); a rest test that certifies equilibrium must get all of them within 30 s.
-    # Measured: never, 230, 165, 279 and 217 steps (the first step with every body frozen;
-    # before the contact's dead band, when the piles crept: 242, 184, 444, 142 and 439). Before
+    # Measured: 242, 184, 444, 142 and 439 steps (the first step with every body frozen). Before
     # wedges were certified as groups (extended_rest.wedges), seed 4 never froze: its bodies 10
     # and 21, still at 1e-15 m/s, were refused one by one (each leans on a body that rests on
     # it), and the bodies under them froze and woke every step (573 times in 10 s). On 6f423e6

@@ -71,12 +71,13 @@ collision_slop 0.005 m (study.common). Every run's full
 settings (``runner.settings``) are in the metadata's ``system_settings``.
 
 Reference per engine: the same engine with sleeping off at dt / ``fine`` (fine = 8: dt 1/480 s,
-2400 steps) *and* ``reference_iterations`` (sim 16 biased sweeps per substep at its default 4
-substeps; pymunk 40, pybullet 200 and Box2D 32 velocity iterations per step: 4x their defaults;
-Box2D's 3 position iterations stay). A fine dt alone is not a
-reference for sim since solver v2: on the landing, sim-off at dt/8 with 1 sweep per substep ends
-2.6 cm from the converged pose, farther than sim-off at dt with 4 sweeps (5 mm); with 16 sweeps
-per substep, dt/8 and dt/16 (8 substeps, 16 sweeps) agree to 0.09 mm (measured, full size). The
+2400 steps) *and* ``reference_iterations`` (sim 16 biased and ``reference_relax_iterations`` 64
+relax sweeps per substep at its default 4 substeps; pymunk 40, pybullet 200 and Box2D 32 velocity
+iterations per step: 4x their defaults; Box2D's 3 position iterations stay). A fine dt alone is
+not a reference for sim: its landing converges with sweeps, not with the step, and its friction is
+solved only in the relax sweeps (measured on the full landing at 238f82e, at dt/8 with 16 biased
+sweeps: 4 relax sweeps instead of 1 moved boxes by up to 9.6 mm, 32 biased sweeps instead of 16 by
+1.4 mm, dt/16 by 1.7 mm; see ``reference_settings`` for the relax sweeps' convergence). The
 peers' references were iteration-bound too, less so: pymunk at dt/8 with 10 iterations moved
 boxes 5.8 mm sideways (0.02 mm with 40), pybullet at dt/8 with 50 by 0.6 mm (0.001 mm with 200).
 Its own resolution is measured too: the same engine at dt / (fine / 2) with half the reference
@@ -247,6 +248,7 @@ FULL = {
     # the references' iterations (sim: biased sweeps per substep; the peers: per step); the
     # resolution runs use half (see the docstring for the convergence measured)
     "reference_iterations": {"sim": 16, "pymunk": 40, "pybullet": 200, "box2d": 32},
+    "reference_relax_iterations": 64,  # sim's relax sweeps per substep (see reference_settings)
     "every_other_grid_point": False,
     "repeats": {"sim": 15, "pymunk": 15, "pybullet": 5, "box2d": 15},
 }
@@ -255,6 +257,7 @@ QUICK = {
     "duration_s": 2.5,
     "fine": 4,
     "reference_iterations": {"sim": 16, "pymunk": 40, "pybullet": 200, "box2d": 32},
+    "reference_relax_iterations": 64,  # sim's relax sweeps per substep (see reference_settings)
     "every_other_grid_point": True,  # k = -2, 0, 2 only
     "repeats": {"sim": 3, "pymunk": 3, "pybullet": 3, "box2d": 3},
 }
@@ -290,9 +293,21 @@ def settings_of(config):
 
 def reference_settings(engine, config, role):
     """The runner settings of ``engine``'s reference ("reference") or of the run that measures its
-    resolution ("resolution": half the iterations)."""
+    resolution ("resolution": half the iterations).
+
+    sim's reference converges its relax sweeps (``reference_relax_iterations``) as well as its
+    biased ones: friction is solved only in the relax sweeps, and with one per substep the
+    reference was not converged. Measured on the full landing at dt/8 (238f82e): with 16 biased
+    sweeps, 4 relax sweeps instead of 1 moved boxes by up to 9.6 mm; against 64 biased and 64
+    relax sweeps, 16 and 64 is 0.35 mm off, 64 and 16 4.4 mm, 16 and 16 4.5 mm, 32 and 32
+    0.75 mm: the relax sweeps are what converges it."""
     iterations = int(config["reference_iterations"][engine])
-    return {"iterations": iterations if role == "reference" else max(1, iterations // 2)}
+    half = role != "reference"
+    n = max(1, iterations // 2) if half else iterations
+    if engine == "sim":
+        relax = int(config["reference_relax_iterations"])
+        return {"iterations": n, "relax_iterations": max(1, relax // 2) if half else relax}
+    return {"iterations": n}
 
 
 def check_reference(config):
@@ -487,6 +502,7 @@ def run(config, args):
         "resolution_iterations": {
             e: reference_settings(e, config, "resolution")["iterations"] for e in ENGINES
         },
+        "reference_settings": {e: reference_settings(e, config, "reference") for e in ENGINES},
         "iterations_unit": dict(ITERATIONS_UNIT),
         "iterations": dict(DEFAULT_ITERATIONS),
         "error_floor": ERROR_FLOOR,

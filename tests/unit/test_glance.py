@@ -1,6 +1,6 @@
 """The README's results bullets say what the numbers say, in the study's protocol."""
 
-from analysis.glance import extremes_line, time_to_rest_line
+from analysis.glance import extremes_line, frozen_cost_line, time_to_rest_line
 
 
 def _extremes(per_axis, fair):
@@ -67,3 +67,23 @@ def test_the_time_to_rest_bullet_quotes_the_piles_and_the_certificate_cost():
         "(drop(30)), median over 3 seeds: sim-extended 140, sim-sleep (1 of 3 never froze)" in line
     )
     assert "3.5 µs per certificate" in line and "at most 9.5 µs" in line
+
+
+def _fit(b_over_a, stderr):
+    fit = {"b_over_a": b_over_a, "b_over_a_stderr": stderr}
+    return {"sim-extended": fit, "sim-off": {**fit, "b_over_a": 0.33}, "pymunk-sleep": fit}
+
+
+def test_the_frozen_cost_bullet_says_what_the_fit_can_tell():
+    """A cost is quoted only when the fit tells it from zero; within two standard errors of zero
+    the bullet gives the upper bound; a fit below zero even at two standard errors is not a saving
+    (a frozen body can only add work) and must not be quoted as a bound."""
+    line = frozen_cost_line(_fit(0.05, 0.01))
+    assert "A frozen body costs 0.05 of an awake one" in line
+    assert "at most 0.07 at two standard errors" in line
+    line = frozen_cost_line(_fit(0.001, 0.003))
+    assert "too little to measure" in line and "at most 0.007 at two standard errors" in line
+    line = frozen_cost_line(_fit(-0.011, 0.005))
+    assert "too little to measure" in line
+    assert "below zero even at two standard errors" in line and "drift in the timings" in line
+    assert "at most" not in line

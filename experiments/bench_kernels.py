@@ -7,7 +7,8 @@ instructions"): sim's soft-step solver lays its contacts out in batches of ``sof
 instructions (``sim/jit.py`` says which conditions that needs). Whether it did is a property of
 the machine code, not of the source: this reads it.
 
-1. Instructions. For each batch kernel of ``sim.soft_step`` (``warm_start``, ``solve``, ``relax``)
+1. Instructions. For each batch kernel of ``sim.soft_step`` (``arms``, ``warm_start``, ``solve``,
+   ``relax``)
    the x86 assembly of its compiled specialisation, for the argument types a World passes, is
    read with ``Dispatcher.inspect_asm`` and its double-precision arithmetic instructions are
    counted (``count_instructions``): packed (add, sub, mul, div, max, min, sqrt and every fused
@@ -25,9 +26,10 @@ the machine code, not of the source: this reads it.
    steps: R repeats of ``World.profile(K)``, median ms per step of each kernel's stage, divided by
    the work it did: ``ns_per_contact_sweep`` = stage time / (active contacts x sweeps per step),
    where a sweep visits every contact once (solve: substeps x iterations; relax: substeps x
-   relax_iterations; warm_start: substeps). ``ns_per_lane_sweep`` divides by the lanes swept
-   instead (batches x LANES: part-filled batches are paid in full). A contact is one pair's
-   manifold (up to 2 points; a box on a box has 2), with its friction rows (the pyramid's
+   relax_iterations; warm_start: substeps; arms, which computes every point's lever arms
+   and separation once per pose: substeps + 1). ``ns_per_lane_sweep`` divides by the
+   lanes swept instead (batches x LANES: part-filled batches are paid in full). A contact is one
+   pair's manifold (up to 2 points; a box on a box has 2), with its friction rows (the pyramid's
    friction is 0.6).
 
 Scenes: pyramid(100) (5050 boxes, ~10^4 contacts; quick: pyramid(10)); sim.World defaults (dt
@@ -60,6 +62,7 @@ QUICK = {"pyramid": 10, "steps": 5, "repeats": 3}
 #: the batch kernels, the profile stage each one's time is in, and how many sweeps over the
 #: contacts it makes per step (from the World)
 KERNELS = {
+    "arms": ("arms", lambda w: w.substeps + 1),
     "warm_start": ("warm_start", lambda w: w.substeps),
     "solve": ("solve", lambda w: w.substeps * w.iterations),
     "relax": ("relax", lambda w: w.substeps * w.relax_iterations),

@@ -9,7 +9,8 @@ A step is a sequence of named stages (``data.STAGES``), each timed by the cycle 
   freeze_before   the policy wakes what this step's contacts disturb (``sim.freeze``)
   colour          colour the active contacts, lay them out in batches
   prepare         fill the batches; the awake bodies' velocities into the solver rows
-  integrate, warm_start, solve, relax   per substep (``sim.soft_step``)
+  integrate, arms, warm_start, solve, relax   per substep (``sim.soft_step``; arms also
+                  once before the first)
   restitution, store   once per step
   finalize        the bodies take their new velocities and poses; divergence check
   continuous      fast bodies swept against what they could tunnel through (``sim.continuous``)
@@ -45,6 +46,7 @@ from .data import (
     N_REBUILDS,
     PRESOLVE_SWEEPS,
     RESTING_DIRTY,
+    STAGE_ARMS,
     STAGE_BROADPHASE,
     STAGE_COLOUR,
     STAGE_CONTINUOUS,
@@ -71,6 +73,7 @@ from .soft_step import (
     LANES,
     colour,
     deepest_separation,
+    arms,
     integrate_positions,
     integrate_velocities,
     lane_normal_impulse,
@@ -190,6 +193,10 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
     prepare(settings, counters, bodies, contacts, activity, solver)
     load_bodies(counters, bodies, activity, solver)
     t = _lap(settings, solver, STAGE_PREPARE, t)
+    # the lever arms and separations of the start poses (they change only when the positions
+    # are integrated: computed once per pose, read by every sweep)
+    arms(n_batches, solver.wide, solver.lane_row, solver.state)
+    t = _lap(settings, solver, STAGE_ARMS, t)
     h = settings.dt / settings.substeps
     inv_h = 1.0 / h
     n_awake = counters[N_AWAKE]
@@ -219,6 +226,8 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
         t = _lap(settings, solver, STAGE_SOLVE, t)
         integrate_positions(n_awake, solver.state, h)
         t = _lap(settings, solver, STAGE_INTEGRATE, t)
+        arms(n_batches, solver.wide, solver.lane_row, solver.state)
+        t = _lap(settings, solver, STAGE_ARMS, t)
         for _ in range(settings.relax_iterations):
             relax(
                 n_colours,
@@ -306,9 +315,7 @@ def run(
             sort_awake(bodies.position.shape[0], contacts, counters)
             update_manifolds(settings, bodies, geometry, contacts, counters)
         t = solve_step(settings, counters, bodies, contacts, activity, solver, t)
-        min_separation[step] = deepest_separation(
-            counters[N_BATCHES], solver.wide, solver.lane_row, solver.state
-        )
+        min_separation[step] = deepest_separation(counters[N_BATCHES], solver.wide)
         t = _lap(settings, solver, STAGE_FINALIZE, t)
         if settings.continuous:
             sweep_fast_bodies(
@@ -376,6 +383,7 @@ def presolve(
     n_colours = counters[N_COLOURS]
     prepare(settings, counters, bodies, contacts, activity, solver)
     load_bodies(counters, bodies, activity, solver)
+    arms(n_batches, solver.wide, solver.lane_row, solver.state)  # the sweeps read them
     h = settings.dt / settings.substeps
     integrate_velocities(
         counters[N_AWAKE],

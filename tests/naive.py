@@ -346,3 +346,33 @@ def nnls(G, t, iterations=500):
             w = w + step * (z - w)
             passive &= w > 1e-15
     return w, float(np.linalg.norm(A @ w - b))
+
+
+# ------------------------------------------------------------------------------------------------
+# Lever arms of a contact point after its bodies moved (``sim.soft_step.arms``), from world
+# positions: A's anchor point and B's start ``separation`` apart along the normal, both carried
+# with their bodies, and each arm shifted to the line of action through both.
+
+
+def moved_contact_arms(centre_a, anchor_a, normal, separation, centre_b, motion_a, motion_b, t):
+    """(arm A, arm B, separation now) of a point after the bodies moved, for an impulse along t.
+
+    centre_a, centre_b: the bodies' centres at the start (m); anchor_a: A's anchor relative to
+    its centre (m); the B anchor starts ``separation`` m from A's along ``normal``. motion_a,
+    motion_b: (dx, dy, angle) of each body since the start. The arms reach the line along t
+    that passes half way between the moved anchors (across t): an impulse and its reaction on
+    one line."""
+    n = np.asarray(normal, dtype=np.float64)
+    t = np.asarray(t, dtype=np.float64)
+    ca = np.asarray(centre_a, dtype=np.float64)
+    cb = np.asarray(centre_b, dtype=np.float64)
+    ra = np.asarray(anchor_a, dtype=np.float64)
+    rb = ca + ra + separation * n - cb  # B's anchor relative to B's centre
+    ca_now = ca + np.asarray(motion_a[:2])
+    cb_now = cb + np.asarray(motion_b[:2])
+    pa = ca_now + rotation(motion_a[2]) @ ra
+    pb = cb_now + rotation(motion_b[2]) @ rb
+    d = pb - pa
+    across = np.array([t[1], -t[0]])
+    mid_shift = 0.5 * float(d @ across) * across
+    return pa + mid_shift - ca_now, pb - mid_shift - cb_now, float(d @ n), rb

@@ -9,6 +9,9 @@ One step of dt is ``substeps`` substeps of h = dt / substeps, each:
                          separation (normal rows only)
   integrate positions    dp += h v, rotation likewise (bodies keep their start pose; the solver
                          tracks the displacement dp, dq so far)
+  arms                   every point's lever arms and separation from the new poses (also once
+                         before the first substep): the sweeps read them, as the poses do not
+                         change between two integrations
   relax                  ``relax_iterations`` sweeps without bias (normal and friction rows): the
                          velocity the bias added to push bodies apart is taken out again
 
@@ -38,13 +41,13 @@ The package, one stage per module (the order of a step):
   bodies       the solver's body rows: loaded, integrated, written back
   colouring    contacts into colours and batches (colour; capacity, mask_words size the buffers)
   packing      batches filled from the contacts (prepare), impulses stored back (store)
-  batches      the batch kernels (warm_start, solve, relax, relax_hard, restitution)
+  batches      the batch kernels (arms, warm_start, solve, relax, relax_hard, restitution)
   layout       the fields of a batch in ``SolverData.wide``
 
 ``sim.kernel.step`` calls them in that order; what other modules use is re-exported here.
 """
 
-from .batches import deepest_separation, relax, relax_hard, restitution, solve, warm_start
+from .batches import arms, deepest_separation, relax, relax_hard, restitution, solve, warm_start
 from .bodies import integrate_positions, integrate_velocities, load_bodies, row_of, unload_bodies
 from .colouring import capacity, colour, mask_words, max_colours
 from .layout import LANES, N_FIELDS, STRIDE
@@ -66,6 +69,7 @@ from .parameters import (
 )
 
 __all__ = [
+    "arms",
     "deepest_separation",
     "relax",
     "relax_hard",

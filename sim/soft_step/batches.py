@@ -1,12 +1,11 @@
-"""The batch kernels: warm start, the biased solve, the relax sweeps, restitution, each over whole
-batches of LANES contacts: gather the batch's body rows, compute every lane at once (packed
-vector instructions), scatter the velocities back."""
+"""The batch kernels: the arms pass (once per pose), warm start, the biased solve, the relax
+sweeps, restitution, each over whole batches of LANES contacts: gather the batch's body rows,
+compute every lane at once (packed vector instructions), scatter the velocities back."""
 
 from ..data import DPX, DPY, DQC, DQS, VX, VY, W
 from ..jit import wide_inline, wide_kernel
 from .layout import (
     BASE1,
-    BASE2,
     BIAS_RATE,
     DPAX,
     DPAY,
@@ -24,10 +23,10 @@ from .layout import (
     MB,
     MU,
     NMASS1,
-    NMASS2,
     NX,
     NY,
     ON1,
+    ON2,
     PN1,
     PN2,
     POINT2,
@@ -41,6 +40,14 @@ from .layout import (
     RBX1,
     RBY1,
     RELV1,
+    RNA1,
+    RNA2,
+    RNB1,
+    RNB2,
+    RTA1,
+    RTB1,
+    SEP1,
+    SEP2,
     STRIDE_U,
     TN1,
     TN2,
@@ -57,21 +64,29 @@ from .parameters import MAX_CONDITION, RESTITUTION_SWEEPS
 
 
 @wide_inline
-def _gather(wide, o, lane_row, ob, state):
-    """The batch's body rows (velocity, displacement, rotation so far) into its fields."""
+def _gather_velocities(wide, o, lane_row, ob, state):
+    """The batch's body velocities into its fields (what the sweeps change)."""
     for l in range(LANES_U):
         ra = lane_row[ob + l]
         rb = lane_row[ob + LANES_U + l]
         wide[o + VAX + l] = state[ra, VX]
         wide[o + VAY + l] = state[ra, VY]
         wide[o + WA + l] = state[ra, W]
+        wide[o + VBX + l] = state[rb, VX]
+        wide[o + VBY + l] = state[rb, VY]
+        wide[o + WB + l] = state[rb, W]
+
+
+@wide_inline
+def _gather_poses(wide, o, lane_row, ob, state):
+    """The batch's body displacements and rotations so far into its fields (``arms``)."""
+    for l in range(LANES_U):
+        ra = lane_row[ob + l]
+        rb = lane_row[ob + LANES_U + l]
         wide[o + DPAX + l] = state[ra, DPX]
         wide[o + DPAY + l] = state[ra, DPY]
         wide[o + QCA + l] = state[ra, DQC]
         wide[o + QSA + l] = state[ra, DQS]
-        wide[o + VBX + l] = state[rb, VX]
-        wide[o + VBY + l] = state[rb, VY]
-        wide[o + WB + l] = state[rb, W]
         wide[o + DPBX + l] = state[rb, DPX]
         wide[o + DPBY + l] = state[rb, DPY]
         wide[o + QCB + l] = state[rb, DQC]
@@ -108,42 +123,38 @@ def _fmin(a, b):
 
 
 @wide_inline
-def _apply(wide, o, l, px, py, rax, ray, rbx, rby):
-    """Impulse P on B at rB and -P on A at rA, into the batch's velocity fields."""
-    wide[o + VAX + l] -= wide[o + MA + l] * px
-    wide[o + VAY + l] -= wide[o + MA + l] * py
-    wide[o + WA + l] -= wide[o + IA + l] * (rax * py - ray * px)
-    wide[o + VBX + l] += wide[o + MB + l] * px
-    wide[o + VBY + l] += wide[o + MB + l] * py
-    wide[o + WB + l] += wide[o + IB + l] * (rbx * py - rby * px)
+def _apply(wide, o, l, d, dirx, diry, rca, rcb):
+    """Impulse d along (dirx, diry) on B and its reaction on A, at arms whose cross products with
+    the direction are rca (A's) and rcb (B's), into the batch's velocity fields."""
+    wide[o + VAX + l] -= wide[o + MA + l] * d * dirx
+    wide[o + VAY + l] -= wide[o + MA + l] * d * diry
+    wide[o + WA + l] -= wide[o + IA + l] * d * rca
+    wide[o + VBX + l] += wide[o + MB + l] * d * dirx
+    wide[o + VBY + l] += wide[o + MB + l] * d * diry
+    wide[o + WB + l] += wide[o + IB + l] * d * rcb
 
 
 @wide_inline
-def _normal_velocity(wide, o, l, nx, ny, rax, ray, rbx, rby):
-    dvx = (wide[o + VBX + l] - wide[o + WB + l] * rby) - (
-        wide[o + VAX + l] - wide[o + WA + l] * ray
+def _relative_velocity(wide, o, l, dirx, diry, rca, rcb):
+    """B's contact point's velocity minus A's along (dirx, diry): (vB - vA) . dir + wB rcb - wA rca
+    (w x r . dir = w (r x dir))."""
+    return (
+        (wide[o + VBX + l] - wide[o + VAX + l]) * dirx
+        + (wide[o + VBY + l] - wide[o + VAY + l]) * diry
+        + wide[o + WB + l] * rcb
+        - wide[o + WA + l] * rca
     )
-    dvy = (wide[o + VBY + l] + wide[o + WB + l] * rbx) - (
-        wide[o + VAY + l] + wide[o + WA + l] * rax
-    )
-    return dvx * nx + dvy * ny
 
 
 @wide_inline
-def _arms(wide, o, l, p, nx, ny, tx, ty):
-    """A point's lever arms now, for an impulse along (tx, ty), and how far B's anchor has moved
-    from A's since the start of the step.
+def _moved_anchors(wide, o, l, p, nx, ny):
+    """Point p's anchors turned with their bodies, and where B's moved anchor lies from A's.
 
     Each anchor sits on its own body's surface (``contacts``) and has moved with its body this
     step (displacement dp, rotation dq): the separation is measured between the moved anchors.
-    An impulse and its reaction change no angular momentum when they act along one line: the
-    arms are the moved anchors, each shifted towards the other by half their offset *across* the
-    impulse (the offset along it, a gap or a penetration, turns nothing). Box2D keeps the arms of
-    the start of the step, which does not conserve angular momentum (1.9% lost in a test
-    collision). The effective masses are computed from these arms where they are used
-    (``_normal_rows``, ``_friction_point``). Returns (rax, ray, rbx, rby, ox, oy): the arms, and
-    B's moved anchor minus A's, minus their offset at the start (its projection on the normal,
-    added to the start separation, is the separation now)."""
+    Returns (sax, say, sbx, sby, ox, oy, dx, dy): the turned anchors; B's moved anchor minus A's,
+    minus their offset at the start (its projection on the normal, added to the start separation,
+    is the separation now); and B's moved anchor minus A's."""
     rax = wide[o + p + RAX1 + l]
     ray = wide[o + p + RAY1 + l]
     rbx = wide[o + p + RBX1 + l]
@@ -163,10 +174,74 @@ def _arms(wide, o, l, p, nx, ny, tx, ty):
     s0 = wide[o + p + BASE1 + l] + (rbx - rax) * nx + (rby - ray) * ny
     dx = ox - (rbx - rax) + s0 * nx
     dy = oy - (rby - ray) + s0 * ny
+    return sax, say, sbx, sby, ox, oy, dx, dy
+
+
+@wide_inline
+def _line_arms(sax, say, sbx, sby, dx, dy, tx, ty):
+    """The lever arms of an impulse along (tx, ty) at anchors (sax, say), (sbx, sby) that lie
+    (dx, dy) apart.
+
+    An impulse and its reaction change no angular momentum when they act along one line: the
+    arms are the moved anchors, each shifted towards the other by half their offset *across* the
+    impulse (the offset along it, a gap or a penetration, turns nothing). Box2D keeps the arms of
+    the start of the step, which does not conserve angular momentum (1.9% lost in a test
+    collision). The effective masses are computed from these arms where they are used
+    (``_normal_rows``, ``_friction_point``)."""
     across = 0.5 * (dx * ty - dy * tx)
     hx = across * ty
     hy = -across * tx
-    return sax + hx, say + hy, sbx - hx, sby - hy, ox, oy
+    return sax + hx, say + hy, sbx - hx, sby - hy
+
+
+@wide_inline
+def _line_arms(sax, say, sbx, sby, dx, dy, tx, ty):
+    """The cross products with (tx, ty) of the lever arms of an impulse along it, at anchors
+    (sax, say), (sbx, sby) that lie (dx, dy) apart: (r_A x t, r_B x t), with r x t = rx ty - ry tx.
+
+    An impulse and its reaction change no angular momentum when they act along one line: the
+    arms are the moved anchors, each shifted towards the other by half their offset *across* the
+    impulse (the offset along it, a gap or a penetration, turns nothing). Box2D keeps the arms of
+    the start of the step, which does not conserve angular momentum (1.9% lost in a test
+    collision). Only the cross products enter the rows (the torque of an impulse, and the
+    velocity of the point along it), so only they are kept."""
+    across = 0.5 * (dx * ty - dy * tx)
+    hx = across * ty
+    hy = -across * tx
+    rca = (sax + hx) * ty - (say + hy) * tx
+    rcb = (sbx - hx) * ty - (sby - hy) * tx
+    return rca, rcb
+
+
+@wide_kernel
+def arms(n_batches, wide, lane_row, state):
+    """Every point's lever arms (crossed with the normal and the tangent) and separation, from
+    the poses so far.
+
+    They depend on the poses only, which change once per substep (``integrate_positions``): so
+    they are computed here once per pose, before the first substep and after each integration,
+    and every sweep reads them. The effective masses are not kept: their divisions cost more
+    here (a pass of its own, throughput-bound) than in the sweeps, whose chains of dependent
+    updates leave the divider idle (measured on pyramid(40): this pass 0.058 against 0.080 ms a
+    step with the masses, the sweeps 0.163 against 0.152). Reading the poses straight from the
+    state rows instead of gathering them first cost twice as much (0.11 ms: no packed code)."""
+    for b in range(U64(n_batches)):
+        o = b * STRIDE_U
+        ob = b * U64(2) * LANES_U
+        _gather_poses(wide, o, lane_row, ob, state)
+        for l in range(LANES_U):
+            nx = wide[o + NX + l]
+            ny = wide[o + NY + l]
+            for p in (U64(0), POINT2):
+                sax, say, sbx, sby, ox, oy, dx, dy = _moved_anchors(wide, o, l, p, nx, ny)
+                rna, rnb = _line_arms(sax, say, sbx, sby, dx, dy, nx, ny)
+                rta, rtb = _line_arms(sax, say, sbx, sby, dx, dy, ny, -nx)
+                wide[o + p + RNA1 + l] = rna
+                wide[o + p + RNB1 + l] = rnb
+                wide[o + p + RTA1 + l] = rta
+                wide[o + p + RTB1 + l] = rtb
+                # the start separation plus how the anchors moved apart along n
+                wide[o + p + SEP1 + l] = wide[o + p + BASE1 + l] + ox * nx + oy * ny
 
 
 @wide_inline
@@ -175,11 +250,9 @@ def _warm_point(wide, o, l, p, nx, ny):
     pt = wide[o + p + PT1 + l]
     wide[o + p + TN1 + l] += pn
     wide[o + p + TT1 + l] += pt
-    # the normal and the friction impulse each on its own line (see _arms)
-    rax, ray, rbx, rby, _, _ = _arms(wide, o, l, p, nx, ny, nx, ny)
-    _apply(wide, o, l, pn * nx, pn * ny, rax, ray, rbx, rby)
-    rax, ray, rbx, rby, _, _ = _arms(wide, o, l, p, nx, ny, ny, -nx)
-    _apply(wide, o, l, pt * ny, -pt * nx, rax, ray, rbx, rby)
+    # the normal and the friction impulse each on its own line (see _line_arms)
+    _apply(wide, o, l, pn, nx, ny, wide[o + p + RNA1 + l], wide[o + p + RNB1 + l])
+    _apply(wide, o, l, pt, ny, -nx, wide[o + p + RTA1 + l], wide[o + p + RTB1 + l])
 
 
 @wide_kernel
@@ -188,7 +261,7 @@ def warm_start(n_batches, wide, lane_row, state):
     for b in range(U64(n_batches)):
         o = b * STRIDE_U
         ob = b * U64(2) * LANES_U
-        _gather(wide, o, lane_row, ob, state)
+        _gather_velocities(wide, o, lane_row, ob, state)
         for l in range(LANES_U):
             nx = wide[o + NX + l]
             ny = wide[o + NY + l]
@@ -217,32 +290,28 @@ def _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias):
     solved: a box resting on a face rocks, and the rocking grows in tall stacks. So a two-point
     lane is solved as a 2x2 block (Box2D v2's block solver, here with soft rows): both impulses at
     once, Delta = -K^-1 (mass_scale vn + bias) - impulse_scale (impulse - carried), accepted when
-    both stay >= 0. Otherwise (one point lifts off, a one-point lane, a near-singular K) the points
-    are solved one after the other, the second seeing the first's effect through K12. Both answers
-    are computed and one is selected, so the lanes stay branch-free (vectorised)."""
+    both stay >= 0. Otherwise (one point lifts off, a one-point lane, a near-singular K) the
+    points are solved one after the other, the second seeing the first's effect through K12.
+    Both answers are computed and one is selected, so the lanes stay branch-free (vectorised).
+    The arms are those of the current poses (``arms``)."""
     ms = wide[o + MASS_SCALE + l]
     br = wide[o + BIAS_RATE + l]
     isc = wide[o + IMPULSE_SCALE + l]
-    ra1x, ra1y, rb1x, rb1y, o1x, o1y = _arms(wide, o, l, U64(0), nx, ny, nx, ny)
-    ra2x, ra2y, rb2x, rb2y, o2x, o2y = _arms(wide, o, l, POINT2, nx, ny, nx, ny)
-    # current separations: the start separation plus how the anchors moved apart along n
-    s1 = wide[o + BASE1 + l] + o1x * nx + o1y * ny
-    s2 = wide[o + BASE2 + l] + o2x * nx + o2y * ny
-    b1, m1, i1 = _bias(s1, inv_h, push, use_bias, ms, br, isc)
-    b2, m2, i2 = _bias(s2, inv_h, push, use_bias, ms, br, isc)
-    vn1 = _normal_velocity(wide, o, l, nx, ny, ra1x, ra1y, rb1x, rb1y)
-    vn2 = _normal_velocity(wide, o, l, nx, ny, ra2x, ra2y, rb2x, rb2y)
+    b1, m1, i1 = _bias(wide[o + SEP1 + l], inv_h, push, use_bias, ms, br, isc)
+    b2, m2, i2 = _bias(wide[o + SEP2 + l], inv_h, push, use_bias, ms, br, isc)
+    rn1a = wide[o + RNA1 + l]
+    rn1b = wide[o + RNB1 + l]
+    rn2a = wide[o + RNA2 + l]
+    rn2b = wide[o + RNB2 + l]
+    vn1 = _relative_velocity(wide, o, l, nx, ny, rn1a, rn1b)
+    vn2 = _relative_velocity(wide, o, l, nx, ny, rn2a, rn2b)
     # the normal-mass matrix K of these arms (the arms move with the bodies: masses computed once
     # at the start of the step would not match them, and a fast body's collision gained energy)
     ma = wide[o + MA + l]
     mb = wide[o + MB + l]
     ia = wide[o + IA + l]
     ib = wide[o + IB + l]
-    rn1a = ra1x * ny - ra1y * nx
-    rn1b = rb1x * ny - rb1y * nx
-    rn2a = ra2x * ny - ra2y * nx
-    rn2b = rb2x * ny - rb2y * nx
-    real2 = wide[o + NMASS2 + l] > 0.0  # a second point (else the lane has one)
+    real2 = wide[o + ON2 + l] > 0.0  # a second point (else the lane has one)
     k11 = ma + mb + ia * rn1a * rn1a + ib * rn1b * rn1b
     k22 = ma + mb + ia * rn2a * rn2a + ib * rn2b * rn2b
     k12 = ma + mb + ia * rn1a * rn2a + ib * rn1b * rn2b
@@ -272,19 +341,16 @@ def _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias):
     d2 = new2 - old2
     wide[o + TN1 + l] += d1
     wide[o + TN2 + l] += d2
-    _apply(wide, o, l, d1 * nx, d1 * ny, ra1x, ra1y, rb1x, rb1y)
-    _apply(wide, o, l, d2 * nx, d2 * ny, ra2x, ra2y, rb2x, rb2y)
+    _apply(wide, o, l, d1, nx, ny, rn1a, rn1b)
+    _apply(wide, o, l, d2, nx, ny, rn2a, rn2b)
 
 
 @wide_inline
 def _friction_point(wide, o, l, p, nx, ny):
     """One point's Coulomb friction row, bounded by its current normal impulse."""
-    tx = ny
-    ty = -nx
-    rax, ray, rbx, rby, _, _ = _arms(wide, o, l, p, nx, ny, tx, ty)
-    vt = _normal_velocity(wide, o, l, tx, ty, rax, ray, rbx, rby)
-    rta = rax * ty - ray * tx
-    rtb = rbx * ty - rby * tx
+    rta = wide[o + p + RTA1 + l]
+    rtb = wide[o + p + RTB1 + l]
+    vt = _relative_velocity(wide, o, l, ny, -nx, rta, rtb)
     k = (
         wide[o + MA + l]
         + wide[o + MB + l]
@@ -298,7 +364,7 @@ def _friction_point(wide, o, l, p, nx, ny):
     wide[o + p + PT1 + l] = new
     d = new - old
     wide[o + p + TT1 + l] += d
-    _apply(wide, o, l, d * tx, d * ty, rax, ray, rbx, rby)
+    _apply(wide, o, l, d, ny, -nx, rta, rtb)
 
 
 @wide_inline
@@ -331,7 +397,7 @@ def _solve_batches(
             continue
         o = b * STRIDE_U
         ob = b * U64(2) * LANES_U
-        _gather(wide, o, lane_row, ob, state)
+        _gather_velocities(wide, o, lane_row, ob, state)
         # friction first, bounded by the normal impulses so far; the normal rows last, so that
         # the turn a friction impulse gives a body (it acts below the centre of mass) is taken out
         # before the positions move: solved after the normal rows, the impulse that stops a
@@ -423,14 +489,15 @@ def _restitution_point(wide, o, l, p, nx, ny, threshold):
     mass = wide[o + p + NMASS1 + l]
     if relv > -threshold or wide[o + p + TN1 + l] == 0.0 or e == 0.0:
         mass = 0.0
-    rax, ray, rbx, rby, _, _ = _arms(wide, o, l, p, nx, ny, nx, ny)
-    vn = _normal_velocity(wide, o, l, nx, ny, rax, ray, rbx, rby)
+    rna = wide[o + p + RNA1 + l]
+    rnb = wide[o + p + RNB1 + l]
+    vn = _relative_velocity(wide, o, l, nx, ny, rna, rnb)
     old = wide[o + p + PN1 + l]
     new = _fmax(0.0, old - mass * (vn + e * relv))
     wide[o + p + PN1 + l] = new
     d = new - old
     wide[o + p + TN1 + l] += d
-    _apply(wide, o, l, d * nx, d * ny, rax, ray, rbx, rby)
+    _apply(wide, o, l, d, nx, ny, rna, rnb)
 
 
 @wide_kernel
@@ -454,7 +521,7 @@ def _restitution_sweep(n_colours, colour_batches, wide, lane_row, state, thresho
             if not bouncy:
                 continue
             ob = b * U64(2) * LANES_U
-            _gather(wide, o, lane_row, ob, state)
+            _gather_velocities(wide, o, lane_row, ob, state)
             for l in range(LANES_U):
                 nx = wide[o + NX + l]
                 ny = wide[o + NY + l]
@@ -464,20 +531,14 @@ def _restitution_sweep(n_colours, colour_batches, wide, lane_row, state, thresho
 
 
 @wide_kernel
-def deepest_separation(n_batches, wide, lane_row, state):
+def deepest_separation(n_batches, wide):
     """m: the deepest separation of any contact point at the end of the step (0 if none
-    penetrates): the anchors turned and displaced by the step's motion."""
+    penetrates), as the last ``arms`` pass left it (after the last substep's positions)."""
     deepest = 0.0
     for b in range(U64(n_batches)):
         o = b * STRIDE_U
-        ob = b * U64(2) * LANES_U
-        _gather(wide, o, lane_row, ob, state)
         for l in range(LANES_U):
-            nx = wide[o + NX + l]
-            ny = wide[o + NY + l]
             for p in (U64(0), POINT2):
-                if wide[o + p + NMASS1 + l] == 0.0:
-                    continue  # an empty lane or point
-                _, _, _, _, dx, dy = _arms(wide, o, l, p, nx, ny, nx, ny)
-                deepest = min(deepest, wide[o + p + BASE1 + l] + dx * nx + dy * ny)
+                if wide[o + p + NMASS1 + l] != 0.0:  # else an empty lane or point
+                    deepest = min(deepest, wide[o + p + SEP1 + l])
     return deepest

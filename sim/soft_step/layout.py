@@ -12,13 +12,18 @@ U64 = np.uint64
 LANES_U = U64(LANES)
 #: a contact's fields: its normal, friction and restitution, the inverse masses and inertias of A
 #: and B, its softness (packing.prepare); per point: the anchors (m), the separation at the start
-#: of the step (m), the normal mass, whether the point exists, the accumulated impulses (N s; warm
-#: start), the step's totals, the approach velocity (m/s) and the carried load; and the two
-#: bodies' rows gathered from the state (velocity, displacement, rotation so far)
+#: of the step (m), the normal mass at the start (kg), whether the point exists, the accumulated
+#: impulses (N s; warm start), the step's totals, the approach velocity (m/s) and the carried
+#: load, then what depends on the poses only (batches.arms, once per pose, not once per sweep):
+#: each body's lever arm crossed with the normal (RNA, RNB; m) and with the tangent (RTA, RTB; m)
+#: and the current separation (SEP; m); and the two bodies' rows gathered from the state
+#: (velocity, displacement, rotation so far)
 FIELD_NAMES = (
     "NX NY MU E MA IA MB IB BIAS_RATE MASS_SCALE IMPULSE_SCALE "
     "RAX1 RAY1 RBX1 RBY1 BASE1 NMASS1 ON1 PN1 PT1 TN1 TT1 RELV1 LN1 "
+    "RNA1 RNB1 RTA1 RTB1 SEP1 "
     "RAX2 RAY2 RBX2 RBY2 BASE2 NMASS2 ON2 PN2 PT2 TN2 TT2 RELV2 LN2 "
+    "RNA2 RNB2 RTA2 RTB2 SEP2 "
     "VAX VAY WA DPAX DPAY QCA QSA VBX VBY WB DPBX DPBY QCB QSB"
 ).split()
 #: number of fields of a batch; field F of lane l of batch b is wide[b * STRIDE + F + l]
@@ -49,6 +54,11 @@ STRIDE = N_FIELDS * LANES
     TT1,
     RELV1,
     LN1,
+    RNA1,
+    RNB1,
+    RTA1,
+    RTB1,
+    SEP1,
     RAX2,
     RAY2,
     RBX2,
@@ -62,6 +72,11 @@ STRIDE = N_FIELDS * LANES
     TT2,
     RELV2,
     LN2,
+    RNA2,
+    RNB2,
+    RTA2,
+    RTB2,
+    SEP2,
     VAX,
     VAY,
     WA,

@@ -73,8 +73,11 @@ def test_every_batch_kernel_uses_packed_instructions_on_this_machine(quick):
     assert (table["packed"] > table["scalar"]).all()
     assert (table["doubles_per_packed"] >= 2).all()
     features = meta["parameters"]["cpu_features"]
-    if features["avx512f"]:  # this machine: 8 doubles per instruction
-        assert (table["packed_zmm"] > 0).all()
+    if features["avx2"]:
+        # at least 4 doubles per instruction. Whether an AVX-512 CPU gets 8 (zmm) is LLVM's tuning
+        # for the CPU it detects: for most AVX-512 cores (Skylake-X, Ice Lake, Rocket Lake) it
+        # prefers 256-bit vectors. This machine's earlier CPU got zmm; as "rocketlake" it gets ymm
+        assert (table["packed_ymm"] + table["packed_zmm"] > 0).all(), features["llvm_cpu_name"]
     assert features["numba_slp_vectorize"]
 
 
@@ -89,6 +92,7 @@ def test_quick_run_times_every_kernel_and_records_its_provenance(quick):
     assert sweeps["soft_step.solve"] == p["substeps"] * p["iterations"]
     assert sweeps["soft_step.relax"] == p["substeps"] * p["relax_iterations"]
     assert sweeps["soft_step.warm_start"] == p["substeps"]
+    assert sweeps["soft_step.arms"] == p["substeps"] + 1  # once per pose
     assert meta["script"] == "bench_kernels" and p["quick"] is True
     assert meta["scenes"][0]["name"] == "pyramid"
     for key in ("git", "packages", "cpu", "platform", "date_utc"):

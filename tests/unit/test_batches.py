@@ -1,12 +1,17 @@
 """How the soft step lays contacts out in batches (sim.soft_step.colour), checked from the public
-inspection view against a slow recount."""
+inspection view against a slow recount; and the arms pass against a slow recomputation."""
 
 import math
 
 import numpy as np
+import pytest
+from naive import moved_contact_arms  # tests/ is on sys.path (pytest's rootdir-relative imports)
 
 import sim
+from sim import soft_step
+from sim.data import DPX, DPY, DQC, DQS, STATE_COLUMNS
 from sim.soft_step import HARD_RATIO, LANES
+from sim.soft_step import layout as L
 
 
 def hard_touching_pairs(inspection):
@@ -93,3 +98,58 @@ def test_contacts_with_what_cannot_move_are_solved_last():
                 assert max(between) < min(support), (world.step_count, freeze)
                 seen += 1
         assert seen > 0
+
+
+def cross(r, d):
+    """r x d of 2-vectors (the z component)."""
+    return float(r[0] * d[1] - r[1] * d[0])
+
+
+def test_the_arms_pass_matches_a_slow_recomputation_from_world_positions():
+    """``soft_step.arms`` (once per pose; the sweeps read what it leaves) against
+    ``naive.moved_contact_arms``: random anchors, normals, start separations and motions, lane 7
+    against the dummy row (the floor: it never moves). For both points of every lane: the arms
+    crossed with the normal and with the tangent, and the separation now."""
+    rng = np.random.default_rng(5)
+    wide = np.zeros(L.STRIDE)
+    state = np.zeros((2 * LANES + 1, STATE_COLUMNS))
+    state[0, DQC] = 1.0  # the dummy row: no motion
+    lane_row = np.zeros(2 * LANES, dtype=np.uint64)
+    expected = {}
+    for lane in range(LANES):
+        ra_row = 0 if lane == 7 else 1 + 2 * lane
+        rb_row = 2 + 2 * lane
+        lane_row[lane], lane_row[LANES + lane] = ra_row, rb_row
+        angle = rng.uniform(-np.pi, np.pi)
+        n = np.array([np.cos(angle), np.sin(angle)])
+        t = np.array([n[1], -n[0]])
+        wide[L.NX + lane], wide[L.NY + lane] = n
+        ca, cb = rng.normal(size=2), rng.normal(size=2)
+        motions = {}
+        for row in (ra_row, rb_row):
+            m = (0.0, 0.0, 0.0) if row == 0 else (*rng.normal(scale=0.05, size=2), rng.normal(0.2))
+            motions[row] = m
+            state[row, DPX], state[row, DPY] = m[0], m[1]
+            state[row, DQC], state[row, DQS] = np.cos(m[2]), np.sin(m[2])
+        for point in (0, 1):
+            p = int(L.POINT2) * point + lane
+            anchor_a = rng.normal(scale=0.5, size=2)
+            separation = rng.uniform(-0.02, 0.02)
+            moved = (ca, anchor_a, n, separation, cb, motions[ra_row], motions[rb_row])
+            na, nb, sep, rb = moved_contact_arms(*moved, n)
+            fa, fb, _, _ = moved_contact_arms(*moved, t)
+            wide[p + L.RAX1], wide[p + L.RAY1] = anchor_a
+            wide[p + L.RBX1], wide[p + L.RBY1] = rb
+            wide[p + L.BASE1] = separation - float((rb - anchor_a) @ n)
+            expected[p] = {
+                L.RNA1: cross(na, n),
+                L.RNB1: cross(nb, n),
+                L.RTA1: cross(fa, t),
+                L.RTB1: cross(fb, t),
+                L.SEP1: sep,
+            }
+    soft_step.arms(1, wide, lane_row, state)
+    for p, fields in expected.items():
+        for field, value in fields.items():
+            name = L.FIELD_NAMES[int(field) // LANES]
+            assert wide[p + field] == pytest.approx(value, rel=1e-9, abs=1e-12), (p, name)

@@ -224,7 +224,9 @@ def arms(n_batches, wide, lane_row, state):
     here (a pass of its own, throughput-bound) than in the sweeps, whose chains of dependent
     updates leave the divider idle (measured on pyramid(40): this pass 0.058 against 0.080 ms a
     step with the masses, the sweeps 0.163 against 0.152). Reading the poses straight from the
-    state rows instead of gathering them first cost twice as much (0.11 ms: no packed code)."""
+    state rows instead of gathering them first cost twice as much (0.11 ms: no packed code).
+    Fused into the first relax sweep (each batch's arms just before it is solved), the pass
+    saved nothing in wall time: the relax sweep slowed by what the pass had cost."""
     for b in range(U64(n_batches)):
         o = b * STRIDE_U
         ob = b * U64(2) * LANES_U

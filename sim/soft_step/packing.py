@@ -11,10 +11,6 @@ from ..data import (
     BODY_A,
     BODY_B,
     CARRIED,
-    DPX,
-    DPY,
-    DQC,
-    DQS,
     END_SEPARATION,
     FRICTION,
     NORMAL_IMPULSE,
@@ -61,6 +57,7 @@ from .layout import (
     RBX1,
     RBY1,
     RELV1,
+    SEP1,
     STRIDE_U,
     TN1,
     TT1,
@@ -214,27 +211,6 @@ def _mark_hard(n_batches, wide, solver):
     return n_hard
 
 
-@inline_kernel
-def _end_separation(wide, o, l, p, nx, ny, state, ra, rb):
-    """m: point p's separation at the end of the step (the start separation, plus how the
-    anchors moved apart along n with their bodies)."""
-    rax = wide[o + p + RAX1 + l]
-    ray = wide[o + p + RAY1 + l]
-    rbx = wide[o + p + RBX1 + l]
-    rby = wide[o + p + RBY1 + l]
-    dx = (
-        (state[rb, DPX] - state[ra, DPX])
-        + (state[rb, DQC] * rbx - state[rb, DQS] * rby)
-        - (state[ra, DQC] * rax - state[ra, DQS] * ray)
-    )
-    dy = (
-        (state[rb, DPY] - state[ra, DPY])
-        + (state[rb, DQS] * rbx + state[rb, DQC] * rby)
-        - (state[ra, DQS] * rax + state[ra, DQC] * ray)
-    )
-    return wide[o + p + BASE1 + l] + dx * nx + dy * ny
-
-
 @lean_kernel
 def store(counters, contacts, solver, carry_rate, impact_speed):
     """Each lane's impulses back into its contact: the last substep's accumulated impulses (warm
@@ -254,16 +230,10 @@ def store(counters, contacts, solver, carry_rate, impact_speed):
             if s < 0:
                 continue
             l = U64(lane)
-            ob = U64(2 * b * LANES + lane)
-            ra = solver.lane_row[ob]
-            rb = solver.lane_row[ob + LANES_U]
-            nx = wide[o + NX + l]
-            ny = wide[o + NY + l]
             for j in range(contacts.contact_int[s, POINT_COUNT]):
                 p = POINT2 * U64(j)
-                pf[s, j, END_SEPARATION] = _end_separation(
-                    wide, o, l, p, nx, ny, solver.state, ra, rb
-                )
+                # the last arms pass ran on the end-of-step poses (the presolve's on the start)
+                pf[s, j, END_SEPARATION] = wide[o + p + SEP1 + l]
                 if wide[o + p + RELV1 + l] < -impact_speed:
                     pf[s, j, WARM_NORMAL] = 0.0
                     pf[s, j, WARM_TANGENT] = 0.0

@@ -27,7 +27,8 @@ the machine code, not of the source: this reads it.
    the work it did: ``ns_per_contact_sweep`` = stage time / (active contacts x sweeps per step),
    where a sweep visits every contact once (solve: substeps x iterations; relax: substeps x
    relax_iterations; warm_start: substeps; arms, which computes every point's lever arms
-   and separation once per pose: substeps + 1). ``ns_per_lane_sweep`` divides by the
+   and separation once per pose after each position integration: substeps; those of the start
+   poses are part of ``prepare``). ``ns_per_lane_sweep`` divides by the
    lanes swept instead (batches x LANES: part-filled batches are paid in full). A contact is one
    pair's manifold (up to 2 points; a box on a box has 2), with its friction rows (the pyramid's
    friction is 0.6).
@@ -62,7 +63,7 @@ QUICK = {"pyramid": 10, "steps": 5, "repeats": 3}
 #: the batch kernels, the profile stage each one's time is in, and how many sweeps over the
 #: contacts it makes per step (from the World)
 KERNELS = {
-    "arms": ("arms", lambda w: w.substeps + 1),
+    "arms": ("arms", lambda w: w.substeps),
     "warm_start": ("warm_start", lambda w: w.substeps),
     "solve": ("solve", lambda w: w.substeps * w.iterations),
     "relax": ("relax", lambda w: w.substeps * w.relax_iterations),

@@ -8,9 +8,9 @@ A step is a sequence of named stages (``data.STAGES``), each timed by the cycle 
   narrowphase     every awake contact's manifold, from the current poses
   freeze_before   the policy wakes what this step's contacts disturb (``sim.freeze``)
   colour          colour the active contacts, lay them out in batches
-  prepare         fill the batches; the awake bodies' velocities into the solver rows
-  integrate, arms, warm_start, solve, relax   per substep (``sim.soft_step``; arms also
-                  once before the first)
+  prepare         fill the batches (with the arms of the start poses); the awake bodies'
+                  velocities into the solver rows
+  integrate, arms, warm_start, solve, relax   per substep (``sim.soft_step``)
   restitution, store   once per step
   finalize        the bodies take their new velocities and poses; divergence check
   continuous      fast bodies swept against what they could tunnel through (``sim.continuous``)
@@ -192,11 +192,9 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
     t = _lap(settings, solver, STAGE_COLOUR, t)
     prepare(settings, counters, bodies, contacts, activity, solver)
     load_bodies(counters, bodies, activity, solver)
+    # prepare also left the lever arms and separations of the start poses; they change only
+    # when the positions are integrated (then ``arms``: once per pose, read by every sweep)
     t = _lap(settings, solver, STAGE_PREPARE, t)
-    # the lever arms and separations of the start poses (they change only when the positions
-    # are integrated: computed once per pose, read by every sweep)
-    arms(n_batches, solver.wide, solver.lane_row, solver.state)
-    t = _lap(settings, solver, STAGE_ARMS, t)
     h = settings.dt / settings.substeps
     inv_h = 1.0 / h
     n_awake = counters[N_AWAKE]
@@ -382,8 +380,7 @@ def presolve(
     n_batches = colour(settings, counters, contacts, activity, solver)
     n_colours = counters[N_COLOURS]
     prepare(settings, counters, bodies, contacts, activity, solver)
-    load_bodies(counters, bodies, activity, solver)
-    arms(n_batches, solver.wide, solver.lane_row, solver.state)  # the sweeps read them
+    load_bodies(counters, bodies, activity, solver)  # prepare left the arms the sweeps read
     h = settings.dt / settings.substeps
     integrate_velocities(
         counters[N_AWAKE],

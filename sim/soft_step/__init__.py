@@ -9,9 +9,9 @@ One step of dt is ``substeps`` substeps of h = dt / substeps, each:
                          separation (normal rows only)
   integrate positions    dp += h v, rotation likewise (bodies keep their start pose; the solver
                          tracks the displacement dp, dq so far)
-  arms                   every point's lever arms and separation from the new poses (also once
-                         before the first substep): the sweeps read them, as the poses do not
-                         change between two integrations
+  arms                   every point's lever arms and separation from the new poses (those of
+                         the start poses are left by ``prepare``): the sweeps read them, as the
+                         poses do not change between two integrations
   relax                  ``relax_iterations`` sweeps without bias (normal and friction rows): the
                          velocity the bias added to push bodies apart is taken out again
 

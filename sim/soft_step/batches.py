@@ -50,7 +50,6 @@ from .layout import (
     SEP2,
     STRIDE_U,
     TN1,
-    TN2,
     TT1,
     U64,
     VAX,
@@ -178,24 +177,7 @@ def _moved_anchors(wide, o, l, p, nx, ny):
 
 
 @wide_inline
-def _line_arms(sax, say, sbx, sby, dx, dy, tx, ty):
-    """The lever arms of an impulse along (tx, ty) at anchors (sax, say), (sbx, sby) that lie
-    (dx, dy) apart.
-
-    An impulse and its reaction change no angular momentum when they act along one line: the
-    arms are the moved anchors, each shifted towards the other by half their offset *across* the
-    impulse (the offset along it, a gap or a penetration, turns nothing). Box2D keeps the arms of
-    the start of the step, which does not conserve angular momentum (1.9% lost in a test
-    collision). The effective masses are computed from these arms where they are used
-    (``_normal_rows``, ``_friction_point``)."""
-    across = 0.5 * (dx * ty - dy * tx)
-    hx = across * ty
-    hy = -across * tx
-    return sax + hx, say + hy, sbx - hx, sby - hy
-
-
-@wide_inline
-def _line_arms(sax, say, sbx, sby, dx, dy, tx, ty):
+def line_arms(sax, say, sbx, sby, dx, dy, tx, ty):
     """The cross products with (tx, ty) of the lever arms of an impulse along it, at anchors
     (sax, say), (sbx, sby) that lie (dx, dy) apart: (r_A x t, r_B x t), with r x t = rx ty - ry tx.
 
@@ -236,8 +218,8 @@ def arms(n_batches, wide, lane_row, state):
             ny = wide[o + NY + l]
             for p in (U64(0), POINT2):
                 sax, say, sbx, sby, ox, oy, dx, dy = _moved_anchors(wide, o, l, p, nx, ny)
-                rna, rnb = _line_arms(sax, say, sbx, sby, dx, dy, nx, ny)
-                rta, rtb = _line_arms(sax, say, sbx, sby, dx, dy, ny, -nx)
+                rna, rnb = line_arms(sax, say, sbx, sby, dx, dy, nx, ny)
+                rta, rtb = line_arms(sax, say, sbx, sby, dx, dy, ny, -nx)
                 wide[o + p + RNA1 + l] = rna
                 wide[o + p + RNB1 + l] = rnb
                 wide[o + p + RTA1 + l] = rta
@@ -246,13 +228,23 @@ def arms(n_batches, wide, lane_row, state):
                 wide[o + p + SEP1 + l] = wide[o + p + BASE1 + l] + ox * nx + oy * ny
 
 
+#: TOTALS. The step's total impulse of a point (what the freeze policies read, N s) is what its
+#: substeps applied. A substep applies its warm start plus what its sweeps change, which is the
+#: accumulated impulse at its end: the total is the sum of those over the substeps. The sweeps
+#: therefore leave the totals alone. The warm start of each substep adds the impulse the substep
+#: before ended with (TN, TT), ``store`` adds the last substep's, and ``prepare`` starts the totals
+#: at minus the first warm start (the previous step's end, which is not a substep of this one).
+#: Updated in every sweep instead, the totals cost a read and a write of four fields of every
+#: batch per sweep.
+
+
 @wide_inline
 def _warm_point(wide, o, l, p, nx, ny):
     pn = wide[o + p + PN1 + l]
     pt = wide[o + p + PT1 + l]
-    wide[o + p + TN1 + l] += pn
+    wide[o + p + TN1 + l] += pn  # TOTALS
     wide[o + p + TT1 + l] += pt
-    # the normal and the friction impulse each on its own line (see _line_arms)
+    # the normal and the friction impulse each on its own line (see line_arms)
     _apply(wide, o, l, pn, nx, ny, wide[o + p + RNA1 + l], wide[o + p + RNB1 + l])
     _apply(wide, o, l, pt, ny, -nx, wide[o + p + RTA1 + l], wide[o + p + RTB1 + l])
 
@@ -339,12 +331,8 @@ def _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias):
     new2 = x2 if block else y2
     wide[o + PN1 + l] = new1
     wide[o + PN2 + l] = new2
-    d1 = new1 - old1
-    d2 = new2 - old2
-    wide[o + TN1 + l] += d1
-    wide[o + TN2 + l] += d2
-    _apply(wide, o, l, d1, nx, ny, rn1a, rn1b)
-    _apply(wide, o, l, d2, nx, ny, rn2a, rn2b)
+    _apply(wide, o, l, new1 - old1, nx, ny, rn1a, rn1b)
+    _apply(wide, o, l, new2 - old2, nx, ny, rn2a, rn2b)
 
 
 @wide_inline
@@ -364,9 +352,7 @@ def _friction_point(wide, o, l, p, nx, ny):
     limit = wide[o + MU + l] * wide[o + p + PN1 + l]
     new = _fmin(limit, _fmax(-limit, old - tm * vt))
     wide[o + p + PT1 + l] = new
-    d = new - old
-    wide[o + p + TT1 + l] += d
-    _apply(wide, o, l, d, ny, -nx, rta, rtb)
+    _apply(wide, o, l, new - old, ny, -nx, rta, rtb)
 
 
 @wide_inline
@@ -489,7 +475,8 @@ def _restitution_point(wide, o, l, p, nx, ny, threshold):
     relv = wide[o + p + RELV1 + l]
     e = wide[o + E + l]
     mass = wide[o + p + NMASS1 + l]
-    if relv > -threshold or wide[o + p + TN1 + l] == 0.0 or e == 0.0:
+    carried = wide[o + p + TN1 + l] + wide[o + p + PN1 + l]  # the step's total so far (TOTALS)
+    if relv > -threshold or carried == 0.0 or e == 0.0:
         mass = 0.0
     rna = wide[o + p + RNA1 + l]
     rnb = wide[o + p + RNB1 + l]
@@ -497,9 +484,7 @@ def _restitution_point(wide, o, l, p, nx, ny, threshold):
     old = wide[o + p + PN1 + l]
     new = _fmax(0.0, old - mass * (vn + e * relv))
     wide[o + p + PN1 + l] = new
-    d = new - old
-    wide[o + p + TN1 + l] += d
-    _apply(wide, o, l, d, nx, ny, rna, rnb)
+    _apply(wide, o, l, new - old, nx, ny, rna, rnb)
 
 
 @wide_kernel

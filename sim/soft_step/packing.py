@@ -27,6 +27,7 @@ from ..data import (
     WARM_TANGENT,
 )
 from ..jit import inline_kernel, lean_kernel
+from .batches import line_arms
 from .bodies import row_of
 from .layout import (
     BASE1,
@@ -57,6 +58,10 @@ from .layout import (
     RBX1,
     RBY1,
     RELV1,
+    RNA1,
+    RNB1,
+    RTA1,
+    RTB1,
     SEP1,
     STRIDE_U,
     TN1,
@@ -70,7 +75,10 @@ from .parameters import HARD_RATIO, pair_hertz, softness
 def prepare(settings, counters, bodies, contacts, activity, solver):
     """Fill every lane of every batch from its contact: body rows, masses, anchors, softness,
     effective masses, the separation at the start of the step, the relative normal velocity
-    (restitution) and the warm-start impulses. Empty lanes are all zero: no effect."""
+    (restitution) and the warm-start impulses; and what ``batches.arms`` computes, for the start
+    poses, which are the contact's own: an arms pass of its own over the batches cost more than
+    these few products here (pyramid(40): 0.012 ms a step, one pass of five). Empty lanes are all
+    zero: no effect."""
     n_dyn = settings.n_dynamic
     h = settings.dt / settings.substeps
     g = np.hypot(settings.gravity_x, settings.gravity_y)
@@ -145,17 +153,33 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
                 wide[o + p + BASE1 + l] = pf[s, j, SEPARATION] - (
                     (rbx - rax) * nx + (rby - ray) * ny
                 )
-                rna = rax * ny - ray * nx
-                rnb = rbx * ny - rby * nx
+                # the arms pass of the start poses (nothing has moved: the anchors lie the start
+                # separation apart along n): what the first sweeps read (batches.arms). The
+                # separation is summed as that pass sums it, not taken from the contact's: the two
+                # differ by rounding, and a box coming to rest on a ledge is sensitive to it at
+                # s = 0, where the contact switches from soft to speculative (with the contact's
+                # value it hovered 0.4 nm above the ledge after 3 s, still sinking at 1e-7 m/s)
+                sep = wide[o + p + BASE1 + l] + (rbx - rax) * nx + (rby - ray) * ny
+                rna, rnb = line_arms(rax, ray, rbx, rby, sep * nx, sep * ny, nx, ny)
+                rta, rtb = line_arms(rax, ray, rbx, rby, sep * nx, sep * ny, ny, -nx)
+                wide[o + p + RNA1 + l] = rna
+                wide[o + p + RNB1 + l] = rnb
+                wide[o + p + RTA1 + l] = rta
+                wide[o + p + RTB1 + l] = rtb
+                wide[o + p + SEP1 + l] = sep
                 k_normal = ma + mb + ia * rna * rna + ib * rnb * rnb
                 # the point's mass at the start of the step (restitution's; the rows recompute
                 # theirs from their arms each sweep)
                 wide[o + p + NMASS1 + l] = 1.0 / k_normal if k_normal > 0.0 else 0.0
                 wide[o + p + ON1 + l] = 1.0 if k_normal > 0.0 else 0.0  # the point exists
-                wide[o + p + PN1 + l] = warm * pf[s, j, WARM_NORMAL]
-                wide[o + p + PT1 + l] = warm * pf[s, j, WARM_TANGENT]
-                wide[o + p + TN1 + l] = 0.0
-                wide[o + p + TT1 + l] = 0.0
+                pn = warm * pf[s, j, WARM_NORMAL]
+                pt = warm * pf[s, j, WARM_TANGENT]
+                wide[o + p + PN1 + l] = pn
+                wide[o + p + PT1 + l] = pt
+                # the step's totals start at minus the first warm start, which adds it back: see
+                # TOTALS in batches
+                wide[o + p + TN1 + l] = -pn
+                wide[o + p + TT1 + l] = -pt
                 wide[o + p + LN1 + l] = warm * pf[s, j, CARRIED]
                 dvx = vbx - wb * rby - vax + wa * ray
                 dvy = vby + wb * rbx - vay - wa * rax
@@ -241,8 +265,9 @@ def store(counters, contacts, solver, carry_rate, impact_speed):
                     pf[s, j, WARM_NORMAL] = wide[o + p + PN1 + l]
                     pf[s, j, WARM_TANGENT] = wide[o + p + PT1 + l]
                     pf[s, j, CARRIED] += carry_rate * (wide[o + p + PN1 + l] - pf[s, j, CARRIED])
-                pf[s, j, NORMAL_IMPULSE] = wide[o + p + TN1 + l]
-                pf[s, j, TANGENT_IMPULSE] = wide[o + p + TT1 + l]
+                # the step's totals (TOTALS in batches)
+                pf[s, j, NORMAL_IMPULSE] = wide[o + p + TN1 + l] + wide[o + p + PN1 + l]
+                pf[s, j, TANGENT_IMPULSE] = wide[o + p + TT1 + l] + wide[o + p + PT1 + l]
                 pf[s, j, NORMAL_VELOCITY] = wide[o + p + RELV1 + l]
 
 

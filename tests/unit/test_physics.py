@@ -334,11 +334,16 @@ def test_fast_paths_are_validated():
     assert sim.World(sim.scenes.single_box()).fast_paths == ("friction",)
 
 
-#: m/s, the speed every body of each drop(30) pile still had in the 20th second, sim-off at its
-#: defaults (measured at 9424612, max over that second of the largest |v|); the displacement over
-#: that second was 1.2e-3, 4.7e-3, 5.5e-4, 3.0e-4, 3.4e-4 m. The same piles in pymunk moved at
-#: most 4e-7 m over that second, Box2D 2.3 2e-4 m, pybullet 2e-3 to 8e-3 m.
-PILE_CREEP = {0: 1.75e-2, 1: 1.05e-2, 2: 1.94e-2, 3: 1.65e-2, 4: 1.95e-3}
+#: m/s, the largest speed of any body of each drop(30) pile in the 20th second, sim-off at its
+#: defaults, for the piles that do not come to rest (measured with the soft step's 55-field batches
+#: of this stop: max over that second of the largest |v|); their displacement over that second was
+#: 1.2e-3, 4.5e-3, 7.6e-4, 6.3e-4 m (seeds 0, 1, 2, 4). The same piles in pymunk moved at most
+#: 4e-7 m over that second, Box2D 2.3 2e-4 m, pybullet 2e-3 to 8e-3 m.
+PILE_CREEP = {0: 1.63e-2, 1: 1.39e-2, 2: 1.61e-2, 4: 1.44e-3}
+#: seeds whose pile does come to rest. Seed 3 passes narrowly: 8.7e-5 m over the 20th second
+#: against the 1e-4 m bound (largest speed 2.8e-4 m/s). The piles are chaotic: before this layout
+#: (a rounding-level change) seed 3 moved 2e-4 m, so a change of rounding can move it either way.
+PILES_AT_REST = (3,)
 
 
 @pytest.mark.parametrize(
@@ -359,7 +364,8 @@ PILE_CREEP = {0: 1.75e-2, 1: 1.05e-2, 2: 1.94e-2, 3: 1.65e-2, 4: 1.95e-3}
             ),
         )
         for seed, speed in PILE_CREEP.items()
-    ],
+    ]
+    + list(PILES_AT_REST),
 )
 def test_a_dropped_pile_comes_to_rest(seed):
     # Static equilibrium: once a pile of polygons has settled in its bin (30 polygons dropped from

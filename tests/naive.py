@@ -376,3 +376,28 @@ def moved_contact_arms(centre_a, anchor_a, normal, separation, centre_b, motion_
     across = np.array([t[1], -t[0]])
     mid_shift = 0.5 * float(d @ across) * across
     return pa + mid_shift - ca_now, pb - mid_shift - cb_now, float(d @ n), rb
+
+
+def greedy_colours(pairs, movable):
+    """{pair: colour} of the solver's constraint colouring (``sim.soft_step.colour``), recomputed
+    from scratch: ``pairs`` the active contacts' (body_a, body_b) in active order, ``movable`` the
+    bodies the solver moves. Contacts between two movable bodies first, each in the lowest colour
+    neither body has yet; then those with an immovable body (the floor is -1), each in the
+    lowest colour its movable body has not, counted from the first pass's colours up."""
+    used = {}  # body -> set of colours
+    out = {}
+    n_colours = 0
+    for second_pass in (False, True):
+        lowest = n_colours if second_pass else 0
+        for a, b in pairs:
+            ends = [x for x in (a, b) if x in movable]
+            if (len(ends) < 2) != second_pass:
+                continue
+            c = lowest
+            while any(c in used.get(x, ()) for x in ends):
+                c += 1
+            for x in ends:
+                used.setdefault(x, set()).add(c)
+            out[(a, b)] = c
+            n_colours = max(n_colours, c + 1)
+    return out

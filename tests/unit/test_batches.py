@@ -5,7 +5,9 @@ import math
 
 import numpy as np
 import pytest
-from naive import moved_contact_arms  # tests/ is on sys.path (pytest's rootdir-relative imports)
+
+# tests/ is on sys.path (pytest's rootdir-relative imports)
+from naive import greedy_colours, moved_contact_arms
 
 import sim
 from sim import soft_step
@@ -98,6 +100,54 @@ def test_contacts_with_what_cannot_move_are_solved_last():
                 assert max(between) < min(support), (world.step_count, freeze)
                 seen += 1
         assert seen > 0
+
+
+def falling_boxes():
+    """Equal unit boxes (one mass, so the colouring may be kept: see below) landing over ~2 s: a
+    row of 4 on the floor, 3 dropped over its gaps, 2 over theirs, one more beside them."""
+    boxes = [sim.Body.box(1, 1, position=(1.125 * k, 0.5)) for k in range(4)]
+    boxes += [sim.Body.box(1, 1, position=(1.125 * k + 0.5625, 2.0 + 0.3 * k)) for k in range(3)]
+    boxes += [sim.Body.box(1, 1, position=(1.125 * k + 1.125, 4.0 + 0.5 * k)) for k in range(2)]
+    boxes += [sim.Body.box(1, 1, position=(6.0, 1.5))]
+    return sim.Scene(bodies=boxes, name="falling_boxes")
+
+
+def test_every_step_s_colouring_is_the_one_colouring_from_scratch_gives():
+    """``soft_step.colour`` keeps the step before's colouring when the active contacts and the
+    rows of their bodies are the same (a resting stack); it must still be what colouring this
+    step from scratch gives (``naive.greedy_colours``) while contacts come and go, bodies freeze
+    and wake, and ``paper`` holds a box still (ROTATION_STABLE: immovable while awake). Worlds
+    with masses beyond HARD_RATIO always colour afresh (their hard batches depend on the
+    masses), so these scenes have one mass each. Checked after every step in which no body froze
+    or woke (such a step coloured before the change: its view is later than its colouring)."""
+    checked = 0
+    for scene, freeze, steps in (
+        (falling_boxes(), "off", 200),
+        (falling_boxes(), "extended", 200),
+        (falling_boxes(), "sleep", 200),
+        (falling_boxes(), "paper", 200),
+        (sim.scenes.seed_fig3(), "paper", 150),
+        (sim.scenes.pyramid(6), "paper", 100),
+        (sim.scenes.pyramid(6), "off", 40),
+    ):
+        world = sim.World(scene, freeze=freeze)
+        assert world.masses.max() <= HARD_RATIO * world.masses.min()
+        for _ in range(steps):
+            events = len(world.events)
+            world.step(1)
+            if len(world.events) > events:
+                continue
+            i = world.inspect()
+            pairs = list(dict.fromkeys(zip(i.contacts["body_a"], i.contacts["body_b"])))
+            pairs = [(int(a), int(b)) for a, b in pairs]
+            movable = {int(b) for b in i.awake if i.solver_inv_mass[b] > 0.0}
+            assert i.pair_colour == greedy_colours(pairs, movable), (
+                scene.name,
+                freeze,
+                world.step_count,
+            )
+            checked += 1
+    assert checked > 900
 
 
 def cross(r, d):

@@ -259,8 +259,10 @@ class Solver(NamedTuple):
     colour_batches: np.ndarray  # (64 words + 1,) int64 first batch of each colour
     colour_cursor: np.ndarray  # (64 words,) int64 scratch: next lane of each colour
     order: np.ndarray  # (C,) int64 scratch: the colour of each active contact
-    colour_key: np.ndarray  # (C, 3) int64: slot, row A, row B of each active contact coloured last
+    colour_key: np.ndarray  # (C, 5) int64: slot, body A, body B, row A, row B of each active
+    #                          contact coloured last
     colour_key_n: np.ndarray  # (1,) int64: how many (-1: nothing to reuse, as after a regrow)
+    colour_kept: np.ndarray  # (1,) bool: this step kept the step before's colouring and lanes
     wide: np.ndarray  # flat float64: constraint batches (see sim/soft_step/layout.py)
     lane_row: np.ndarray  # flat uint64: solver rows of each lane's bodies A, B
     lane_slot: np.ndarray  # flat int64: contact slot of each lane, -1 padding

@@ -92,6 +92,9 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
     velocity = bodies.velocity
     angular_velocity = bodies.angular_velocity
     warm = 1.0 if settings.warm_starting else 0.0
+    # the lanes hold the same contacts between the same rows as the step before's (``colour``
+    # kept them): what depends only on the pair (bodies, masses, materials, softness) is there
+    kept = solver.colour_kept[0]
     for b in range(counters[N_BATCHES]):
         o = U64(b) * STRIDE_U
         for lane in range(LANES):
@@ -107,22 +110,28 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
                 continue
             a = ci[s, BODY_A]
             bb = ci[s, BODY_B]
-            solver.lane_row[ob] = U64(row_of(a, n_dyn, awake_slot))
-            solver.lane_row[ob + LANES_U] = U64(row_of(bb, n_dyn, awake_slot))
-            ma = inv_mass[a] if a >= 0 else 0.0
-            ia = inv_inertia[a] if a >= 0 else 0.0
-            mb = inv_mass[bb]
-            ib = inv_inertia[bb]
+            if kept:
+                ma = wide[o + MA + l]
+                ia = wide[o + IA + l]
+                mb = wide[o + MB + l]
+                ib = wide[o + IB + l]
+            else:
+                solver.lane_row[ob] = U64(row_of(a, n_dyn, awake_slot))
+                solver.lane_row[ob + LANES_U] = U64(row_of(bb, n_dyn, awake_slot))
+                ma = inv_mass[a] if a >= 0 else 0.0
+                ia = inv_inertia[a] if a >= 0 else 0.0
+                mb = inv_mass[bb]
+                ib = inv_inertia[bb]
+                wide[o + MU + l] = cf[s, FRICTION]
+                wide[o + E + l] = cf[s, RESTITUTION]
+                wide[o + MA + l] = ma
+                wide[o + IA + l] = ia
+                wide[o + MB + l] = mb
+                wide[o + IB + l] = ib
             nx = cf[s, NORMAL_X]
             ny = cf[s, NORMAL_Y]
             wide[o + NX + l] = nx
             wide[o + NY + l] = ny
-            wide[o + MU + l] = cf[s, FRICTION]
-            wide[o + E + l] = cf[s, RESTITUTION]
-            wide[o + MA + l] = ma
-            wide[o + IA + l] = ia
-            wide[o + MB + l] = mb
-            wide[o + IB + l] = ib
             if a >= 0:
                 vax = velocity[a, 0]
                 vay = velocity[a, 1]
@@ -184,6 +193,8 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
                 dvx = vbx - wb * rby - vax + wa * ray
                 dvy = vby + wb * rbx - vay - wa * rax
                 wide[o + p + RELV1 + l] = dvx * nx + dvy * ny
+            if kept:
+                continue
             immovable = (ma == 0.0 and ia == 0.0) or (mb == 0.0 and ib == 0.0)
             size = bodies.size[bb] if a < 0 else min(bodies.size[a], bodies.size[bb])
             hertz = pair_hertz(settings.contact_hertz, size, g, h, immovable)

@@ -51,8 +51,15 @@ so on every step (drop(30) seed 4: 573 freezes and wakes in 10 s, and the pile n
 whole). So the candidates a refused body touches are judged with it as one rigid body: its load
 is the group's weight plus the witness of every contact with a movable body outside it that is
 not a support; its supports are its contacts with the outside; the margins are the same, with
-its largest member's size. Every contact inside the group must stick by the witness (inside its
-shrunk cone): bodies sliding on each other are no rigid body. And each member refused alone
+its largest member's size. The contacts inside the group must hold too: forces must exist, each
+inside its shrunk cone, that hold every member still at once (``_members_balance``, a small
+linear feasibility problem, ``feasibility.py``). The solve is skipped when the witness keeps
+every inside contact inside its shrunk cone: the solver's impulses balance a still body, so they
+are such a set up to its convergence (the rule before the solve, kept so that what it certified
+stays certified at no cost). Bodies sliding on each other are no rigid body: the rest
+test's sliding gate (``extended_rest.unsettled``) has already taken them out. A group that is
+not certified grows by the candidates it touches and is judged again
+(``extended_rest.wedges``). And each member refused alone
 must be held (``holds``) with the other members taken as immovable supports: the union can be
 held while a part of it turns on an edge inside it (a plank 2 mm past a box's edge, tipping too
 slowly for the steadiness gate, was frozen with the box as one body before this second test). A
@@ -89,6 +96,7 @@ from ..data import (
     TANGENT_IMPULSE,
 )
 from ..jit import inline_kernel, kernel
+from . import feasibility
 
 #: support points one certificate takes; a body with more is not certified (stays awake)
 MAX_SUPPORT_POINTS = 16
@@ -329,9 +337,10 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
     The test is ``holds``'s, for the union: the load is the group's weight (at its centre of mass)
     plus the witness of every contact with a movable body outside the group that is not a
     support; the supports are the group's contacts with the outside that ``_supports`` accepts;
-    the margins are the same, with the group's largest body size and extent. A contact inside the
-    group must hold too: its witness inside the friction cone shrunk by ``friction_margin``
-    (bodies that slide on each other are no rigid body). No bracing. Returns bool."""
+    the margins are the same, with the group's largest body size and extent. The contacts inside
+    the group must hold too: by the witness, when every one of them is inside its friction cone
+    shrunk by ``friction_margin``, else by forces solved for (``_members_balance``). No bracing.
+    Returns bool."""
     n_dyn = settings.n_dynamic
     position, extent, size, inv_mass = (
         bodies.position,
@@ -367,6 +376,7 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
     cone = np.empty((2 * MAX_SUPPORT_POINTS, 3))
     weights = np.empty(2 * MAX_SUPPORT_POINTS)
     n_points = 0
+    witness_sticks = True
     for kk in range(n_active):
         c = contacts.active[kk]
         a = ci[c, BODY_A]
@@ -375,13 +385,13 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
         b_in = 0 <= b < n_dyn and in_group[b]
         if not (a_in or b_in):
             continue
-        if a_in and b_in:  # inside: it must stick, by the solver's witness
+        if a_in and b_in:  # inside: does it stick by the solver's witness?
             limit = (1.0 - settings.friction_margin) * cf[c, FRICTION]
             for j in range(ci[c, POINT_COUNT]):
                 if pf[c, j, END_SEPARATION] > cf[c, SLOP]:
                     continue
                 if abs(pf[c, j, TANGENT_IMPULSE]) > limit * pf[c, j, NORMAL_IMPULSE]:
-                    return False
+                    witness_sticks = False
             continue
         i = a if a_in else b
         other = b if a_in else a
@@ -405,7 +415,7 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
                 return False  # too many to try: not certified (stays awake)
             _edges(cone, n_points, nx, ny, rx, ry, mu, length)
             n_points += 1
-    return _margin(
+    if not _margin(
         cone,
         n_points,
         -lx,
@@ -413,7 +423,96 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
         -lm / length,
         settings.tip_margin * width * np.hypot(lx, ly) / length,
         weights,
+    ):
+        return False
+    return witness_sticks or _members_balance(
+        members, n_members, in_group, length, awake_slot, settings, bodies, contacts, n_active
     )
+
+
+@inline_kernel
+def _members_balance(
+    members, n_members, in_group, length, awake_slot, settings, bodies, contacts, n_active
+):
+    """Do forces exist that hold every member of the group still at once: each support point's
+    and each inside point's force in its friction cone shrunk by ``friction_margin``, the loads
+    from movable bodies outside at their witness? One linear feasibility problem
+    (``feasibility``): three equations per member (force x, force y, moment about its centre of
+    mass / ``length``), two unknowns per point (its cone edges; an inside point's act on both of
+    its bodies, equal and opposite). The solver's own impulses inside a group are one answer among
+    many: in a pile at rest it leaves friction at its limit where a neighbour's push would hold
+    the same bodies with friction to spare (drop(30) seed 2: a polygon wedged between two others
+    by friction at 100% of its limit, exactly still, never froze). Without a margin on the moment:
+    the union's test (``group_holds``) and each member's (``extended_rest.wedges``) carry it. A
+    group too large for ``feasibility.MAX_ROWS`` / ``MAX_COLUMNS`` is not certified."""
+    n_dyn = settings.n_dynamic
+    position, inv_mass = bodies.position, bodies.inv_mass
+    ci = contacts.contact_int
+    cf = contacts.contact_float
+    pf = contacts.point_float
+    n_rows = 3 * n_members
+    if n_rows > feasibility.MAX_ROWS:
+        return False
+    up_x, up_y = _up(settings)
+    dt = settings.dt
+    row_of = np.full(n_dyn, -1, np.int64)
+    a_mat = np.zeros((n_rows, feasibility.MAX_COLUMNS))
+    rhs = np.zeros(n_rows)
+    for k in range(n_members):
+        i = members[k]
+        row_of[i] = 3 * k
+        mass = 1.0 / inv_mass[i]
+        rhs[3 * k] = -mass * settings.gravity_x * dt  # minus the weight over the step
+        rhs[3 * k + 1] = -mass * settings.gravity_y * dt
+    n_cols = 0
+    for kk in range(n_active):
+        c = contacts.active[kk]
+        a = ci[c, BODY_A]
+        b = ci[c, BODY_B]
+        a_in = 0 <= a < n_dyn and in_group[a]
+        b_in = 0 <= b < n_dyn and in_group[b]
+        if not (a_in or b_in):
+            continue
+        mu = (1.0 - settings.friction_margin) * cf[c, FRICTION]
+        nx = cf[c, NORMAL_X]  # into B
+        ny = cf[c, NORMAL_Y]
+        # a point with the outside: a support (free force in its cone) or a load (its witness)
+        outside_support = False
+        if not (a_in and b_in):
+            i = a if a_in else b
+            sign = 1.0 if b == i else -1.0
+            outside_support = _supports(
+                i, b if a_in else a, sign * nx, sign * ny, n_dyn, awake_slot, up_x, up_y
+            )
+        for j in range(ci[c, POINT_COUNT]):
+            if pf[c, j, END_SEPARATION] > cf[c, SLOP]:
+                continue
+            px = pf[c, j, ANCHOR_BX] + position[b, 0]
+            py = pf[c, j, ANCHOR_BY] + position[b, 1]
+            if not (a_in and b_in) and not outside_support:
+                i = a if a_in else b
+                wx, wy = _witness(c, j, 1.0 if b == i else -1.0, contacts)
+                r = row_of[i]
+                rhs[r] -= wx
+                rhs[r + 1] -= wy
+                rhs[r + 2] -= ((px - position[i, 0]) * wy - (py - position[i, 1]) * wx) / length
+                continue
+            if n_cols + 2 > feasibility.MAX_COLUMNS:
+                return False
+            for side in range(2):  # the cone's edges n +- mu t, as forces on B
+                fx = nx + (1 - 2 * side) * mu * ny
+                fy = ny - (1 - 2 * side) * mu * nx
+                for body, sign in ((b, 1.0), (a, -1.0)):
+                    if not (0 <= body < n_dyn and in_group[body]):
+                        continue
+                    r = row_of[body]
+                    a_mat[r, n_cols] = sign * fx
+                    a_mat[r + 1, n_cols] = sign * fy
+                    a_mat[r + 2, n_cols] = (
+                        sign * ((px - position[body, 0]) * fy - (py - position[body, 1]) * fx)
+                    ) / length
+                n_cols += 1
+    return feasibility.phase_one(a_mat, rhs, n_rows, n_cols)[0]
 
 
 @inline_kernel

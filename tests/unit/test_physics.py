@@ -335,15 +335,17 @@ def test_fast_paths_are_validated():
 
 
 #: m/s, the largest speed of any body of each drop(30) pile in the 20th second, sim-off at its
-#: defaults, for the piles that do not come to rest (measured with the soft step's 55-field batches
-#: of this stop: max over that second of the largest |v|); their displacement over that second was
-#: 1.2e-3, 4.5e-3, 7.6e-4, 6.3e-4 m (seeds 0, 1, 2, 4). The same piles in pymunk moved at most
-#: 4e-7 m over that second, Box2D 2.3 2e-4 m, pybullet 2e-3 to 8e-3 m.
-PILE_CREEP = {0: 1.63e-2, 1: 1.39e-2, 2: 1.61e-2, 4: 1.44e-3}
-#: seeds whose pile does come to rest. Seed 3 passes narrowly: 8.7e-5 m over the 20th second
-#: against the 1e-4 m bound (largest speed 2.8e-4 m/s). The piles are chaotic: before this layout
-#: (a rounding-level change) seed 3 moved 2e-4 m, so a change of rounding can move it either way.
-PILES_AT_REST = (3,)
+#: defaults, for the piles that do not come to rest (measured with impulses carried over by
+#: position when a point's feature id changes: max over that second of the largest |v|); its
+#: displacement over that second was 1.1e-3 m. Body 20 (18 g) is pinched at one corner between two
+#: polygons 10-20 times heavier, each contact carrying ~40 times its weight, and slips in jerks of
+#: ~4 mm/s. The same piles in pymunk moved at most 4e-7 m over that second, Box2D 2.3 2e-4 m,
+#: pybullet 2e-3 to 8e-3 m.
+PILE_CREEP = {4: 9.5e-3}
+#: seeds whose pile does come to rest: 1e-6 to 3e-6 m over the 20th second (seeds 0-2, which
+#: moved 0.8 to 4.5 mm before points kept their impulses across a change of feature id), 6e-7 m
+#: (seed 3)
+PILES_AT_REST = (0, 1, 2, 3)
 
 
 @pytest.mark.parametrize(
@@ -354,12 +356,9 @@ PILES_AT_REST = (3,)
             marks=pytest.mark.xfail(
                 strict=True,
                 reason=(
-                    f"measured: the pile still moves at {speed:.2g} m/s after 19 s. sim's piles "
-                    "never come to rest: a limit cycle of about 3 Hz (seed 2: body 19, on one "
-                    "support point, drops 12-18 mm/s every 18 steps) and slow slides of contacts "
-                    "at their friction limit (seed 1). Neither the carried load (load_time 0 to "
-                    "1/3 s, or a carried load capped at the impulse) nor damping, iterations, "
-                    "relax sweeps, push speed or stiffness cured all five (issue 11's drift)"
+                    f"measured: the pile still moves at {speed:.2g} m/s after 19 s: a light "
+                    "polygon pinched at one corner between two heavy ones slips in jerks "
+                    "(see PILE_CREEP; issue 11's drift)"
                 ),
             ),
         )
@@ -376,3 +375,19 @@ def test_a_dropped_pile_comes_to_rest(seed):
     start = world.positions.copy()
     world.step(60)
     assert np.hypot(*(world.positions - start).T).max() < 1e-4
+
+
+def test_most_dropped_piles_come_to_rest():
+    # The same on 20 piles, so that no one chaotic pile decides it: 16 of the 20 come to rest
+    # (moving less than 0.1 mm over the 20th second). When a point's feature id changed (the
+    # other body's face became the reference face, as it does between two nearly parallel faces
+    # whenever the full narrowphase runs again) it restarted without its load and friction, and
+    # only 2 of the 20 came to rest.
+    at_rest = 0
+    for seed in range(20):
+        world = sim.World(sim.scenes.drop(30, seed=seed))
+        world.step(19 * 60)
+        start = world.positions.copy()
+        world.step(60)
+        at_rest += np.hypot(*(world.positions - start).T).max() < 1e-4
+    assert at_rest >= 14

@@ -327,6 +327,14 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
     return out
 
 
+@inline_kernel
+def _sides(c, ci, n_dyn, in_group):
+    """Contact c's bodies (a, b) and whether each is a member of the group ``in_group`` marks."""
+    a = ci[c, BODY_A]
+    b = ci[c, BODY_B]
+    return a, b, 0 <= a < n_dyn and in_group[a], 0 <= b < n_dyn and in_group[b]
+
+
 @kernel
 def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_active):
     """Is the group members[:n_members] held at rest as one rigid body? A wedge of bodies each
@@ -379,10 +387,7 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
     witness_sticks = True
     for kk in range(n_active):
         c = contacts.active[kk]
-        a = ci[c, BODY_A]
-        b = ci[c, BODY_B]
-        a_in = 0 <= a < n_dyn and in_group[a]
-        b_in = 0 <= b < n_dyn and in_group[b]
+        a, b, a_in, b_in = _sides(c, ci, n_dyn, in_group)
         if not (a_in or b_in):
             continue
         if a_in and b_in:  # inside: does it stick by the solver's witness?
@@ -467,10 +472,7 @@ def _members_balance(
     n_cols = 0
     for kk in range(n_active):
         c = contacts.active[kk]
-        a = ci[c, BODY_A]
-        b = ci[c, BODY_B]
-        a_in = 0 <= a < n_dyn and in_group[a]
-        b_in = 0 <= b < n_dyn and in_group[b]
+        a, b, a_in, b_in = _sides(c, ci, n_dyn, in_group)
         if not (a_in or b_in):
             continue
         mu = (1.0 - settings.friction_margin) * cf[c, FRICTION]

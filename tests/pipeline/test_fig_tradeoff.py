@@ -282,10 +282,13 @@ def test_timings_and_replays(quick_run):
         .isna()
         .all()
     )
-    # 16 substeps do four times the default's solver work, 1 a quarter: the ratio of minima
+    # 16 substeps do sixteen times the solver work of 1. Only the extremes are compared: on the
+    # quick scenes a step's fixed cost is most of it, and 4 substeps against 1 came out 1.541
+    # against 1.564 ms on a loaded machine (CI, 987d6e0); how the time grows with the substeps
+    # is the full run's to show, in fig_tradeoff, not a test's
     for scene, t in timed[timed["role"] == "solver"].groupby("scene"):
         walls = t[t["parameter"] == "substeps"].set_index("value")["wall_s_min"]
-        assert walls[16] > walls[4] > walls[1], scene
+        assert walls[16] > walls[1], scene
 
 
 def test_physics_of_the_results(quick_run):

@@ -144,6 +144,31 @@ def _certificate(table):
         "scenes": per_scene,
         "median_us_per_certificate": float(np.median(costs)) if costs else None,
         "max_us_per_certificate": float(np.max(costs)) if costs else None,
+        "piles_waiting": _piles_waiting(wide),
+    }
+
+
+def _piles_waiting(wide):
+    """What extended's dropped piles wait for once still (experiments.fig_time_to_rest,
+    waiting_<reason>): per pile the step from which no body was moving and the awake body-steps
+    after it by reason; over all piles each reason's body-steps and share of them."""
+    reasons = [m[len("waiting_") :] for m in wide.columns if m.startswith("waiting_")]
+    piles = wide[[str(scene).startswith("drop") for scene in wide.index]]
+    if not reasons or piles.empty:
+        return None
+    per_pile = {
+        scene: {
+            "still_from_step": None if math.isnan(r.still_from_step) else int(r.still_from_step),
+            "body_steps": {reason: int(r[f"waiting_{reason}"]) for reason in reasons},
+        }
+        for scene, r in piles.iterrows()
+    }
+    totals = {reason: int(piles[f"waiting_{reason}"].sum()) for reason in reasons}
+    everything = sum(totals.values())
+    return {
+        "piles": per_pile,
+        "body_steps": totals,
+        "share": {r: (n / everything if everything else None) for r, n in totals.items()},
     }
 
 

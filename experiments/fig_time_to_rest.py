@@ -28,7 +28,11 @@ in the metadata's ``system_settings``.
 Also, for sim-extended on every scene (``certificate_cost``, timed here after compilation): how
 often the rest certificate runs and what it costs, part "certificate": metrics certificates (tried
 in all), steps_certifying (steps that tried any), steps_run, freeze_after_per_certificate (us: the
-rest-test stage's time in the steps that certified, per certificate: an upper bound).
+rest-test stage's time in the steps that certified, per certificate: an upper bound). In the same
+run, what the scene waits for once it is still: from the first step in which no awake body is
+"moving" (``World.why_awake``: none as fast as rest_speed; metric still_from_step, NaN if never)
+until every body is frozen, the awake body-steps by the reason the rest test gave
+(waiting_<reason>, body-steps, one per reason of ``sim.World.AWAKE_REASONS``).
 
 Columns (long form, bench_freeze's): part ("time_to_freeze" or "certificate"), scene, system,
 bodies, n_awake,
@@ -40,6 +44,8 @@ n_not_free_at_end), value, unit, flag.
 writes results/data/fig_time_to_rest.csv and fig_time_to_rest.json. --quick: rest_row(50),
 stack(5), pyramid(5), drop(10, seed 0), seed_fig1..3, cap 5 s.
 """
+
+import math
 
 import pandas as pd
 
@@ -113,6 +119,8 @@ def certificate_cost(scene, cap_s):
     stage_ms = 0.0
     busy = 0
     tried = 0
+    still_from = math.nan  # the first step with no awake body moving
+    waiting = dict.fromkeys(sim.World.AWAKE_REASONS, 0)  # body-steps from then on, by reason
     while world.step_count < cap and world.n_awake > 0:
         ms = world.profile(1)["freeze_after"]
         now = world.inspect().certificates
@@ -120,6 +128,12 @@ def certificate_cost(scene, cap_s):
             busy += 1
             stage_ms += ms
         tried = now
+        reasons = world.why_awake()
+        if math.isnan(still_from) and not (reasons == "moving").any():
+            still_from = world.step_count
+        if not math.isnan(still_from):
+            for reason in reasons[reasons != ""]:
+                waiting[reason] += 1
     common = {
         "part": "certificate",
         "scene": label(scene),
@@ -134,6 +148,10 @@ def certificate_cost(scene, cap_s):
         long_row(**common, metric="steps_certifying", value=busy, unit="steps"),
         long_row(**common, metric="steps_run", value=world.step_count, unit="steps"),
         long_row(**common, metric="freeze_after_per_certificate", value=per, unit="us"),
+        long_row(**common, metric="still_from_step", value=still_from, unit="steps"),
+    ] + [
+        long_row(**common, metric=f"waiting_{reason}", value=n, unit="body-steps")
+        for reason, n in waiting.items()
     ]
 
 

@@ -25,6 +25,7 @@ from .buffers import grown, new_bodies, new_contacts, new_geometry, new_solver
 from .clock import ticks_per_second
 from .contacts import sort_awake
 from .freeze import POLICY_NAMES, resolve
+from .freeze.extended_layout import WAIT_NAMES, WAITING
 from .narrowphase import update_manifolds
 from .packing import pack
 from .reports import Inspection, contact_points
@@ -450,6 +451,29 @@ class World:
         collided against each other (what "frozen" costs nothing means). Under ``paper`` a body
         can be VERTICAL_STABLE or a sliding ROTATION_STABLE and still be awake."""
         return self._activity.awake_slot[: self.n_bodies] < 0
+
+    #: what ``why_awake`` can say of an awake body, in the order of the rest test's stages
+    AWAKE_REASONS = WAIT_NAMES[1:]
+
+    def why_awake(self):
+        """(N,) str: why each body is awake after the last step, the first stage of ``extended``'s
+        rest test that refused it ('' for a frozen body): "moving" (|v| + |w| extent at or
+        above rest_speed), "changing" (slow, but its velocity changed by more than
+        rest_acceleration dt), "counting" (slow and steady for fewer than rest_steps steps),
+        "sliding" (a contact at its friction limit while its surfaces slip), "deep" (a contact
+        deeper than twice its slop, still being pushed open), "neighbour" (it touches an awake
+        body in motion), "uncertified" (no contact forces hold it still with margin, alone or
+        with the bodies it touches), "on_awake" (certified, but resting on an awake body that
+        does not freeze with it). What a pile is still waiting for, which its velocities do not
+        say. Only ``extended`` has a rest test of stages: any other policy raises ValueError."""
+        if self.freeze != "extended":
+            raise ValueError(
+                f"why_awake: only freeze='extended' records why a body is awake (its rest test "
+                f"has stages); this World has freeze={self.freeze!r}"
+            )
+        names = np.array(WAIT_NAMES)[self._activity.body_int[: self.n_bodies, WAITING]]
+        names[self.frozen] = ""
+        return names
 
     @property
     def n_awake(self):

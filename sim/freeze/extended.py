@@ -106,6 +106,14 @@ from .extended_layout import (
     SUPPORT_NX,
     SUPPORT_NY,
     TOUCHED,
+    WAIT_CHANGING,
+    WAIT_COUNTING,
+    WAIT_DEEP,
+    WAIT_MOVING,
+    WAIT_NONE,
+    WAIT_SLIDING,
+    WAIT_UNCERTIFIED,
+    WAITING,
     impulse_on,
     is_movable,
     is_support,
@@ -293,6 +301,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
         vy = velocity[i, 1]
         w = angular_velocity[i]
         body_int[i, MARK] = 0
+        body_int[i, WAITING] = WAIT_NONE
         # the change over this one step: the previous velocity is stored every step
         dvx = vx - body_real[i, PREVIOUS_VX]
         dvy = vy - body_real[i, PREVIOUS_VY]
@@ -304,6 +313,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
         # component at or above the limit means |v| + |w| extent is too
         if abs(vx) >= limit or abs(vy) >= limit or abs(w) * extent[i] >= limit:
             body_int[i, REST_COUNT] = 0
+            body_int[i, WAITING] = WAIT_MOVING
             continue
         speed = np.sqrt(vx * vx + vy * vy) + abs(w) * extent[i]
         change = np.sqrt(dvx * dvx + dvy * dvy) + abs(dw) * extent[i]
@@ -311,11 +321,14 @@ def after_solve(settings, counters, bodies, contacts, activity):
             body_int[i, REST_COUNT] += 1
         else:
             body_int[i, REST_COUNT] = 0
+            body_int[i, WAITING] = WAIT_MOVING if speed >= limit else WAIT_CHANGING
         # MARK = 1: candidate (slow and steady long enough); cleared below when a contact moves,
-        # a neighbour cannot rest or the certificate fails
+        # a neighbour cannot rest or the certificate fails (each records why: WAITING)
         if body_int[i, REST_COUNT] >= settings.rest_steps:
             body_int[i, MARK] = 1
             any_candidate = True
+        elif body_int[i, WAITING] == WAIT_NONE:
+            body_int[i, WAITING] = WAIT_COUNTING
     if not any_candidate:
         return
     # Not sliding: a candidate with a contact whose friction is at its Coulomb limit while its
@@ -338,11 +351,14 @@ def after_solve(settings, counters, bodies, contacts, activity):
         if state == SLIDING:
             for body in (a, b):
                 if 0 <= body < n_dyn:
+                    if body_int[body, MARK] == 1:
+                        body_int[body, WAITING] = WAIT_SLIDING
                     body_int[body, MARK] = 0
         elif state == DEEP:
             for body in (a, b):
                 if 0 <= body < n_dyn and body_int[body, MARK] == 1:
                     body_int[body, MARK] = 2
+                    body_int[body, WAITING] = WAIT_DEEP
     if not whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
         return
     # the certificate (sim/freeze/certificate.py): static equilibrium with margin. A body that
@@ -365,6 +381,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
     for k in range(n_candidates):
         if not held[k]:
             body_int[candidates[k], MARK] = 2
+            body_int[candidates[k], WAITING] = WAIT_UNCERTIFIED
     on_the_awake(count, n_dyn, contacts, awake_slot, body_int, up_x, up_y)
     # freeze the survivors: summarise supports and loads, link dynamic supports
     for k in range(n_awake):

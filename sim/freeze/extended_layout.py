@@ -35,8 +35,38 @@ from ..state import State
 ) = range(16)
 REAL_COLUMNS = 16
 # body_int columns
-REST_COUNT, MARK, TOUCHED = range(3)
-INT_COLUMNS = 3
+REST_COUNT, MARK, TOUCHED, WAITING = range(4)
+INT_COLUMNS = 4
+
+#: WAITING: why an awake body was not frozen by the step's rest test, the first stage that
+#: refused it (0 once frozen; ``sim.World.why_awake`` names them). Recorded because the question
+#: "what is this pile still waiting for?" decides where time to rest goes (a solver still pushing
+#: bodies apart, a body creeping at its friction limit, a balance the certificate will not take)
+#: and it cannot be read from the velocities: a body slower than rest_speed is held by its
+#: contacts or its neighbours, not by its own speed.
+(
+    WAIT_NONE,  # frozen (or not yet tested)
+    WAIT_MOVING,  # |v| + |w| extent >= rest_speed
+    WAIT_CHANGING,  # slow, but its velocity changed by more than rest_acceleration dt
+    WAIT_COUNTING,  # slow and steady for fewer than rest_steps steps
+    WAIT_SLIDING,  # a contact at its friction limit whose surfaces slip (extended_rest.unsettled)
+    WAIT_DEEP,  # a contact deeper than twice its slop still opening: being pushed out
+    WAIT_NEIGHBOUR,  # touches an awake body that is in motion (extended_rest.whole_groups)
+    WAIT_UNCERTIFIED,  # no forces hold it in equilibrium with margin (certificate), alone or in
+    # a group (extended_rest.wedges)
+    WAIT_ON_AWAKE,  # certified, but rests on an awake body not freezing with it
+) = range(9)
+WAIT_NAMES = (
+    "",
+    "moving",
+    "changing",
+    "counting",
+    "sliding",
+    "deep",
+    "neighbour",
+    "uncertified",
+    "on_awake",
+)
 
 #: the states the policy moves a body between
 FREE = np.int8(State.FREE)

@@ -34,7 +34,15 @@ import numpy as np
 from ..jit import inline_kernel, kernel
 from . import certificate, feasibility
 from .contact_math import touching
-from .extended_layout import MARK, impulse_on, is_movable, is_support
+from .extended_layout import (
+    MARK,
+    WAIT_NEIGHBOUR,
+    WAIT_ON_AWAKE,
+    WAITING,
+    impulse_on,
+    is_movable,
+    is_support,
+)
 
 
 #: a contact whose friction is at this share of its Coulomb limit, or more, is sliding
@@ -61,6 +69,8 @@ def whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
             if not touching(c, contacts):
                 continue  # made ahead for a fast body that did not arrive
             if body_int[a, MARK] + body_int[b, MARK] == 1:  # a candidate and a mover
+                candidate = a if body_int[a, MARK] == 1 else b
+                body_int[candidate, WAITING] = WAIT_NEIGHBOUR
                 body_int[a, MARK] = 0
                 body_int[b, MARK] = 0
                 changed = True
@@ -308,5 +318,6 @@ def on_the_awake(count, n_dyn, contacts, awake_slot, body_int, up_x, up_y):
                     px, py = impulse_on(i, c, j, contacts)
                     if is_support(px, py, up_x, up_y):
                         body_int[i, MARK] = 2
+                        body_int[i, WAITING] = WAIT_ON_AWAKE
                         changed = True
                         break

@@ -13,6 +13,7 @@ import math
 import pandas as pd
 import pytest
 
+import sim
 from analysis import fig_time_to_rest as analysis
 from study import paths
 from experiments import fig_time_to_rest
@@ -94,3 +95,23 @@ def test_figure_table_and_numbers(quick_run):
     assert written["numbers"] == json.loads(json.dumps(numbers)) and written["quick"] is True
     assert sum(numbers[s]["n_never"] for s in fig_time_to_rest.SYSTEMS) == n_never
     assert numbers["sim-paper"]["steps"]["rest_row(50)"] <= 3
+
+
+def test_what_the_pile_waits_for_once_still(quick_run):
+    """The quick pile (drop(10, seed=0)) keeps a body awake to the cap, held only at the edge of
+    its friction (above): once nothing moves, its awake body-steps are counted by reason, one
+    per awake body and step."""
+    table, numbers, _ = quick_run
+    waiting = numbers["certificate"]["piles_waiting"]
+    assert set(waiting["body_steps"]) == set(sim.World.AWAKE_REASONS)
+    (pile,) = waiting["piles"]
+    record = waiting["piles"][pile]
+    rows = table[(table["part"] == "certificate") & (table["scene"] == pile)]
+    steps_run = int(rows[rows["metric"] == "steps_run"]["value"].iloc[0])
+    still = record["still_from_step"]
+    assert 1 <= still <= steps_run
+    assert int(rows["n_awake"].iloc[0]) >= 1  # to the cap: the body at the edge of its friction
+    # the run stops when nothing is awake: every step of the window has an awake body
+    assert sum(record["body_steps"].values()) >= steps_run - still + 1
+    assert waiting["body_steps"]["uncertified"] > 0
+    assert sum(waiting["share"].values()) == pytest.approx(1.0)

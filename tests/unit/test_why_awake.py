@@ -1,0 +1,129 @@
+"""``World.why_awake``: which stage of ``extended``'s rest test keeps each awake body awake.
+
+Each reason is checked on a scene whose answer is known from its physics (a body at the top of
+its flight, a hexagon gliding to a stop on ice, a box on a ramp its friction cannot quite hold,
+a triangle balanced on its apex), and on a settling pile against what the reason claims (a
+"moving" body is at least rest_speed fast, a "deep" one has a contact deeper than twice its
+slop)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import sim
+from conftest import G
+from test_certificate import _on_ramp, _triangle_on_its_apex_carrying_a_box
+
+DT = 1.0 / 60.0
+REST_SPEED = 0.02  # extended's default rest_speed, m/s
+
+
+def _reasons(world, steps):
+    """why_awake() after each step, one step at a time."""
+    out = []
+    for _ in range(steps):
+        world.step()
+        out.append(list(world.why_awake()))
+    return out
+
+
+def test_a_body_at_the_top_of_its_flight_is_changing_not_still():
+    """Thrown up at 3 g dt it stops at the end of step 3 (v = v0 - g t, exact for the integrator):
+    slow then, but its velocity changes by g dt a step, so it is "changing"; before and after,
+    faster than rest_speed, "moving"."""
+    box = sim.Body.box(0.5, 0.5, position=(0.0, 3.0), velocity=(0.0, 3 * G * DT))
+    world = sim.World(sim.Scene(bodies=[box]), freeze="extended")
+    assert [r[0] for r in _reasons(world, 5)] == [
+        "moving",
+        "moving",
+        "changing",
+        "moving",
+        "moving",
+    ]
+
+
+def test_a_stack_waits_rest_steps_before_freezing():
+    world = sim.World(sim.scenes.stack(3), freeze="extended", rest_steps=4)
+    assert _reasons(world, 4) == [["counting"] * 3] * 3 + [[""] * 3]
+
+
+def test_a_hexagon_gliding_on_ice_is_sliding_from_when_it_is_slow_until_it_stops():
+    """v(t) = v0 - mu g t: slower than rest_speed from t = (v0 - rest_speed) / (mu g) (step 92),
+    then held awake by its friction at the Coulomb limit ("sliding") until it stops at
+    v0 / (mu g) (step 153), and frozen."""
+    speed, mu = 0.05, 0.002
+    hexagon = sim.Body.regular(6, 0.4, velocity=(speed, 0.0), friction=mu)
+    hexagon.position = (0.0, 0.4 * math.cos(math.pi / 6))
+    world = sim.World(sim.Scene(bodies=[hexagon], floor_friction=mu), freeze="extended")
+    reasons = [r[0] for r in _reasons(world, 240)]
+    slow = (speed - REST_SPEED) / (mu * G) / DT
+    stops = speed / (mu * G) / DT
+    first_slow = reasons.index("sliding") + 1
+    assert abs(first_slow - slow) <= 2
+    assert set(reasons[: first_slow - 1]) == {"moving"}
+    frozen_at = reasons.index("") + 1
+    assert set(reasons[first_slow - 1 : frozen_at - 1]) == {"sliding"}
+    assert abs(frozen_at - stops) <= 5
+
+
+def test_a_box_on_a_ramp_just_short_of_holding_is_sliding():
+    """tan(slope) = 1.002 mu: it accelerates at g (sin - mu cos) ~ 1 cm/s^2, slower than
+    rest_speed for its first 1.5 s, and is kept awake by its sliding contact."""
+    mu = 0.6
+    slope = math.atan(1.002 * mu)
+    accel = G * (math.sin(slope) - mu * math.cos(slope))
+    assert accel * 1.5 < REST_SPEED
+    world = sim.World(_on_ramp(slope, mu), freeze="extended")
+    reasons = [r[0] for r in _reasons(world, 90)]
+    assert set(reasons[10:]) == {"sliding"}
+    assert not world.frozen[0]
+
+
+def test_a_triangle_on_its_apex_is_uncertified_and_the_box_on_it_waits_for_it():
+    """One support point never certifies rest; the box on the triangle's top is certified, but
+    must not freeze on a body that stays awake."""
+    world = sim.World(_triangle_on_its_apex_carrying_a_box(1e-3), freeze="extended")
+    assert _reasons(world, 30) == [["uncertified", "on_awake"]] * 30
+
+
+def test_a_still_box_waits_for_its_neighbour_while_another_slides_on_what_carries_it():
+    """B slides across the long box A; A's contact with B slips at its friction limit, so A is
+    "sliding" too; C, still on A's far end, waits for its neighbour A. Once B stops, all freeze."""
+    a = sim.Body.box(3.0, 0.5, position=(0.0, 0.25), friction=0.2)
+    b = sim.Body.box(0.5, 0.5, position=(-1.2, 0.75), velocity=(2.0, 0.0), friction=0.2)
+    c = sim.Body.box(0.3, 0.3, position=(1.3, 0.65), friction=0.2)
+    world = sim.World(sim.Scene(bodies=[a, b, c]), freeze="extended")
+    world.step(30)
+    assert list(world.why_awake()) == ["sliding", "moving", "neighbour"]
+    world.step(120)
+    assert list(world.why_awake()) == ["", "", ""]
+    assert world.frozen.all()
+
+
+def test_every_awake_body_of_a_settling_pile_has_the_reason_its_state_shows():
+    world = sim.World(sim.scenes.drop(30, seed=0), freeze="extended")
+    seen = set()
+    for _ in range(200):
+        world.step()
+        reasons = world.why_awake()
+        np.testing.assert_array_equal(reasons == "", world.frozen)
+        speed = (
+            np.hypot(*world.velocities.T)
+            + np.abs(world.angular_velocities) * (world.extents[: world.n_bodies])
+        )
+        np.testing.assert_array_equal(speed >= REST_SPEED, reasons == "moving")
+        contacts = world.contacts()
+        for body in np.flatnonzero(reasons == "deep"):
+            mine = (contacts["body_a"] == body) | (contacts["body_b"] == body)
+            assert np.any(contacts["end_separation"][mine] < -2 * contacts["slop"][mine])
+        seen.update(reasons.tolist())
+    # what a pile waits for once nothing is moving: measured on this seed
+    assert {"deep", "neighbour", "sliding"} <= seen
+
+
+@pytest.mark.parametrize("policy", ["off", "sleep", "paper"])
+def test_only_extended_says_why_a_body_is_awake(policy):
+    world = sim.World(sim.scenes.stack(2), freeze=policy)
+    with pytest.raises(ValueError, match="only freeze='extended'"):
+        world.why_awake()

@@ -159,7 +159,7 @@ def draw(table, meta):
         title_fontsize=6,
         frameon=False,
     )
-    fig.tight_layout(h_pad=1.2)
+    fig.tight_layout(h_pad=2.0)  # clear of the x tick labels of the row above
     style.save_figure(fig, NAME)
 
     style.write_table(_paper_table(fits, fits_min, systems), NAME)

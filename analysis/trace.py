@@ -19,7 +19,9 @@ What the recording holds, on the timelines ``step`` (the run's step count) and `
 
   systems/<s>/bodies        every body as a closed outline, coloured by its state (sim: FREE,
                             VERTICAL_STABLE, ROTATION_STABLE, SLEEPING; a peer's bodies are FREE
-                            awake and SLEEPING asleep), frozen or asleep bodies at half brightness
+                            awake and SLEEPING asleep), frozen or asleep bodies at half brightness;
+                            under sim-extended each awake body labelled with the rest-test stage
+                            that keeps it awake (``World.why_awake``: "sliding", "deep", ...)
   systems/<s>/static        the floor and static bodies (static: logged once)
   systems/<s>/contacts      the contact points of the step (each engine's own, runner.contacts)
   systems/<s>/impulses      normal impulses as arrows, ``--arrow-scale`` m per N s
@@ -251,12 +253,15 @@ class Recorder:
         rec = self.rec
         w = t.shapes.world(positions, angles)  # (N,K,2) m
         strips = np.concatenate([w, w[:, :1]], axis=1)  # closed outlines
+        labels = None
         if t.world is not None:
             colors = body_colors(t.world.states, t.world.frozen)
+            if t.world.freeze == "extended":  # what keeps each awake body awake, frame by frame
+                labels = t.world.why_awake().tolist()
         else:
             asleep = np.asarray(t.runner.asleep, dtype=bool)
             colors = body_colors(np.where(asleep, sim.State.SLEEPING, sim.State.FREE), asleep)
-        rec.log(f"systems/{t.path}/bodies", rr.LineStrips2D(strips, colors=colors))
+        rec.log(f"systems/{t.path}/bodies", rr.LineStrips2D(strips, colors=colors, labels=labels))
         contacts = getattr(t.runner, "contacts", None)
         if contacts is not None:
             c = contacts()

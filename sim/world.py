@@ -25,7 +25,7 @@ from .buffers import grown, new_bodies, new_contacts, new_geometry, new_solver
 from .clock import ticks_per_second
 from .contacts import sort_awake
 from .freeze import POLICY_NAMES, resolve
-from .freeze.extended_layout import WAIT_NAMES, WAITING
+from .freeze.extended_layout import WAIT_NAMES, WAIT_NONE, WAITING
 from .narrowphase import update_manifolds
 from .packing import pack
 from .reports import Inspection, contact_points
@@ -464,15 +464,19 @@ class World:
         deeper than twice its slop, still being pushed open), "neighbour" (it touches an awake
         body in motion), "uncertified" (no contact forces hold it still with margin, alone or
         with the bodies it touches), "on_awake" (certified, but resting on an awake body that
-        does not freeze with it). What a pile is still waiting for, which its velocities do not
-        say. Only ``extended`` has a rest test of stages: any other policy raises ValueError."""
+        does not freeze with it); "untested" before the first step. What a pile is still waiting
+        for, which its velocities do not say. Only ``extended`` has a rest test of stages: any
+        other policy raises ValueError."""
         if self.freeze != "extended":
             raise ValueError(
                 f"why_awake: only freeze='extended' records why a body is awake (its rest test "
                 f"has stages); this World has freeze={self.freeze!r}"
             )
-        names = np.array(WAIT_NAMES)[self._activity.body_int[: self.n_bodies, WAITING]]
-        names[self.frozen] = ""
+        codes = self._activity.body_int[: self.n_bodies, WAITING]
+        names = np.array(WAIT_NAMES, dtype="U16")[codes]  # wide enough for "untested"
+        frozen = self.frozen
+        names[(codes == WAIT_NONE) & ~frozen] = "untested"
+        names[frozen] = ""
         return names
 
     @property

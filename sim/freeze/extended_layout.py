@@ -39,13 +39,13 @@ REST_COUNT, MARK, TOUCHED, WAITING = range(4)
 INT_COLUMNS = 4
 
 #: WAITING: why an awake body was not frozen by the step's rest test, the first stage that
-#: refused it (0 once frozen; ``sim.World.why_awake`` names them). Recorded because the question
-#: "what is this pile still waiting for?" decides where time to rest goes (a solver still pushing
-#: bodies apart, a body creeping at its friction limit, a balance the certificate will not take)
-#: and it cannot be read from the velocities: a body slower than rest_speed is held by its
-#: contacts or its neighbours, not by its own speed.
+#: refused it (0 once frozen, and before the first rest test; ``sim.World.why_awake`` names
+#: them). Recorded because the question "what is this pile still waiting for?" decides where time
+#: to rest goes (a solver still pushing bodies apart, a body creeping at its friction limit, a
+#: balance the certificate will not take) and it cannot be read from the velocities: a body
+#: slower than rest_speed is held by its contacts or its neighbours, not by its own speed.
 (
-    WAIT_NONE,  # frozen (or not yet tested)
+    WAIT_NONE,  # frozen, or no rest test yet (the World before its first step)
     WAIT_MOVING,  # |v| + |w| extent >= rest_speed
     WAIT_CHANGING,  # slow, but its velocity changed by more than rest_acceleration dt
     WAIT_COUNTING,  # slow and steady for fewer than rest_steps steps

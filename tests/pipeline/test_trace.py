@@ -114,6 +114,10 @@ def test_frozen_and_asleep_bodies_take_the_frozen_colour(box_recording):
     assert rgba(pm.iloc[-1][0]) == asleep  # Chipmunk's 0.5 s of idling passed
     off = entities["/systems/sim-off/bodies"]["LineStrips2D:colors"]
     assert {rgba(c[0]) for c in off} == {free}  # never frozen
+    # extended says why a body is awake: not yet tested at step 0, frozen (no label) after
+    why = entities["/systems/sim-extended/bodies"]["LineStrips2D:labels"]
+    assert list(why.iloc[0]) == ["untested"] and list(why.iloc[-1]) == [""]
+    assert "LineStrips2D:labels" not in entities["/systems/sim-off/bodies"]
     _, awake = scalars(entities, "/timeline/awake/sim-extended")
     assert awake[0] == 1 and awake[-1] == 0
 

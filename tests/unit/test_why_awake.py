@@ -122,6 +122,13 @@ def test_every_awake_body_of_a_settling_pile_has_the_reason_its_state_shows():
     assert {"deep", "neighbour", "sliding"} <= seen
 
 
+def test_before_its_first_step_no_body_has_been_tested():
+    world = sim.World(sim.scenes.stack(2), freeze="extended")
+    assert list(world.why_awake()) == ["untested", "untested"]
+    world.step()
+    assert list(world.why_awake()) == ["", ""]  # placed at rest: certified in the first step
+
+
 @pytest.mark.parametrize("policy", ["off", "sleep", "paper"])
 def test_only_extended_says_why_a_body_is_awake(policy):
     world = sim.World(sim.scenes.stack(2), freeze=policy)

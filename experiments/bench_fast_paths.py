@@ -35,6 +35,14 @@ metadata).
    Rotation in the substeps' position integration (one cos/sin pair per body per substep, in the
    ``integrate`` stage, shared with the translation) is not counted.
 
+5. ``quiet`` (built, ``World(fast_paths=...)``): once a step has begun and ended with every body
+   frozen, the steps after it in the same ``step`` call only count (exact: nothing is awake, so
+   the step would change nothing). Scene: ``pyramid`` under sim-extended, frozen in its first
+   step, stepped in calls of ``quiet_steps`` steps (300, fig_tradeoff's run) with fast paths on
+   and with friction only, interleaved repeats; the saving is 1 - on/off of the median ms per
+   step. The first step of every call still runs in full, and each call pays the World's call
+   overhead, so the saving grows with the steps per call.
+
 Shares from a profile are of the profiled step (``World.profile`` reads the cycle counter at every
 stage boundary, which costs a little); the ms columns of those rows are the profiled ms per step.
 
@@ -55,8 +63,24 @@ from study.timing import interleaved
 NAME = "bench_fast_paths"
 PAYS = 0.05  # a fast path is kept when it saves at least this share of a step
 WARMUP_STEPS = 10
-FULL = {"columns": (100, 10), "pyramid": 40, "row": 1000, "statics": 100, "steps": 30, "repeats": 9}
-QUICK = {"columns": (10, 5), "pyramid": 10, "row": 100, "statics": 10, "steps": 5, "repeats": 3}
+FULL = {
+    "columns": (100, 10),
+    "pyramid": 40,
+    "row": 1000,
+    "statics": 100,
+    "steps": 30,
+    "quiet_steps": 300,
+    "repeats": 9,
+}
+QUICK = {
+    "columns": (10, 5),
+    "pyramid": 10,
+    "row": 100,
+    "statics": 10,
+    "steps": 5,
+    "quiet_steps": 30,
+    "repeats": 3,
+}
 
 
 def columns(n_columns, height, mu):
@@ -85,10 +109,10 @@ def with_ledges(scene, n, height=50.0):
     )
 
 
-def warm_runner(scene, **settings):
-    """sim-off on ``scene`` at the study's dt and slop, warmed up (first steps excluded); its
-    World is ``.world``."""
-    runner = make_runner("sim-off", scene, dt=DT, slop=SLOP, **settings)
+def warm_runner(scene, system="sim-off", **settings):
+    """``system`` (default sim-off) on ``scene`` at the study's dt and slop, warmed up (first
+    steps excluded); its World is ``.world``."""
+    runner = make_runner(system, scene, dt=DT, slop=SLOP, **settings)
     runner.step(WARMUP_STEPS)
     return runner
 
@@ -203,6 +227,34 @@ def rotation(config, repeats, bar):
     )
 
 
+def quiet(config, repeats, bar):
+    scene = sim.scenes.pyramid(config["pyramid"])
+    variants = (("friction",), True)
+    runners = [warm_runner(scene, "sim-extended", fast_paths=fast) for fast in variants]
+    frozen = [r.world.n_awake == 0 for r in runners]
+    times = interleaved(runners, [config["quiet_steps"]] * 2, repeats, bar)
+    off, on = (statistics.median(t) for t in times)
+    skipped = runners[1].world.inspect().quiet_steps
+    name = f"{label(scene)}, sim-extended, calls of {config['quiet_steps']} steps"
+    return [
+        _row(
+            "quiet",
+            name,
+            "fast_paths=('friction',)",
+            off,
+            note=f"every body frozen after the warm-up: {frozen[0]}",
+        ),
+        _row(
+            "quiet",
+            name,
+            "fast_paths=True",
+            on,
+            1.0 - on / off,
+            f"every body frozen after the warm-up: {frozen[1]}; {skipped} steps skipped",
+        ),
+    ]
+
+
 def verdicts(table):
     """One line per candidate: kept or not, and why (the PAYS rule)."""
     out = []
@@ -245,6 +297,15 @@ def verdicts(table):
             "detail": f"upper bound {share:.1%} of a step (whole broadphase)",
         }
     )
+    q = float(table[table["part"] == "quiet"]["saving_share_of_step"].dropna().iloc[0])
+    out.append(
+        {
+            "candidate": "quiet",
+            "saving": q,
+            "verdict": "kept" if q >= PAYS else "does not pay",
+            "detail": f"saves {q:.0%} of a frozen pyramid's step (calls of many steps)",
+        }
+    )
     s = float(table[table["part"] == "statics"]["saving_share_of_step"].dropna().iloc[0])
     out.append(
         {
@@ -263,12 +324,15 @@ def run(config, args):
     repeats = config["repeats"]
     rows = []
     with tqdm(
-        total=2 * (2 * repeats) + repeats + 2 * repeats + repeats, desc=NAME, unit="repeat"
+        total=2 * (2 * repeats) + repeats + 2 * repeats + repeats + 2 * repeats,
+        desc=NAME,
+        unit="repeat",
     ) as bar:
         rows += friction(config, repeats, bar)
         rows += box_sat(config, repeats, bar)
         rows += statics(config, repeats, bar)
         rows += rotation(config, repeats, bar)
+        rows += quiet(config, repeats, bar)
     table = pd.DataFrame(rows)
     scenes = [
         columns(*config["columns"], 0.0),

@@ -42,6 +42,7 @@ class Settings(NamedTuple):
     restitution_threshold: float  # m/s
     warm_starting: bool
     fast_friction: bool  # no friction rows for frictionless contacts (exact)
+    fast_quiet: bool  # skip the steps after one that began and ended with nothing awake (exact)
     continuous: bool  # time-of-impact sweeps for fast bodies
     cell_size: float  # m, broadphase grid cell
     n_dynamic: int
@@ -86,8 +87,9 @@ class Settings(NamedTuple):
     N_HARD,
     N_SKIPPED,
     N_CERTIFICATES,
-) = range(25)
-N_COUNTERS = 25
+    N_QUIET,
+) = range(26)
+N_COUNTERS = 26
 # GROW_NEEDED bits: which buffer the kernel found too small (the World grows it and retries)
 GROW_CONTACTS, GROW_AWAKE_GRID, GROW_RESTING_GRID, GROW_SOLVER = 1, 2, 4, 8
 

@@ -77,6 +77,8 @@ class Inspection:
                            contact touching a body in a contact of mass ratio > HARD_RATIO)
       certificates         rest certificates tried since the start (extended:
                            ``sim.freeze.certificate``; one per candidate body per step)
+      quiet_steps          steps skipped since the start by the "quiet" fast path: nothing was
+                           awake, and the step before had begun and ended so (``kernel.run``)
 
     Built by ``World.inspect()`` from the World's arrays: ``points`` its contact points,
     ``counters``, ``activity``, ``solver`` and ``contacts`` the step loop's state, ``n_bodies``
@@ -105,6 +107,7 @@ class Inspection:
         self.impacts = int(c[D.N_IMPACTS])
         self.n_hard_batches = int(c[D.N_HARD])
         self.certificates = int(c[D.N_CERTIFICATES])
+        self.quiet_steps = int(c[D.N_QUIET])
 
     def __repr__(self):
         return (

@@ -34,7 +34,7 @@ LIMITS_WHY = (
 )
 
 #: the solver's fast paths (see World's ``fast_paths``)
-FAST_PATHS = ("friction",)
+FAST_PATHS = ("friction", "quiet")
 
 
 def fast_path_names(value):

@@ -123,9 +123,11 @@ class World:
                             equilibrium. Needs warm_starting.
       fast_paths            True (default), False, or a collection of names from
                             ``sim.validation.FAST_PATHS``: work skipped when the scene does not
-                            need it ("friction": no friction rows for batches of frictionless
-                            contacts, which is exact). False exists to measure the saving
-                            (experiments/bench_fast_paths.py).
+                            need it, each exact ("friction": no friction rows for batches of
+                            frictionless contacts; "quiet": once a step has begun and ended
+                            with every body frozen, the steps after it in the same ``step``
+                            call only count, for they would change nothing). False exists to
+                            measure the saving (experiments/bench_fast_paths.py).
       **policy_parameters   the freeze policy's own parameters (e.g. impulse_threshold)
 
     Arrays read from a World are copies: positions (N,2) m (centres of mass), angles (N,) rad,
@@ -256,6 +258,7 @@ class World:
             restitution_threshold=self.restitution_threshold,
             warm_starting=self.warm_starting,
             fast_friction="friction" in self.fast_paths,
+            fast_quiet="quiet" in self.fast_paths,
             continuous=self.continuous,
             cell_size=cell_size,
             n_dynamic=n,

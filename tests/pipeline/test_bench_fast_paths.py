@@ -29,8 +29,9 @@ def test_uses_only_public_names_of_sim():
             assert not (node.attr.startswith("_") and not node.attr.startswith("__")), node.attr
 
 
-def _table(friction_saving, sat_bound, rotation_bound, statics_saving):
+def _table(friction_saving, sat_bound, rotation_bound, statics_saving, quiet_saving=0.9):
     rows = [
+        ("quiet", "pyramid(10)", "fast_paths=True", quiet_saving),
         ("friction", "columns(mu=0.0)", "fast_paths=True", friction_saving),
         ("friction", "columns(mu=0.6)", "fast_paths=True", 0.01),
         ("box_sat", "pyramid(40)", "narrowphase stage", sat_bound),
@@ -47,8 +48,10 @@ def test_verdicts_follow_the_five_percent_rule():
     assert v["friction"]["verdict"] == "kept"
     assert v["box_sat"]["verdict"].startswith("removed: cannot pay")
     assert v["rotation"]["verdict"] == "not built: cannot pay"
-    v = {r["candidate"]: r for r in bfp.verdicts(_table(0.04, 0.07, 0.12, 0.0))}
+    assert v["quiet"]["verdict"] == "kept"
+    v = {r["candidate"]: r for r in bfp.verdicts(_table(0.04, 0.07, 0.12, 0.0, 0.03))}
     assert v["friction"]["verdict"] == "does not pay"
+    assert v["quiet"]["verdict"] == "does not pay"
     assert "looser" in v["box_sat"]["verdict"]
     assert v["rotation"]["verdict"].startswith("not built: may pay")
 
@@ -65,7 +68,7 @@ def quick(tmp_path_factory):
 
 def test_quick_run_measures_every_candidate(quick):
     table, meta = quick
-    assert set(table["part"]) == {"friction", "box_sat", "statics", "rotation"}
+    assert set(table["part"]) == {"friction", "box_sat", "statics", "rotation", "quiet"}
     assert (table["ms_per_step_median"] > 0).all()
     friction = table[table["part"] == "friction"]
     assert len(friction) == 4 and set(friction["variant"]) == {
@@ -78,7 +81,20 @@ def test_quick_run_measures_every_candidate(quick):
         share = rows["saving_share_of_step"].dropna()
         assert len(share) == 1 and 0 < share.iloc[0] < 1  # a stage is part of a step
     p = meta["parameters"]
-    assert [v["candidate"] for v in p["verdicts"]] == ["friction", "box_sat", "rotation", "statics"]
+    assert [v["candidate"] for v in p["verdicts"]] == [
+        "friction",
+        "box_sat",
+        "rotation",
+        "quiet",
+        "statics",
+    ]
+    quiet = table[table["part"] == "quiet"]
+    assert list(quiet["variant"]) == ["fast_paths=('friction',)", "fast_paths=True"]
+    # the pyramid was frozen when timed (else the comparison measures nothing), and the fast
+    # path skipped steps
+    assert all("frozen after the warm-up: True" in n for n in quiet["note"])
+    skipped = quiet["note"].iloc[1]
+    assert "steps skipped" in skipped and " 0 steps skipped" not in skipped
     assert p["pays"] == bfp.PAYS
     assert p["system_settings"]["sim-off"]["substeps"] == p["substeps"] >= 1
     assert meta["script"] == "bench_fast_paths" and meta["git"]["commit"]

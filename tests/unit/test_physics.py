@@ -331,7 +331,7 @@ def test_fast_paths_are_validated():
     with pytest.raises(ValueError, match="unknown fast path"):
         sim.World(sim.scenes.single_box(), fast_paths=["bogus"])
     assert sim.World(sim.scenes.single_box(), fast_paths=False).fast_paths == ()
-    assert sim.World(sim.scenes.single_box()).fast_paths == ("friction",)
+    assert sim.World(sim.scenes.single_box()).fast_paths == ("friction", "quiet")
 
 
 #: m/s, the largest speed of any body of each drop(30) pile in the 20th second, sim-off at its

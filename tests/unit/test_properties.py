@@ -152,7 +152,7 @@ WORLD = {
     "continuous": st.booleans(),
     "overlap_tolerance": st.floats(0, 0.05),
     "initial_iterations": st.integers(0, 50),
-    "fast_paths": st.sampled_from([True, False, ("friction",), ()]),
+    "fast_paths": st.sampled_from([True, False, ("friction",), ("quiet",), ()]),
 }
 
 #: words a polygon's messages use for its vertices

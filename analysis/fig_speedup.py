@@ -180,6 +180,8 @@ def _numbers(table, families, systems, cap):
             "ms": {},
             "speedup": {},
             "speedup_paired": {},
+            "ms_per_call": {},
+            "speedup_single": {},
             "n_awake": {},
         }
         for r in at.itertuples():
@@ -187,6 +189,8 @@ def _numbers(table, families, systems, cap):
                 fam["ms"][r.system] = r.ms_per_step_median
                 fam["speedup"][r.system] = r.speedup
                 fam["speedup_paired"][r.system] = getattr(r, "speedup_paired", math.nan)
+                fam["ms_per_call"][r.system] = r.ms_per_call_median
+                fam["speedup_single"][r.system] = r.speedup_single
                 fam["n_awake"][r.system] = int(r.n_awake_before)
         # each system at the largest size it was run at (pybullet is capped)
         fam["largest_run"] = {}

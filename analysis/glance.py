@@ -61,7 +61,12 @@ def lines():
         f"{fmt(row['ms']['sim-extended'])} ms once `extended` has frozen it "
         f"({x(row['speedup']['sim-extended'])}; `sleep` {x(row['speedup']['sim-sleep'])}, "
         f"`paper` {x(row['speedup']['sim-paper'])}); pymunk's sleeping gives "
-        f"{x(row['speedup']['pymunk-sleep'])}."
+        f"{x(row['speedup']['pymunk-sleep'])}. That is in long calls (sim runs many steps per "
+        "call; a frozen step does nothing). Stepped once per call, as the engines' Python APIs "
+        f"step, a frozen sim step costs {fmt(row['ms_per_call']['sim-extended'])} ms, mostly "
+        f"the call ({x(row['speedup_single']['sim-extended'])} under `extended`), and "
+        f"pymunk's {fmt(row['ms_per_call']['pymunk-sleep'])} ms "
+        f"({x(row['speedup_single']['pymunk-sleep'])})."
     )
     out.append(frozen_cost_line(sc))
     awake = pyr.get("n_awake", {})

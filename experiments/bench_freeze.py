@@ -11,7 +11,9 @@ Four parts, one long-form table (column ``part``), each answering one of the iss
    fixed 2 s of deactivation time before any body sleeps, so it is timed on the smaller row). Each
    freezing system is stepped one step at a time until no body is solved (counted, see "frozen"
    below), then 10 more untimed steps; the awake count is recorded before and after the timing.
-   Target: sim under 0.02 ms/step fully frozen (pymunk asleep: ~0.013).
+   Target: sim under 0.02 ms/step fully frozen (pymunk asleep: ~0.013). Also timed one step per
+   call (``ms_per_call_median``, ``speedup_vs_off_single``; study.timing.single_calls): what a
+   program stepping once per call pays, call overhead included.
 2. ``per_body_cost`` — ms/step = a * N_awake + b * N_frozen + c, fitted by least squares. Each mix
    is rest_row(N_frozen) plus N_awake unit boxes in a block (pitch 2 m, so they never touch) that
    start at rest 3000 m up and fall for ~25 s: they are awake and in flight through the whole
@@ -201,14 +203,18 @@ def frozen_cost(config, repeats, progress):
         tag = label(scene)
         cap = int(round(config["freeze_cap_s"] / DT))
         runs = settle_and_time(scene, systems, cap, config["frozen_repeat_s"], repeats, progress)
-        off_median = (
-            statistics.median(runs[systems.index("sim-off")]["times"])
+        off_median, off_call = (
+            (
+                statistics.median(runs[systems.index("sim-off")]["times"]),
+                statistics.median(runs[systems.index("sim-off")]["call_times"]),
+            )
             if "sim-off" in systems
-            else math.nan
+            else (math.nan, math.nan)
         )
         for system, run in zip(systems, runs):
             times, before, after = run["times"], run["before"], run["after"]
             med, low = statistics.median(times), min(times)
+            call = statistics.median(run["call_times"])
             if system not in FREEZING:
                 flag = "reference: nothing frozen"
             elif before == 0 and after == 0:
@@ -228,6 +234,11 @@ def frozen_cost(config, repeats, progress):
                 long_row(**common, metric="ms_per_step_median", value=med, unit="ms"),
                 long_row(**common, metric="ms_per_step_min", value=low, unit="ms"),
                 long_row(**common, metric="speedup_vs_off", value=off_median / med, unit="ratio"),
+                long_row(**common, metric="ms_per_call_median", value=call, unit="ms"),
+                long_row(
+                    **common, metric="speedup_vs_off_single", value=off_call / call, unit="ratio"
+                ),
+                long_row(**common, metric="calls_per_repeat", value=run["calls"], unit="calls"),
                 long_row(**common, metric="n_awake_before", value=before, unit="bodies"),
                 long_row(**common, metric="n_awake_after", value=after, unit="bodies"),
                 long_row(
@@ -393,6 +404,8 @@ def summary(table, config, fits, targets, quick):
             lines.append(
                 f"  {scene:14s} {system:15s} {fmt(g('ms_per_step_median')):>9s} "
                 f"[{fmt(g('ms_per_step_min'))}] ms  x{fmt(g('speedup_vs_off'))} vs off  "
+                f"one step per call {fmt(g('ms_per_call_median'))} ms "
+                f"x{fmt(g('speedup_vs_off_single'))}  "
                 f"awake {g('n_awake_before'):.0f} -> {g('n_awake_after'):.0f}  "
                 f"froze at step {fmt(g('steps_to_all_frozen'))}"
             )

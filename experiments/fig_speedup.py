@@ -38,9 +38,16 @@ which all froze, the largest distance a body moved (m), and the speed-ups:
 pymunk for pymunk-sleep, pybullet for pybullet-sleep) / this system's median ms/step (1 for the
 references); ``speedup_paired`` = median over repeats of that ratio within a repeat (the two ran
 back to back, so slow load drifts cancel); ``speedup_vs_sim_off`` = sim-off median / this median.
+Then the same systems again, one step per call (``study.timing.single_calls``: repeats of calls
+of ``step(1)``, calibrated alike, interleaved): ``ms_per_call_median`` and ``speedup_single``
+(the reference's median / this one's). sim runs many steps in one compiled call, which the
+engines' Python APIs cannot: its ms/step above leaves out the call's own cost, which a program
+stepping once per call pays every step (a frozen sim step in a long call costs nanoseconds; its
+call tens of microseconds), so the single-call speed-up is the comparison such a program sees.
 
 Columns: family, size (n or base), scene, bodies, system, engine, reference, ms_per_step_median,
-ms_per_step_min, speedup, speedup_paired, speedup_vs_sim_off, n_awake_before, n_awake_after,
+ms_per_step_min, speedup, speedup_paired, speedup_vs_sim_off, ms_per_call_median,
+speedup_single, calls_per_repeat, n_awake_before, n_awake_after,
 steps_to_all_frozen, settle_steps, steps_per_repeat, repeats, max_displacement_m, flag
 ("reference: sleeping off", "all frozen", "NOT all frozen", or "not run: ...").
 
@@ -81,10 +88,10 @@ FULL = {
     "repeat_s": 0.1,
     "repeats": 7,
 }
-#: --quick: small enough for the test suite. Its largest row has 300 boxes: at 100 a frozen step's
-#: fixed cost (the call, the counters: ~10 us) is a third of a solved one, so the frozen row's
-#: speed-up (3.2-3.5 unloaded) fell under 3 on a loaded machine (2.65, CI beside another run); at
-#: 300 it is 8.6 (unloaded).
+#: --quick: small enough for the test suite. Its largest row has 300 boxes: at 100, before the
+#: "quiet" fast path, a frozen step's fixed cost (the stages' calls: ~10 us) was a third of a
+#: solved one, so the frozen row's speed-up (3.2-3.5 unloaded) fell under 3 on a loaded machine
+#: (2.65, CI beside another run); at 300 it was 8.6 (unloaded).
 QUICK = {"rest_row": (30, 300), "pyramid": (4, 8), "settle_s": 2.5, "repeat_s": 0.01, "repeats": 3}
 
 
@@ -109,6 +116,7 @@ def scene_rows(scene, runs, systems, repeats):
     ``systems``); systems not run get NaN and a flag saying why."""
     by_system = dict(zip(systems, runs))
     median = {s: statistics.median(r["times"]) for s, r in by_system.items()}
+    per_call = {s: statistics.median(r["call_times"]) for s, r in by_system.items()}
     n = len(scene.bodies)
     rows = []
     for system in SYSTEMS:
@@ -132,6 +140,9 @@ def scene_rows(scene, runs, systems, repeats):
                     "speedup": math.nan,
                     "speedup_paired": math.nan,
                     "speedup_vs_sim_off": math.nan,
+                    "ms_per_call_median": math.nan,
+                    "speedup_single": math.nan,
+                    "calls_per_repeat": math.nan,
                     "n_awake_before": math.nan,
                     "n_awake_after": math.nan,
                     "steps_to_all_frozen": math.nan,
@@ -159,6 +170,9 @@ def scene_rows(scene, runs, systems, repeats):
                 # the reference and this system ran back to back within each repeat
                 "speedup_paired": statistics.median(r / t for r, t in zip(ref_times, run["times"])),
                 "speedup_vs_sim_off": median["sim-off"] / median[system],
+                "ms_per_call_median": per_call[system],
+                "speedup_single": per_call[ref] / per_call[system],
+                "calls_per_repeat": run["calls"],
                 "n_awake_before": run["before"],
                 "n_awake_after": run["after"],
                 "steps_to_all_frozen": math.nan if run["froze_at"] is None else run["froze_at"],

@@ -17,7 +17,7 @@ from study.common import DT, awake_mask, build, calibrate, label, n_awake, step_
 from study.cost_fit import FIT_UNITS, fit_cost, relative_to_off
 from study import systems
 from study.peers import engine_of
-from study.timing import interleaved
+from study.timing import interleaved, interleaved_calls, single_calls
 
 WARMUP_STEPS = 10  # untimed steps after build (and after freezing) before any timing
 FALL_HEIGHT = 3000.0  # m, bottom of the falling block (mixes, fall scene)
@@ -125,6 +125,12 @@ def largest_move(runner, start):
 
 
 # ---- settle and time: a scene at rest ----------------------------------------------------------
+def _calls_per_repeat(runner, repeat_s, probe=5, lo=5, hi=2000):
+    """One-step calls per repeat so that one repeat lasts about ``repeat_s``."""
+    t = single_calls(runner, probe) / 1e3
+    return int(min(hi, max(lo, round(repeat_s / max(t, 1e-9)))))
+
+
 def settle_and_time(scene, systems, cap_steps, repeat_s, repeats, progress, age_steps=None):
     """Build every system on ``scene``, bring it to rest, and time its steps, interleaved.
 
@@ -132,10 +138,13 @@ def settle_and_time(scene, systems, cap_steps, repeat_s, repeats, progress, age_
     ``cap_steps``. With ``age_steps``, every system is then stepped on to that many steps, so that
     all are timed at the same simulated age (without it, systems that do not freeze are timed
     right after build: bench_freeze's part 1). Then WARMUP_STEPS untimed steps, a repeat length
-    calibrated to ``repeat_s`` s, and ``repeats`` repeats interleaved over all systems.
+    calibrated to ``repeat_s`` s, and ``repeats`` repeats interleaved over all systems; then the
+    same again with one step per call (``study.timing.single_calls``; ``calls`` calls per repeat,
+    calibrated alike).
     Returns one dict per system: ``froze_at`` (step count when none was solved, or None),
     ``before``/``after`` (awake counts around the timing), ``times`` (ms/step of each repeat),
-    ``steps`` (steps per repeat), ``age`` (steps taken before the warm-up), ``moved`` (m, largest
+    ``steps`` (steps per repeat), ``call_times`` (ms per one-step call of each repeat),
+    ``calls`` (calls per repeat), ``age`` (steps taken before the warm-up), ``moved`` (m, largest
     distance a body moved from its start, measured after the timing). Runners are closed."""
     tag = label(scene)
     runners, froze_at, steps, starts, ages = [], [], [], [], []
@@ -154,6 +163,9 @@ def settle_and_time(scene, systems, cap_steps, repeat_s, repeats, progress, age_
         before = [n_awake(r) for r in runners]
         progress.set_postfix_str(f"{tag}: timing")
         times = interleaved(runners, steps, repeats, progress)
+        calls = [_calls_per_repeat(r, repeat_s) for r in runners]
+        progress.set_postfix_str(f"{tag}: timing, one step per call")
+        call_times = interleaved_calls(runners, calls, repeats)
         after = [n_awake(r) for r in runners]
         return [
             {
@@ -162,6 +174,8 @@ def settle_and_time(scene, systems, cap_steps, repeat_s, repeats, progress, age_
                 "after": after[k],
                 "times": times[k],
                 "steps": steps[k],
+                "call_times": call_times[k],
+                "calls": calls[k],
                 "age": ages[k],
                 "moved": largest_move(runners[k], starts[k]),
             }

@@ -27,14 +27,36 @@ def timed(runner, steps):
     return elapsed if engine is None else runner.engine_seconds - engine
 
 
-def interleaved(runners, steps, repeats, progress=None):
-    """Per-step times (ms) of each runner over ``repeats`` repeats of ``steps[k]`` steps,
-    round-robin over the runners (order reversed every other repeat). Returns a list of lists."""
+def _round_robin(runners, counts, repeats, measure, progress):
+    """``measure(runner, counts[k])`` of each runner, ``repeats`` times, round-robin over the
+    runners (order reversed every other repeat, so that slow drifts in machine load hit all
+    alike). Returns a list of lists."""
     times = [[] for _ in runners]
     order = list(range(len(runners)))
     for r in range(repeats):
         for k in order if r % 2 == 0 else order[::-1]:
-            times[k].append(1e3 * timed(runners[k], steps[k]) / steps[k])
+            times[k].append(measure(runners[k], counts[k]))
             if progress is not None:
                 progress.update()
     return times
+
+
+def interleaved(runners, steps, repeats, progress=None):
+    """Per-step times (ms) of each runner over ``repeats`` repeats of ``steps[k]`` steps in one
+    call, round-robin over the runners. Returns a list of lists."""
+    return _round_robin(runners, steps, repeats, lambda r, n: 1e3 * timed(r, n) / n, progress)
+
+
+def single_calls(runner, calls):
+    """ms per call of ``runner.step(1)``, the mean over ``calls`` calls (each timed as ``timed``
+    times it). What a program that steps one step per call (a viewer, a game loop, a controller
+    reading the state every step) pays per step, call overhead included: sim's World runs many
+    steps in one compiled call, which the engines' Python APIs (one step per call) cannot, so
+    its per-step times in long calls leave out a cost those programs pay."""
+    return 1e3 * sum(timed(runner, 1) for _ in range(calls)) / calls
+
+
+def interleaved_calls(runners, calls, repeats, progress=None):
+    """``single_calls`` of each runner over ``repeats`` repeats of ``calls[k]`` calls, round-robin
+    over the runners. Returns a list of lists (ms per call)."""
+    return _round_robin(runners, calls, repeats, single_calls, progress)

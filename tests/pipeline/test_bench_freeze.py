@@ -97,6 +97,11 @@ def test_frozen_cost_times_fully_frozen_scenes(quick_run):
             assert before == after == 0, system  # timed only once nothing was solved
             steps = _rows(table, "frozen_cost", "steps_to_all_frozen", system, scene)["value"]
             assert steps.map(math.isfinite).all()
+        call = _rows(table, "frozen_cost", "ms_per_call_median", system, scene)["value"].item()
+        single = _rows(table, "frozen_cost", "speedup_vs_off_single", system, scene)["value"]
+        assert call > 0 and math.isfinite(single.item()) and single.item() > 0
+        if system == "sim-off":
+            assert single.item() == 1.0
 
 
 def test_per_body_cost_mixes_and_fit(quick_run):

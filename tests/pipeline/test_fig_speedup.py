@@ -32,6 +32,9 @@ COLUMNS = [
     "speedup",
     "speedup_paired",
     "speedup_vs_sim_off",
+    "ms_per_call_median",
+    "speedup_single",
+    "calls_per_repeat",
     "n_awake_before",
     "n_awake_after",
     "steps_to_all_frozen",
@@ -71,11 +74,22 @@ def test_table_has_every_scene_and_system(quick_run):
     assert set(table["system"]) == set(SYSTEMS)
     # quick sizes are all under pybullet's cap: everything ran
     assert not table["flag"].str.startswith("not run").any()
-    for column in ("ms_per_step_median", "ms_per_step_min", "speedup"):
+    for column in (
+        "ms_per_step_median",
+        "ms_per_step_min",
+        "speedup",
+        "ms_per_call_median",
+        "speedup_single",
+    ):
         assert table[column].map(math.isfinite).all() and (table[column] > 0).all(), column
     assert (table["ms_per_step_min"] <= table["ms_per_step_median"]).all()
+    assert (table["calls_per_repeat"] >= 5).all()
     refs = table[table["system"] == table["reference"]]
-    assert (refs["speedup"] == 1.0).all()
+    assert (refs["speedup"] == 1.0).all() and (refs["speedup_single"] == 1.0).all()
+    # a one-step call costs at least a step of the same system in a long call (no timing
+    # threshold: a call holds a step)
+    sim_rows = table[table["engine"] == "sim"]
+    assert (sim_rows["ms_per_call_median"] > sim_rows["ms_per_step_min"]).all()
     settle = int(round(cfg["settle_s"] / fig_speedup.DT))
     assert (table["settle_steps"] == settle).all()  # every system timed at the same age
 
@@ -117,6 +131,13 @@ def test_a_frozen_row_is_much_cheaper_than_a_solved_one(quick_run):
         assert _get(table, scene, system, "speedup") > 3, system
 
 
+def test_the_numbers_carry_both_speed_ups(quick_run):
+    _, numbers, _ = quick_run
+    row = numbers["rest_row"]
+    for system in SYSTEMS:
+        assert row["ms_per_call"][system] > 0 and row["speedup_single"][system] > 0
+
+
 def test_pybullet_cap_gives_marked_nan_rows():
     scene = sim.scenes.rest_row(fig_speedup.PYBULLET_MAX_BODIES + 1)
     systems = fig_speedup.systems_for(scene)
@@ -130,6 +151,8 @@ def test_pybullet_cap_gives_marked_nan_rows():
             "after": 0,
             "times": [1.0, 2.0, 3.0],
             "steps": 10,
+            "call_times": [1.5, 2.5, 3.5],
+            "calls": 5,
             "age": 5,
             "moved": 0.0,
         }

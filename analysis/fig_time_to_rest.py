@@ -84,7 +84,18 @@ def draw(table, meta):
                 continue
             steps = float(r["steps_to_all_frozen"])
             ax.barh(y, steps, height=bar_h, color=st["color"], edgecolor="none")
-            ax.text(steps * 1.05, y, f"{steps:.0f}", va="center", fontsize=5, color="0.25")
+            # above the bars, on a white patch: the next system's bar (a hatched "never" one
+            # spans the axis) would otherwise cross the number
+            ax.text(
+                steps * 1.05,
+                y,
+                f"{steps:.0f}",
+                va="center",
+                fontsize=5,
+                color="0.25",
+                zorder=4,
+                bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.2, "alpha": 0.85},
+            )
             if r["n_awake_1s_after"] > 0:
                 ax.plot(steps, y, marker="x", color="red", markersize=4, linestyle="none")
     ax.set_xscale("log")

@@ -36,12 +36,11 @@ metadata).
    ``integrate`` stage, shared with the translation) is not counted.
 
 5. ``quiet`` (built, ``World(fast_paths=...)``): once a step has begun and ended with every body
-   frozen, the steps after it in the same ``step`` call only count (exact: nothing is awake, so
+   frozen, the steps after it only count (exact: nothing is awake, so
    the step would change nothing). Scene: ``pyramid`` under sim-extended, frozen in its first
    step, stepped in calls of ``quiet_steps`` steps (300, fig_tradeoff's run) with fast paths on
    and with friction only, interleaved repeats; the saving is 1 - on/off of the median ms per
-   step. The first step of every call still runs in full, and each call pays the World's call
-   overhead, so the saving grows with the steps per call.
+   step. Each call pays the World's call overhead, so the saving grows with the steps per call.
 
 Shares from a profile are of the profiled step (``World.profile`` reads the cycle counter at every
 stage boundary, which costs a little); the ms columns of those rows are the profiled ms per step.

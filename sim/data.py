@@ -88,8 +88,9 @@ class Settings(NamedTuple):
     N_SKIPPED,
     N_CERTIFICATES,
     N_QUIET,
-) = range(26)
-N_COUNTERS = 26
+    QUIET_ARMED,
+) = range(27)
+N_COUNTERS = 27
 # GROW_NEEDED bits: which buffer the kernel found too small (the World grows it and retries)
 GROW_CONTACTS, GROW_AWAKE_GRID, GROW_RESTING_GRID, GROW_SOLVER = 1, 2, 4, 8
 

@@ -45,6 +45,7 @@ from .data import (
     N_MOVED,
     N_QUIET,
     N_REBUILDS,
+    QUIET_ARMED,
     PRESOLVE_SWEEPS,
     RESTING_DIRTY,
     STAGE_ARMS,
@@ -286,22 +287,23 @@ def run(
     n_dyn = settings.n_dynamic
     # Fast path "quiet" (settings.fast_quiet): a step that begins with nothing awake changes
     # nothing but the step count after its own first run. Nothing moves, no contact is looked at,
-    # and no frozen body can wake, for only an awake body wakes one and a World cannot be changed
-    # from outside between its steps. What such a step does reset (the resting grid rebuilt once,
-    # the batches emptied, the policy's per-step marks) it has reset by its end, so the steps after
-    # it would repeat it exactly: they are skipped. Engines skip their sleeping islands the same
-    # way (a space whose bodies all sleep costs pymunk and Box2D almost nothing a step); without
-    # this a frozen World paid ~9 us a step in calls to stages with no work (pyramid(10)).
-    # The first step of every call runs in full, so a quiet run is bit-identical to a full one
-    # (tests/unit/test_quiet.py compares them, every policy).
-    quiet = False
+    # and no frozen body can wake, for only an awake body wakes one and nothing outside the step
+    # loop changes a World's state (the World has no setters). What such a step does reset (the
+    # resting grid rebuilt once, the batches emptied, the policy's per-step marks) it has reset by
+    # its end, so the steps after it would repeat it exactly: a full step that began and ended
+    # with nothing awake arms counters[QUIET_ARMED], and while it is armed steps only count, in
+    # this call and the calls after it. Engines skip their sleeping islands the same way (a space
+    # whose bodies all sleep costs pymunk and Box2D almost nothing a step); without this a frozen
+    # World paid ~9 us a step in calls to stages with no work (pyramid(10)). A quiet run is
+    # bit-identical to a full one (tests/unit/test_quiet.py compares them, every policy).
     for step in range(n_steps):
         if counters[N_EVENTS] + 4 * n_dyn + 16 > activity.events.shape[0]:
             return FLUSH, step
-        if quiet:
+        if settings.fast_quiet and counters[QUIET_ARMED] == 1:
             counters[STEP_COUNT] += 1
             counters[N_QUIET] += 1
-            min_separation[step] = min_separation[step - 1]
+            # what the full step writes: no batches, so no point below zero
+            min_separation[step] = deepest_separation(counters[N_BATCHES], solver.wide)
             if settings.profile:
                 solver.steps_profiled[0] += 1
             continue
@@ -358,7 +360,7 @@ def run(
         t = _lap(settings, solver, STAGE_FREEZE_AFTER, t)
         if settings.profile:
             solver.steps_profiled[0] += 1
-        quiet = settings.fast_quiet and began_frozen and counters[N_AWAKE] == 0
+        counters[QUIET_ARMED] = 1 if began_frozen and counters[N_AWAKE] == 0 else 0
     return OK, n_steps
 
 

@@ -78,7 +78,7 @@ class Inspection:
       certificates         rest certificates tried since the start (extended:
                            ``sim.freeze.certificate``; one per candidate body per step)
       quiet_steps          steps skipped since the start by the "quiet" fast path: nothing was
-                           awake, and the step before had begun and ended so (``kernel.run``)
+                           awake, and a step since had begun and ended so (``kernel.run``)
 
     Built by ``World.inspect()`` from the World's arrays: ``points`` its contact points,
     ``counters``, ``activity``, ``solver`` and ``contacts`` the step loop's state, ``n_bodies``

@@ -5,12 +5,10 @@ hands whole runs of steps to the compiled step loop (``sim.kernel.run``).
 This module is the facade as a caller sees it: construction, stepping, and the observables. What
 it delegates, by job: ``sim.validation`` what a World refuses (and why), ``sim.buffers`` the
 arrays the step loop works in (their sizes, and their growth when a step outgrows them),
-``sim.reports`` the read-only reports (``contacts()``, ``inspect()``)."""
+``sim.reports`` the read-only reports (``contacts()``, ``inspect()``), ``sim.calls`` the call into
+the compiled step loop (Ctrl-C deferred, Numba's type dispatch skipped)."""
 
-import contextlib
 import math
-import signal
-import threading
 import time
 
 import numpy as np
@@ -21,6 +19,7 @@ from . import soft_step
 from .arguments import count, flag, positive
 from .activity import CAUSES, initial_activity
 from .broadphase import grid_buffers
+from .calls import Compiled, Deferred
 from .buffers import grown, new_bodies, new_contacts, new_geometry, new_solver
 from .clock import ticks_per_second
 from .contacts import sort_awake
@@ -65,26 +64,6 @@ CHUNK_S = 0.05
 FIRST_CHUNK = 64
 
 
-@contextlib.contextmanager
-def _deferred_sigint():
-    """Within: Ctrl-C (SIGINT) is recorded, not raised; yields a function saying whether it came.
-    Raised inside the compiled step loop, KeyboardInterrupt surfaced only when the call returned,
-    as "SystemError: CPUDispatcher(run) returned a result with an exception set". Only the main
-    thread can take signals, and a handler the program installed itself is left alone."""
-    if (
-        threading.current_thread() is not threading.main_thread()
-        or signal.getsignal(signal.SIGINT) is not signal.default_int_handler
-    ):
-        yield lambda: False
-        return
-    came = []
-    previous = signal.signal(signal.SIGINT, lambda signum, frame: came.append(signum))
-    try:
-        yield lambda: bool(came)
-    finally:
-        signal.signal(signal.SIGINT, previous)
-
-
 class World:
     """A running simulation of a ``sim.Scene``.
 
@@ -125,9 +104,9 @@ class World:
                             ``sim.validation.FAST_PATHS``: work skipped when the scene does not
                             need it, each exact ("friction": no friction rows for batches of
                             frictionless contacts; "quiet": once a step has begun and ended
-                            with every body frozen, the steps after it in the same ``step``
-                            call only count, for they would change nothing). False exists to
-                            measure the saving (experiments/bench_fast_paths.py).
+                            with every body frozen, the steps after it only count, for they
+                            would change nothing). False exists to measure the saving
+                            (experiments/bench_fast_paths.py).
       **policy_parameters   the freeze policy's own parameters (e.g. impulse_threshold)
 
     Arrays read from a World are copies: positions (N,2) m (centres of mass), angles (N,) rad,
@@ -292,6 +271,8 @@ class World:
         self._contacts = new_contacts(k if small else max(64, k * m), n)
         self._solver = new_solver(n, len(self._contacts.awake), 1 if small else 4)
         self._regrown = 0
+        # the step loop, called without Numba's type dispatch while the state is the same objects
+        self._run_kernel = Compiled(K.run)
 
     def _state(self, settings=None):
         """The arguments every step-level kernel in ``sim.kernel`` takes."""
@@ -358,7 +339,7 @@ class World:
                 f"{self.step_count})"
             )
         done = 0
-        with _deferred_sigint() as interrupted:
+        with Deferred() as sigint:
             while done < n:
                 chunk = n - done
                 chunk = min(
@@ -369,7 +350,7 @@ class World:
                 )
                 min_sep = np.zeros(chunk)
                 start = time.perf_counter()
-                status, steps = K.run(chunk, *self._state(settings), min_sep)
+                status, steps = self._run_kernel(chunk, *self._state(settings), min_sep)
                 if steps:
                     self._step_s = (time.perf_counter() - start) / steps
                 done += steps
@@ -389,7 +370,7 @@ class World:
                     raise SimulationError(
                         f"{self._diverged}; try a smaller dt, more substeps, or check the scene"
                     )
-                if interrupted():
+                if sigint.came:
                     raise KeyboardInterrupt(
                         f"World.step interrupted after {done} of {n} steps; the World is whole, "
                         f"at step {self.step_count}, and can step on"

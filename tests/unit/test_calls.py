@@ -1,0 +1,91 @@
+"""``sim.calls``: the cheap call into compiled code. ``Compiled`` must call exactly what the Numba
+dispatcher would (the compiled function for the arguments' types, never a stale one when the
+arguments change), and ``Deferred`` must hold Ctrl-C back inside and leave the program's own
+handler alone."""
+
+import os
+import signal
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+import sim
+from sim.calls import Compiled, Deferred
+
+State = namedtuple("State", "values weights")
+
+
+@njit
+def _weighted(n, state, out):
+    """out[0] = n * sum(values * weights); returns the type's size in bytes (to tell overloads
+    apart)."""
+    total = 0.0
+    for i in range(state.values.shape[0]):
+        total += state.values[i] * state.weights[i]
+    out[0] = n * total
+    return state.values.itemsize
+
+
+def _state(dtype):
+    return State(np.arange(4, dtype=dtype), np.ones(4, dtype=dtype))
+
+
+def test_compiled_calls_the_overload_for_the_arguments_types():
+    call = Compiled(_weighted)
+    floats, ints = _state(np.float64), _state(np.int32)
+    out = np.zeros(1)
+    assert call(2, floats, out) == 8 and out[0] == 12.0  # compiled by the dispatcher
+    assert call(3, floats, out) == 8 and out[0] == 18.0  # the cached entry, same objects
+    # new objects of another type: typed again, never the float entry on int32 data
+    assert call(1, ints, out) == 4 and out[0] == 6.0
+    assert call(1, ints, out) == 4 and out[0] == 6.0
+    # and back
+    assert call(1, _state(np.float64), out) == 8 and out[0] == 6.0
+    assert len(_weighted.signatures) == 2
+
+
+def test_compiled_falls_back_to_the_dispatcher_for_other_shapes_of_call():
+    """A step count that is not an int, or an output that is not a 1-D float64 array, is not
+    typed by value: the dispatcher decides (and here compiles a third overload)."""
+    call = Compiled(_weighted)
+    out = np.zeros(1)
+    assert call(2.5, _state(np.float64), out) == 8 and out[0] == 15.0
+    assert call._entry is None
+
+
+def test_a_world_stepped_one_call_at_a_time_is_the_same_run():
+    scene = sim.scenes.drop(6, seed=2)
+    whole = sim.World(scene, freeze="extended").step(90)
+    single = sim.World(scene, freeze="extended")
+    for _ in range(90):
+        single.step(1)
+    np.testing.assert_array_equal(whole.positions, single.positions)
+    np.testing.assert_array_equal(whole.velocities, single.velocities)
+    assert whole.events == single.events
+
+
+def test_deferred_records_ctrl_c_instead_of_raising_it():
+    before = signal.getsignal(signal.SIGINT)
+    assert before is signal.default_int_handler  # pytest leaves Python's own handler
+    with Deferred() as d:
+        os.kill(os.getpid(), signal.SIGINT)
+        for _ in range(1000):  # the handler runs at the next bytecode boundaries
+            pass
+        assert d.came
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_deferred_leaves_the_programs_own_handler_alone():
+    seen = []
+    own = lambda signum, frame: seen.append(signum)  # noqa: E731
+    previous = signal.signal(signal.SIGINT, own)
+    try:
+        with Deferred() as d:
+            os.kill(os.getpid(), signal.SIGINT)
+            for _ in range(1000):
+                pass
+        assert seen == [signal.SIGINT] and not d.came
+        assert signal.getsignal(signal.SIGINT) is own
+    finally:
+        signal.signal(signal.SIGINT, previous)

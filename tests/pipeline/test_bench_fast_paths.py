@@ -92,7 +92,7 @@ def test_quick_run_measures_every_candidate(quick):
     assert list(quiet["variant"]) == ["fast_paths=('friction',)", "fast_paths=True"]
     # the pyramid was frozen when timed (else the comparison measures nothing), and the fast
     # path skipped steps
-    assert all("frozen after the warm-up: True" in n for n in quiet["note"])
+    assert all("frozen before the timing: True" in n for n in quiet["note"])
     skipped = quiet["note"].iloc[1]
     assert "steps skipped" in skipped and " 0 steps skipped" not in skipped
     assert p["pays"] == bfp.PAYS

@@ -21,14 +21,15 @@ Four parts, one long-form table (column ``part``), each answering one of the iss
    count equals N_awake before and after). N_frozen x N_awake = {0, 1000, 2000, 4000} x
    {100, 400, 1600}, under sim-extended (the row frozen) and under sim-off (every body solved; there
    the fit's b is the cost of a resting body that is solved). The flyer counts span 16x because an
-   awake body without contacts is cheap in solver v2 (a ~ 0.13-0.22 us per step, measured): with
+   awake body without contacts was cheap when this was chosen (a ~ 0.13-0.22 us a step then): with
    {100, 200, 400} the flyers changed a sim-off step (1-2 ms with the 4000-box row solved) by
    0.05 ms, within its timing noise, and sim-off's a came out 0.04 +- 0.23 us (even negative under
    load); with {100, 400, 1600} it is 0.22 +- 0.02 us. Every world of the sweep is built
    first and the repeats run round-robin over all of them, so slow drifts in machine load spread
    over every mix instead of biasing some. Reported: a, b, c with standard errors, b/a (target
    <= 0.02), the RMS and largest residual and R^2, and b(extended)/b(off). The awake bodies here
-   are the cheapest kind (no contacts), so b/a is a conservative ratio.
+   have no contacts, but for sim they are not the cheapest kind: fast, they are swept by the
+   continuous stage every step (see experiments/fig_scaling.py), which is most of sim's a.
 3. ``time_to_freeze`` — steps until every body is frozen/asleep, for sim-sleep, sim-paper,
    sim-extended, pymunk-sleep and pybullet-sleep on rest_row(50), drop(30, seed 0..2), pyramid(10),
    pyramid(20) and stack(5), capped at 30 s of simulated time: a system that does not get there is

@@ -30,7 +30,12 @@ residual and R^2, and b/b_off, a/a_off against sim-off. The same fit is also mad
 fastest repeat (scene "fit_min"): on a machine shared with other work, load spikes hit a few
 repeats of some mixes, and the minimum is the estimate least touched by them; the figure shows the
 median fit, the table both, so a disagreement between them is visible rather than hidden. The awake
-bodies are the cheapest kind (no contacts), so a is low and b/a is a conservative (high) ratio. dt
+bodies have no contacts, but they are not the cheapest kind for sim: they fall fast, each moving
+more than half its size in a step for most of the timing, so sim's continuous stage sweeps each
+against its neighbours in the block every step (pymunk and Box2D do not), and that sweep is most
+of sim's a (measured outside this script on mix_scene(0, 100) under extended: ~0.1-0.17 us per
+flyer per step while they are slow, ~1.8 us once they sweep). Against a slow contact-free body,
+sim's b/a would be several times larger. dt
 1/60 s; each engine at its own default solver settings (study.peers.DEFAULT_ITERATIONS: sim
 its soft step with 4 substeps per step and 1 biased + 1 relax sweep per substep, pymunk 10
 iterations per step); slop (sim) and collision_slop (pymunk) 0.005 m; every system's full settings

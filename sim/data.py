@@ -80,6 +80,7 @@ class Settings(NamedTuple):
     N_COLOURS,
     N_SWEPT,
     N_IMPACTS,
+    N_TOI_PAIRS,
     GROW_NEEDED,
     N_REBUILDS,
     AWAKE_UNSORTED,
@@ -89,8 +90,8 @@ class Settings(NamedTuple):
     N_CERTIFICATES,
     N_QUIET,
     QUIET_ARMED,
-) = range(27)
-N_COUNTERS = 27
+) = range(28)
+N_COUNTERS = 28
 # GROW_NEEDED bits: which buffer the kernel found too small (the World grows it and retries)
 GROW_CONTACTS, GROW_AWAKE_GRID, GROW_RESTING_GRID, GROW_SOLVER = 1, 2, 4, 8
 

@@ -73,6 +73,8 @@ class Inspection:
       presolve_sweeps      sweeps the initial-impulse solve took
       regrown              how many times a buffer the step loop outgrew was grown
       sweeps, impacts      fast bodies swept (stage ``continuous``), and cut back to an impact
+      toi_pairs            pairs the sweeps measured at their end poses (a time-of-impact
+                           evaluation each; a pair surely apart is not measured: ``sim.sweep``)
       n_hard_batches       batches that got soft_step.HARD_SWEEPS extra relax sweeps (they hold a
                            contact touching a body in a contact of mass ratio > HARD_RATIO)
       certificates         rest certificates tried since the start (extended:
@@ -105,6 +107,7 @@ class Inspection:
         self.regrown = regrown
         self.sweeps = int(c[D.N_SWEPT])
         self.impacts = int(c[D.N_IMPACTS])
+        self.toi_pairs = int(c[D.N_TOI_PAIRS])
         self.n_hard_batches = int(c[D.N_HARD])
         self.certificates = int(c[D.N_CERTIFICATES])
         self.quiet_steps = int(c[D.N_QUIET])

@@ -18,7 +18,9 @@ leave it a slop short of where the same body lands against a body that moves), a
 body is cut back when it ends the step deeper inside another than that, or, against a static or
 frozen body, apart again, having passed through it. Passing through a body that moves is caught
 only for a *bullet* (``Body(bullet=True)``), as in Box2D: the sweep does not follow the other
-body's own path, so "apart at the end" is not proof that they crossed.
+body's own path, so "apart at the end" is not proof that they crossed. So against an awake body
+only a deep overlap at the end counts, and a pair whose bounding circles do not meet at the end
+poses (``surely_apart``) is not measured at all (``Inspection.toi_pairs`` counts those that are).
 """
 
 import numpy as np
@@ -26,7 +28,7 @@ import numpy as np
 from .body import MAX_COORDINATE
 from .broadphase import query_box
 from .continuous import swept_aabb, time_of_impact
-from .data import DPX, DPY, N_AWAKE, N_IMPACTS, N_SWEPT, TURN
+from .data import DPX, DPY, N_AWAKE, N_IMPACTS, N_SWEPT, N_TOI_PAIRS, TURN
 from .jit import inline_kernel, kernel
 
 #: a body is swept when it moved more than this fraction of its size (thinnest width) in a step
@@ -51,6 +53,24 @@ def _pose(bodies, solver, i, row, end):
         y += solver.state[row, DPY]
         a += solver.state[row, TURN]
     return (x, y, a)
+
+
+@inline_kernel
+def surely_apart(pose_i, pose_j, reach):
+    """Are two bodies whose centres of mass lie at these poses (x m, y m, ...) certainly apart?
+    ``reach`` (m): the sum of their ``extent`` (centre of mass to the farthest vertex), grown by
+    a round-off allowance. True when the circles of these radii about the centres do not meet,
+    which no polygon leaves; False says nothing.
+
+    Why: against an awake body that is not a bullet's target, only a deep overlap at the end of
+    the step cuts a fast body back, and bodies apart cannot overlap. A block of boxes falling
+    side by side, 2 m apart, each moving more than half its size a step, met its neighbours'
+    boxes in every sweep, and each of them cost a time-of-impact evaluation (two polygons placed
+    with a cosine and a sine each, every axis): 1.1-1.8 us a falling box a step. This test is
+    one distance against a sum (no trigonometry) and gives the same answer."""
+    dx = pose_i[0] - pose_j[0]
+    dy = pose_i[1] - pose_j[1]
+    return dx * dx + dy * dy > reach * reach
 
 
 @kernel
@@ -90,6 +110,12 @@ def sweep_fast_bodies(
                     rj = activity.awake_slot[j] + 1
                 target = min(bodies.slop[i], bodies.slop[j])
                 j_end = _pose(bodies, solver, j, rj, 1)  # where the step left it
+                # only a deep overlap at the end would count against an awake body (not a
+                # bullet's target): none if they are apart (the slops: round-off allowance)
+                reach = bodies.extent[i] + bodies.extent[j] + bodies.slop[i] + bodies.slop[j]
+                if rj > 0 and not bodies.bullet[i] and surely_apart(end, j_end, reach):
+                    continue
+                counters[N_TOI_PAIRS] += 1
                 # Where the step left them first (a sweep of zero length measures it): it alone
                 # decides whether a time of impact could matter, and costs one iteration, where
                 # the sweep may take dozens. In a settling pile most fast bodies end the step

@@ -20,6 +20,7 @@ from hypothesis import assume, event, given, settings
 from hypothesis import strategies as st
 
 import naive_toi  # tests/ is on sys.path under pytest's default rootdir-relative import mode
+import sim
 from sim.continuous import (
     bounding_radius,
     pose_at,
@@ -28,6 +29,7 @@ from sim.continuous import (
     time_of_impact_counted,
     toi_scratch,
 )
+from sim.sweep import surely_apart
 
 MAX_ITERATIONS = 500
 EPS_T = 1e-9
@@ -484,3 +486,66 @@ def test_swept_aabb_holds_the_body_all_sweep_and_is_not_loose(case):
     )
     # (the disc bound: the centroid, the body-frame origin here, is inside the polygon)
     assert slack <= min(0.5 * r * abs(pa1[2] - pa0[2]), r) + eps
+
+
+# ---- the sweep stage's shortcut: pairs surely apart at the end are not measured ------------------
+@settings(max_examples=200, deadline=None)
+@given(
+    convex_polygons(1.0),
+    convex_polygons(1.0),
+    st.floats(0.0, 2.5),
+    st.floats(0.0, 2 * math.pi),
+    st.floats(-math.pi, math.pi),
+    st.floats(-math.pi, math.pi),
+)
+def test_surely_apart_is_never_said_of_touching_polygons(a, b, distance, heading, qa, qb):
+    # the shortcut only ever skips a pair that is apart: whenever it says "apart", the exact
+    # distance between the polygons is positive (its reach is the sum of their extents, as the
+    # stage passes it, without the stage's slop allowance)
+    pair = Pair(a, b)
+    pose_a = (0.0, 0.0, qa)
+    pose_b = (distance * math.cos(heading), distance * math.sin(heading), qb)
+    reach = np.hypot(*a.T).max() + np.hypot(*b.T).max()
+    apart = surely_apart(pose_a, pose_b, reach)
+    event(f"surely apart: {apart}")
+    if apart:
+        assert pair.distance((pose_a, pose_a, pose_b, pose_b), 0.0) > 0.0
+
+
+def test_surely_apart_says_nothing_inside_the_circles():
+    # two unit boxes 1.2 m apart do not touch, but their circles (radius 0.707 m) meet: the
+    # shortcut must leave such a pair to the time-of-impact evaluation
+    reach = 2 * math.hypot(0.5, 0.5)
+    assert not surely_apart((0.0, 0.0, 0.0), (1.2, 0.0, 0.0), reach)
+    assert surely_apart((0.0, 0.0, 0.0), (1.5, 0.0, 0.0), reach)
+    assert not surely_apart((0.0, 0.0, 0.0), (1.0, 1.0, 0.0), reach)  # sqrt(2) < 1.414...
+
+
+def test_a_block_falling_together_is_swept_without_measuring_a_pair():
+    # nine unit boxes 2 m apart, all falling at 45 m/s (0.75 m a step at 1/60 s: swept)
+    block = [
+        sim.Body.box(1.0, 1.0, position=(2.0 * c, 500.0 + 2.0 * r), velocity=(0.0, -45.0))
+        for r in range(3)
+        for c in range(3)
+    ]
+    world = sim.World(sim.Scene(bodies=block), dt=DT)
+    world.step(5)
+    seen = world.inspect()
+    assert seen.sweeps == 45  # every box, every step
+    assert seen.toi_pairs == 0  # each met its neighbours' boxes, none closer than 2 m
+    assert seen.impacts == 0
+
+
+def test_fast_boxes_closer_than_their_circles_are_still_measured():
+    # two boxes falling side by side, their centres 1.05 m apart, do not touch, but the shortcut
+    # cannot tell: each sweep measures the other (a shortcut that skipped every awake pair fails
+    # here)
+    pair = [
+        sim.Body.box(1.0, 1.0, position=(1.05 * k, 500.0), velocity=(0.0, -45.0)) for k in range(2)
+    ]
+    world = sim.World(sim.Scene(bodies=pair), dt=DT)
+    world.step(3)
+    seen = world.inspect()
+    assert seen.sweeps == 6
+    assert seen.toi_pairs == 6
+    assert seen.impacts == 0

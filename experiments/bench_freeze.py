@@ -16,7 +16,9 @@ Four parts, one long-form table (column ``part``), each answering one of the iss
    program stepping once per call pays, call overhead included.
 2. ``per_body_cost`` — ms/step = a * N_awake + b * N_frozen + c, fitted by least squares. Each mix
    is rest_row(N_frozen) plus N_awake unit boxes in a block (pitch 2 m, so they never touch) that
-   start at rest 3000 m up and fall for ~25 s: they are awake and in flight through the whole
+   start 3000 m up, thrown upwards so that they peak half way through the timing
+   (``study.protocols.mix_launch``: at most 28.6 m/s, 0.48 m a step, at 7 x 50 steps): they are
+   awake and in flight through the whole
    timing (checked: their lowest point stays far above the floor, and under sim-extended the awake
    count equals N_awake before and after). N_frozen x N_awake = {0, 1000, 2000, 4000} x
    {100, 400, 1600}, under sim-extended (the row frozen) and under sim-off (every body solved; there
@@ -27,9 +29,9 @@ Four parts, one long-form table (column ``part``), each answering one of the iss
    load); with {100, 400, 1600} it is 0.22 +- 0.02 us. Every world of the sweep is built
    first and the repeats run round-robin over all of them, so slow drifts in machine load spread
    over every mix instead of biasing some. Reported: a, b, c with standard errors, b/a (target
-   <= 0.02), the RMS and largest residual and R^2, and b(extended)/b(off). The awake bodies here
-   have no contacts, but for sim they are not the cheapest kind: fast, they are swept by the
-   continuous stage every step (see experiments/fig_scaling.py), which is most of sim's a.
+   <= 0.02), the RMS and largest residual and R^2, and b(extended)/b(off). The awake bodies are
+   the cheapest kind: no contacts, and slow (dropped from rest they reached 57 m/s, and sim's
+   continuous stage swept each every step, 1.1-1.8 us of its a; see experiments/fig_scaling.py).
 3. ``time_to_freeze`` — steps until every body is frozen/asleep, for sim-sleep, sim-paper,
    sim-extended, pymunk-sleep and pybullet-sleep on rest_row(50), drop(30, seed 0..2), pyramid(10),
    pyramid(20) and stack(5), capped at 30 s of simulated time: a system that does not get there is
@@ -94,6 +96,7 @@ from study.protocols import (
     freeze_run,
     freeze_tasks,
     long_row,
+    mix_launch,
     mix_scene,
     per_body_cost,
     settle_and_time,
@@ -497,10 +500,15 @@ def run(config, repeats):
     return pd.DataFrame(rows), fits
 
 
-def scenes_of(config):
+def scenes_of(config, repeats):
     """Every scene the run uses (for the metadata)."""
     scenes = [sim.scenes.BUILDERS[name](n) for name, n, _ in config["frozen_cost"]]
-    scenes += [mix_scene(nf, na) for nf in config["mix_frozen"] for na in config["mix_awake"]]
+    launch = mix_launch(config, repeats)
+    scenes += [
+        mix_scene(nf, na, launch=launch)
+        for nf in config["mix_frozen"]
+        for na in config["mix_awake"]
+    ]
     scenes += [sim.scenes.BUILDERS[name](**p) for name, p in config["ttf_scenes"]]
     scenes += [fall_scene(config["flight_n"]), drift_scene(config["flight_n"])]
     return scenes
@@ -540,6 +548,7 @@ def main(argv=None, data_dir=None):
         "quick": args.quick,
         "sizes": config,
         "fall_height_m": FALL_HEIGHT,
+        "mix_launch_m_per_s": mix_launch(config, repeats),
         "fly_pitch_m": FLY_PITCH,
         "flight_budget_steps": flight_budget(),
         "drift": {"speed": DRIFT_SPEED, "spread": DRIFT_SPREAD, "seed": SEED},
@@ -549,7 +558,7 @@ def main(argv=None, data_dir=None):
         ),
         "system_settings": settings,
     }
-    metadata = collect(scenes_of(config), parameters, script=NAME, seed=SEED)
+    metadata = collect(scenes_of(config, repeats), parameters, script=NAME, seed=SEED)
     metadata["fits"] = fits
     metadata["targets"] = targets
     csv_path, _ = write_results(NAME, table, metadata, folder=data_dir)

@@ -6,10 +6,12 @@ nothing), and the measured b/a says how far from that each system is.
 
 Scenes: the mixes of bench_freeze part 2 (``study.protocols.mix_scene``): rest_row(N_frozen)
 (unit boxes on the floor, frozen once the system freezes them) plus N_awake unit boxes in a block
-(pitch 2 m, never touching) that start at rest 3000 m up and fall through the whole timing, so they
-stay awake and never touch anything (checked: the awake count equals the design before and after
-the timing, and the lowest flyer stays above 5 m). Grid: N_frozen in {0, 1000, 2000, 4000} x
-N_awake in {100, 200, 400, 800} (16 mixes), wide enough to draw a line per fixed count.
+(pitch 2 m, never touching) that start 3000 m up, thrown upwards so that they peak half way
+through the timing (``study.protocols.mix_launch``), so they stay awake, slow and never touch
+anything (checked: the awake count equals the design before and after the timing, and the lowest
+flyer stays above 5 m; each mix's fastest flyer speed at the end is a row). Grid: N_frozen in
+{0, 1000, 2000, 4000} x N_awake in {100, 200, 400, 800} (16 mixes), wide enough to draw a line per
+fixed count.
 
 Systems: sim-extended (the row frozen within 2 steps), sim-off (nothing frozen: the row is
 *solved*, so its "b" is the cost of a resting body that is solved, the cost freezing removes),
@@ -30,12 +32,11 @@ residual and R^2, and b/b_off, a/a_off against sim-off. The same fit is also mad
 fastest repeat (scene "fit_min"): on a machine shared with other work, load spikes hit a few
 repeats of some mixes, and the minimum is the estimate least touched by them; the figure shows the
 median fit, the table both, so a disagreement between them is visible rather than hidden. The awake
-bodies have no contacts, but they are not the cheapest kind for sim: they fall fast, each moving
-more than half its size in a step for most of the timing, so sim's continuous stage sweeps each
-against its neighbours in the block every step (pymunk and Box2D do not), and that sweep is most
-of sim's a (measured outside this script on mix_scene(0, 100) under extended: ~0.1-0.17 us per
-flyer per step while they are slow, ~1.8 us once they sweep). Against a slow contact-free body,
-sim's b/a would be several times larger. dt
+bodies are the cheapest kind: no contacts, and slow (at most g dt (7 x 50 / 2) = 28.6 m/s, 0.48 m a
+step, under the half-size step past which sim's continuous stage sweeps a body). Dropped from rest,
+as they were until the study found it, they reached 57 m/s, sim swept each against its
+neighbours in the block every step, and that sweep was most of sim's a (1.1-1.8 us a flyer
+against ~0.1 us slow), so b/a came out several times too small for sim. dt
 1/60 s; each engine at its own default solver settings (study.peers.DEFAULT_ITERATIONS: sim
 its soft step with 4 substeps per step and 1 biased + 1 relax sweep per substep, pymunk 10
 iterations per step); slop (sim) and collision_slop (pymunk) 0.005 m; every system's full settings
@@ -57,7 +58,14 @@ from tqdm import tqdm
 import sim
 from study.common import DT, SLOP, build, compile_kernels, entry
 from study.cost_fit import fit_cost, relative_to_off
-from study.protocols import FALL_HEIGHT, FLY_PITCH, WARMUP_STEPS, flight_budget, per_body_cost
+from study.protocols import (
+    FALL_HEIGHT,
+    FLY_PITCH,
+    WARMUP_STEPS,
+    flight_budget,
+    mix_launch,
+    per_body_cost,
+)
 
 NAME = "fig_scaling"
 SYSTEMS = ("sim-extended", "sim-off", "pymunk-sleep", "box2d-sleep")
@@ -131,6 +139,7 @@ def run(config, args):
         "slop": SLOP,
         "warmup_steps": WARMUP_STEPS,
         "fall_height_m": FALL_HEIGHT,
+        "mix_launch_m_per_s": mix_launch(config, repeats),
         "fly_pitch_m": FLY_PITCH,
         "flight_budget_steps": flight_budget(),
         "systems": SYSTEMS,

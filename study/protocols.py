@@ -23,6 +23,7 @@ WARMUP_STEPS = 10  # untimed steps after build (and after freezing) before any t
 FALL_HEIGHT = 3000.0  # m, bottom of the falling block (mixes, fall scene)
 FLY_PITCH = 2.0  # m between falling/drifting boxes (unit boxes: never touching at rest)
 FREEZE_HOLD_S = 1.0  # s stepped after all froze, to see whether the freeze holds
+GRAVITY = 9.81  # m/s^2, every scene's (sim.Scene's default)
 
 #: the systems that freeze or sleep (the others are the references: nothing frozen)
 FREEZING = systems.FREEZING  # the systems that freeze: time-to-rest runs each
@@ -54,10 +55,11 @@ def block(n, y0, velocity=None, angular_velocity=None, x0=0.0):
     return bodies
 
 
-def mix_scene(n_frozen, n_awake, height=FALL_HEIGHT):
-    """rest_row(n_frozen) (bodies 0..n_frozen-1) plus n_awake boxes falling from ``height`` m."""
+def mix_scene(n_frozen, n_awake, height=FALL_HEIGHT, launch=0.0):
+    """rest_row(n_frozen) (bodies 0..n_frozen-1) plus n_awake boxes in flight ``height`` m up,
+    launched upwards at ``launch`` m/s (``mix_launch``)."""
     bodies = list(sim.scenes.rest_row(n_frozen).bodies) if n_frozen else []
-    bodies += block(n_awake, height)
+    bodies += block(n_awake, height, velocity=[(0.0, launch)] * n_awake)
     return sim.Scene(
         bodies=bodies,
         name="mix",
@@ -65,10 +67,25 @@ def mix_scene(n_frozen, n_awake, height=FALL_HEIGHT):
             "n_frozen": n_frozen,
             "n_awake": n_awake,
             "height": height,
+            "launch": launch,
             "pitch": FLY_PITCH,
             "row": "rest_row(n_frozen)",
         },
     )
+
+
+def mix_launch(config, repeats):
+    """m/s: the upward speed that brings the mixes' flyers to the top of their flight half way
+    through the timing of a world that needs no settling (WARMUP_STEPS, then ``repeats`` of
+    ``config["mix_steps"]`` steps).
+
+    Why: the flyers stand for the cheapest awake body, one with no contacts; a body's cost in sim
+    also grows with its speed (a fat box that runs ahead of it, and, past half its size a step,
+    the continuous stage's sweep). Dropped from rest they reached 57 m/s by the end of a 7 x 50
+    step timing, 0.95 m a step, and each cost sim ~1.1-1.8 us a step instead of ~0.17 us. Thrown
+    up so that they peak mid-timing, they move at most g (repeats x steps / 2) dt: 28.6 m/s,
+    0.48 m a step, at 7 x 50 steps of 1/60 s."""
+    return GRAVITY * DT * (WARMUP_STEPS + repeats * config["mix_steps"] / 2.0)
 
 
 def fall_scene(n, height=FALL_HEIGHT):
@@ -212,11 +229,12 @@ def per_body_cost(
     scenes are appended to the list ``scenes_out`` if one is given (for the metadata: building
     thousands of bodies again takes seconds)."""
     mixes = [(nf, na) for nf in config["mix_frozen"] for na in config["mix_awake"]]
+    launch = mix_launch(config, repeats)
     settle_cap = WARMUP_STEPS + int(round(config.get("mix_settle_s", 0.0) / DT))
     runners, keys = [], []
     try:
         for nf, na in mixes:
-            scene = mix_scene(nf, na)
+            scene = mix_scene(nf, na, launch=launch)
             if scenes_out is not None:
                 scenes_out.append(scene)
             for system in systems:
@@ -240,6 +258,10 @@ def per_body_cost(
             float(r.positions[key.n_frozen :, 1].min()) if key.n_awake else math.nan
             for r, key in zip(runners, keys)
         ]  # m
+        fastest = [
+            float(np.hypot(*r.velocities[key.n_frozen :].T).max()) if key.n_awake else math.nan
+            for r, key in zip(runners, keys)
+        ]  # m/s, at the end of the timing (mix_launch)
     finally:
         for r in runners:
             r.close()
@@ -259,6 +281,9 @@ def per_body_cost(
         )
         rows += timing_rows(common, times[k], before[k], after[k], steps, repeats)
         rows.append(long_row(**common, metric="lowest_flying_y", value=lowest[k], unit="m"))
+        rows.append(
+            long_row(**common, metric="fastest_flyer_speed", value=fastest[k], unit="m/s")
+        )
     for system in systems:
         ks = [k for k, key in enumerate(keys) if key.system == system]
         fit = fit_cost(

@@ -281,9 +281,7 @@ def per_body_cost(
         )
         rows += timing_rows(common, times[k], before[k], after[k], steps, repeats)
         rows.append(long_row(**common, metric="lowest_flying_y", value=lowest[k], unit="m"))
-        rows.append(
-            long_row(**common, metric="fastest_flyer_speed", value=fastest[k], unit="m/s")
-        )
+        rows.append(long_row(**common, metric="fastest_flyer_speed", value=fastest[k], unit="m/s"))
     for system in systems:
         ks = [k for k, key in enumerate(keys) if key.system == system]
         fit = fit_cost(

@@ -10,8 +10,14 @@ Scenes: the mixes of bench_freeze part 2 (``study.protocols.mix_scene``): rest_r
 through the timing (``study.protocols.mix_launch``), so they stay awake, slow and never touch
 anything (checked: the awake count equals the design before and after the timing, and the lowest
 flyer stays above 5 m; each mix's fastest flyer speed at the end is a row). Grid: N_frozen in
-{0, 1000, 2000, 4000} x N_awake in {100, 200, 400, 800} (16 mixes), wide enough to draw a line per
-fixed count.
+{0, 5000, 10000, 20000} x N_awake in {100, 200, 400, 800} (16 mixes), wide enough to draw a line per
+fixed count. The frozen counts reach 20000 because a frozen body costs sim so little that with
+{0, 1000, 2000, 4000} the fit's b was set by differences of a few microseconds between worlds
+that do not grow with N_frozen (sim-extended: 17.9 us a step with no row and 21-22 us with any of
+them, 100 flyers): b/a came out 0.010-0.012 +- 0.003, where 20000 frozen bodies against none,
+timed side by side, add 0.03 ns a body a step (b/a 0.0003). The price: sim-off's a is not
+resolved (800 flyers add ~0.08 ms to a step of ~10 ms with 20000 resting bodies solved); its b,
+the cost of a solved resting body, is.
 
 Systems: sim-extended (the row frozen within 2 steps), sim-off (nothing frozen: the row is
 *solved*, so its "b" is the cost of a resting body that is solved, the cost freezing removes),
@@ -71,7 +77,7 @@ NAME = "fig_scaling"
 SYSTEMS = ("sim-extended", "sim-off", "pymunk-sleep", "box2d-sleep")
 
 FULL = {
-    "mix_frozen": (0, 1000, 2000, 4000),
+    "mix_frozen": (0, 5000, 10000, 20000),
     "mix_awake": (100, 200, 400, 800),
     "mix_steps": 50,
     "mix_settle_s": 2.0,

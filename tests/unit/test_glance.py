@@ -70,8 +70,9 @@ def test_the_time_to_rest_bullet_quotes_the_piles_and_the_certificate_cost():
 
 
 def _fit(b_over_a, stderr):
-    fit = {"b_over_a": b_over_a, "b_over_a_stderr": stderr}
-    return {"sim-extended": fit, "sim-off": {**fit, "b_over_a": 0.33}, "pymunk-sleep": fit}
+    fit = {"b_over_a": b_over_a, "b_over_a_stderr": stderr, "a": 1e-4, "b": b_over_a * 1e-4}
+    off = {"b_over_a": 1e3, "b_over_a_stderr": 1e5, "a": 1e-7, "b": 3.3e-5}  # a unresolved
+    return {"sim-extended": fit, "sim-off": off, "pymunk-sleep": fit}
 
 
 def test_the_frozen_cost_bullet_says_what_the_fit_can_tell():
@@ -80,6 +81,8 @@ def test_the_frozen_cost_bullet_says_what_the_fit_can_tell():
     (a frozen body can only add work) and must not be quoted as a bound."""
     line = frozen_cost_line(_fit(0.05, 0.01))
     assert "A frozen body costs 0.05 of an awake one" in line
+    # the solved body against extended's a (off's own is not resolved beside the solved row)
+    assert "the same resting body costs 0.33 awake bodies" in line
     assert "at most 0.07 at two standard errors" in line
     line = frozen_cost_line(_fit(0.001, 0.003))
     assert "too little to measure" in line and "at most 0.007 at two standard errors" in line

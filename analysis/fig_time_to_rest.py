@@ -124,7 +124,43 @@ def draw(table, meta):
     style.save_figure(fig, NAME)
 
     style.write_table(_paper_table(runs, scenes, systems), NAME)
-    return {**_numbers(runs, scenes, systems, cap, dt), "certificate": _certificate(table)}
+    return {
+        **_numbers(runs, scenes, systems, cap, dt),
+        "certificate": _certificate(table),
+        "reference": _reference(table),
+    }
+
+
+def _reference(table):
+    """How long each scene moves with freezing off (experiments.fig_time_to_rest,
+    reference_motion): per scene and speed (m/s, as a string key) the last step at which a body
+    moved at least that fast (0 never), the speeds at which it still moved at the cap, and over
+    the piles (drop seeds) the median of those steps per speed (None if any pile still moved
+    then at the cap)."""
+    if "part" not in table or not (table["part"] == "reference").any():
+        return None
+    t = table[table["part"] == "reference"]
+    speed_of = {m: m[len("moving_until_") :] for m in t["metric"].unique()}
+    steps = {}
+    at_cap = {}
+    for r in t.itertuples():
+        steps.setdefault(r.scene, {})[speed_of[r.metric]] = int(r.value)
+        if r.flag == "at cap":
+            at_cap.setdefault(r.scene, []).append(speed_of[r.metric])
+    piles = [scene for scene in steps if str(scene).startswith("drop")]
+    pile_median = (
+        {
+            speed: (
+                None
+                if any(speed in at_cap.get(scene, []) for scene in piles)
+                else float(np.median([steps[scene][speed] for scene in piles]))
+            )
+            for speed in dict.fromkeys(speed_of.values())
+        }
+        if piles
+        else None
+    )
+    return {"steps": steps, "at_cap": at_cap, "pile_median_steps": pile_median}
 
 
 def _certificate(table):

@@ -159,9 +159,26 @@ def time_to_rest_line(ttr):
         + f". Piles dropped into a bin ({piles[0].split(',')[0]})), median over {len(piles)} "
         "seeds: "
         + ", ".join(f"{s} {pile(s)}" for s in TTR_SYSTEMS if s in ttr)
+        + _reference_piles(ttr.get("reference"))
         + ". `extended`'s certificate of rest costs "
         f"{fmt(cert['median_us_per_certificate'], 2)} µs per certificate (median over the "
         f"scenes; at most {fmt(cert['max_us_per_certificate'], 2)} µs)."
+    )
+
+
+def _reference_piles(ref):
+    """How long the same piles move with freezing off (fig_time_to_rest's reference): the
+    median last step at which a body moved at extended's rest speed or faster, and at a creep."""
+    if not ref or not ref.get("pile_median_steps"):
+        return ""
+    med = ref["pile_median_steps"]
+
+    def at(speed):
+        return "past the cap" if med.get(speed) is None else f"{med[speed]:g}"
+
+    return (
+        f"; with freezing off the same piles move at 2 cm/s or faster until step {at('0.02')} "
+        f"(median) and creep at 1 mm/s or faster until step {at('0.001')}"
     )
 
 

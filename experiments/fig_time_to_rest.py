@@ -34,7 +34,17 @@ run, what the scene waits for once it is still: from the first step in which no 
 until every body is frozen, the awake body-steps by the reason the rest test gave
 (waiting_<reason>, body-steps, one per reason of ``sim.World.AWAKE_REASONS``).
 
-Columns (long form, bench_freeze's): part ("time_to_freeze" or "certificate"), scene, system,
+And how long the reference itself moves (``reference_motion``, part "reference", system sim-off):
+each scene run with freezing off to the cap, and for each speed in ``REFERENCE_SPEEDS`` the last
+step at which its fastest body moved at least that fast (|v| + |w| r, r the body's largest vertex
+distance from its centre of mass, the measure of extended's rest test; metric
+``moving_until_<speed>``, 0 if never, flag "at cap" when still moving at the cap). A system that
+freezes a whole pile before the reference stops moving has frozen motion (or a pile that took
+another path, since piles are chaotic): so this is how soon a pile *can* be frozen whole without
+freezing what the solver still moves.
+
+Columns (long form, bench_freeze's): part ("time_to_freeze", "certificate" or "reference"),
+scene, system,
 bodies, n_awake,
 n_frozen (at the freeze, or at the cap), metric (steps_to_all_frozen, time_to_all_frozen,
 n_awake_at_end, n_awake_1s_after, max_displacement, cap_steps; sim also steps_to_all_not_free,
@@ -47,6 +57,7 @@ stack(5), pyramid(5), drop(10, seed 0), seed_fig1..3, cap 5 s.
 
 import math
 
+import numpy as np
 import pandas as pd
 
 import sim
@@ -57,6 +68,8 @@ from study.protocols import FREEZE_HOLD_S, FREEZING, freeze_run, freeze_tasks, l
 NAME = "fig_time_to_rest"
 SYSTEMS = FREEZING
 SEED_FIGS = (("seed_fig1", {}), ("seed_fig2", {}), ("seed_fig3", {}))
+#: m/s: sleep's sleep_speed, extended's rest_speed, and a creep (``reference_motion``)
+REFERENCE_SPEEDS = (0.05, 0.02, 0.001)
 
 FULL = {
     "scenes": (
@@ -89,6 +102,7 @@ def run(config, args):
     rows = [row for rows in run_tasks(freeze_run, tasks, desc=f"{NAME} runs") for row in rows]
     scenes = [sim.scenes.BUILDERS[name](**params) for name, params in config["scenes"]]
     rows += [row for scene in scenes for row in certificate_cost(scene, config["cap_s"])]
+    rows += [row for scene in scenes for row in reference_motion(scene, config["cap_s"])]
     settings = {}
     probe = sim.scenes.single_box()
     for system in SYSTEMS:
@@ -101,6 +115,7 @@ def run(config, args):
         "freeze_hold_s": FREEZE_HOLD_S,
         "systems": SYSTEMS,
         "frozen_means": FROZEN_MEANS,
+        "reference_speeds_m_per_s": REFERENCE_SPEEDS,
         "system_settings": settings,
     }
     return pd.DataFrame(rows), scenes, parameters
@@ -152,6 +167,48 @@ def certificate_cost(scene, cap_s):
     ] + [
         long_row(**common, metric=f"waiting_{reason}", value=n, unit="body-steps")
         for reason, n in waiting.items()
+    ]
+
+
+def reference_motion(scene, cap_s, speeds=REFERENCE_SPEEDS):
+    """How long ``scene`` moves with freezing off (sim-off, the study's runner): stepped to the
+    cap, for each speed in ``speeds`` (m/s) the last step at which its fastest body's speed
+    |v| + |w| r (r: the body's largest vertex distance from its centre of mass, m) was at least
+    that (0 if never; flag "at cap" if that was the cap's step). Rows of part "reference"."""
+    cap = int(round(cap_s / DT))
+    last = dict.fromkeys(speeds, 0)
+    with build("sim-off", scene) as runner:
+        world = runner.world
+        reach = np.array(
+            [
+                np.linalg.norm(world.vertices(i) - world.positions[i], axis=1).max()
+                for i in range(world.n_bodies)
+            ]
+        )
+        while world.step_count < cap:
+            world.step(1)
+            v = np.linalg.norm(world.velocities, axis=1)
+            fastest = float((v + np.abs(world.angular_velocities) * reach).max())
+            for speed in speeds:
+                if fastest >= speed:
+                    last[speed] = world.step_count
+    common = {
+        "part": "reference",
+        "scene": label(scene),
+        "system": "sim-off",
+        "bodies": len(scene.bodies),
+        "n_aw": len(scene.bodies),
+        "n_fr": 0,
+    }
+    return [
+        long_row(
+            **common,
+            metric=f"moving_until_{speed:g}",
+            value=step,
+            unit="steps",
+            flag="at cap" if step == cap else "",
+        )
+        for speed, step in last.items()
     ]
 
 

@@ -115,3 +115,35 @@ def test_what_the_pile_waits_for_once_still(quick_run):
     assert sum(record["body_steps"].values()) >= steps_run - still + 1
     assert waiting["body_steps"]["uncertified"] > 0
     assert sum(waiting["share"].values()) == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("speed", [0.05, 0.02])
+def test_the_reference_motion_of_a_sliding_box_is_its_friction_stop(speed):
+    """A box launched at v0 on the floor (mu) slows by mu g dt a step (semi-implicit Euler):
+    its speed is at least s until step floor((v0 - s) / (mu g dt)), then never again."""
+    v0, mu = 3.0, 0.4
+    rows = fig_time_to_rest.reference_motion(
+        sim.scenes.sliding_box(speed=v0, friction=mu), 5.0, speeds=(speed,)
+    )
+    (row,) = rows
+    expected = math.floor((v0 - speed) / (mu * 9.81 * fig_time_to_rest.DT))
+    assert (row["part"], row["system"], row["metric"]) == (
+        "reference",
+        "sim-off",
+        f"moving_until_{speed:g}",
+    )
+    assert row["value"] == expected and row["flag"] == ""
+
+
+def test_the_reference_says_which_scenes_move_and_for_how_long(quick_run):
+    table, numbers, _ = quick_run
+    ref = table[table["part"] == "reference"]
+    assert len(ref) == len(fig_time_to_rest.QUICK["scenes"]) * len(
+        fig_time_to_rest.REFERENCE_SPEEDS
+    )
+    steps = numbers["reference"]["steps"]
+    assert set(steps["rest_row(50)"].values()) == {0}  # placed at rest: never moves
+    pile = steps["drop(10,seed=0)"]
+    # a falling pile moves, and it moves at a creep for longer than at rest speed
+    assert 0 < pile["0.05"] <= pile["0.02"] <= pile["0.001"]
+    assert numbers["reference"]["pile_median_steps"]["0.02"] == pile["0.02"]

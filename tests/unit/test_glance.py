@@ -67,6 +67,23 @@ def test_the_time_to_rest_bullet_quotes_the_piles_and_the_certificate_cost():
         "(drop(30)), median over 3 seeds: sim-extended 140, sim-sleep (1 of 3 never froze)" in line
     )
     assert "3.5 µs per certificate" in line and "at most 9.5 µs" in line
+    assert "freezing off" not in line  # no reference runs in these results: nothing said
+
+
+def test_the_time_to_rest_bullet_says_how_long_the_reference_piles_move():
+    scenes = ["rest_row(50)", "drop(30,seed=0)"]
+    ttr = {
+        "dt": 1 / 60,
+        "scenes": scenes,
+        "sim-extended": _system(dict(zip(scenes, [1, 120]))),
+        "certificate": {"median_us_per_certificate": 3.51, "max_us_per_certificate": 9.46},
+        "reference": {"pile_median_steps": {"0.05": 90.0, "0.02": 101.0, "0.001": None}},
+    }
+    line = time_to_rest_line(ttr)
+    assert (
+        "with freezing off the same piles move at 2 cm/s or faster until step 101 (median) and "
+        "creep at 1 mm/s or faster until step past the cap" in line
+    )
 
 
 def _fit(b_over_a, stderr):

@@ -7,6 +7,10 @@ from ..jit import wide_inline, wide_kernel
 from .layout import (
     BASE1,
     BIAS_RATE,
+    DPAX,
+    DPAY,
+    DPBX,
+    DPBY,
     E,
     IA,
     IB,
@@ -27,6 +31,10 @@ from .layout import (
     PN2,
     POINT2,
     PT1,
+    QCA,
+    QCB,
+    QSA,
+    QSB,
     RAX1,
     RAY1,
     RBX1,
@@ -44,58 +52,60 @@ from .layout import (
     TN1,
     TT1,
     U64,
-    VELOCITIES,
+    VAX,
+    VAY,
+    VBX,
+    VBY,
+    WA,
+    WB,
 )
 from .parameters import MAX_CONDITION, RESTITUTION_SWEEPS
-from .scratch import DPAX, DPAY, DPBX, DPBY, QCA, QCB, QSA, QSB, VAX, VAY, VBX, VBY, WA, WB, scratch
 
 
 @wide_inline
-def _gather_velocities(g, go, lane_row, ob, state):
-    """The batch's body velocities into ``g`` from ``go`` on (what the sweeps change): the batch's
-    VELOCITIES fields in the sweeps, the stack ``scratch`` in the warm start."""
+def _gather_velocities(wide, o, lane_row, ob, state):
+    """The batch's body velocities into its fields (what the sweeps change)."""
     for l in range(LANES_U):
         ra = lane_row[ob + l]
         rb = lane_row[ob + LANES_U + l]
-        g[go + VAX + l] = state[ra, VX]
-        g[go + VAY + l] = state[ra, VY]
-        g[go + WA + l] = state[ra, W]
-        g[go + VBX + l] = state[rb, VX]
-        g[go + VBY + l] = state[rb, VY]
-        g[go + WB + l] = state[rb, W]
+        wide[o + VAX + l] = state[ra, VX]
+        wide[o + VAY + l] = state[ra, VY]
+        wide[o + WA + l] = state[ra, W]
+        wide[o + VBX + l] = state[rb, VX]
+        wide[o + VBY + l] = state[rb, VY]
+        wide[o + WB + l] = state[rb, W]
 
 
 @wide_inline
-def _gather_poses(g, go, lane_row, ob, state):
-    """The batch's body displacements and rotations so far into ``g`` from ``go`` on (``arms``:
-    the stack ``scratch``)."""
+def _gather_poses(wide, o, lane_row, ob, state):
+    """The batch's body displacements and rotations so far into its fields (``arms``)."""
     for l in range(LANES_U):
         ra = lane_row[ob + l]
         rb = lane_row[ob + LANES_U + l]
-        g[go + DPAX + l] = state[ra, DPX]
-        g[go + DPAY + l] = state[ra, DPY]
-        g[go + QCA + l] = state[ra, DQC]
-        g[go + QSA + l] = state[ra, DQS]
-        g[go + DPBX + l] = state[rb, DPX]
-        g[go + DPBY + l] = state[rb, DPY]
-        g[go + QCB + l] = state[rb, DQC]
-        g[go + QSB + l] = state[rb, DQS]
+        wide[o + DPAX + l] = state[ra, DPX]
+        wide[o + DPAY + l] = state[ra, DPY]
+        wide[o + QCA + l] = state[ra, DQC]
+        wide[o + QSA + l] = state[ra, DQS]
+        wide[o + DPBX + l] = state[rb, DPX]
+        wide[o + DPBY + l] = state[rb, DPY]
+        wide[o + QCB + l] = state[rb, DQC]
+        wide[o + QSB + l] = state[rb, DQS]
 
 
 @wide_inline
-def _scatter(g, go, lane_row, ob, state):
+def _scatter(wide, o, lane_row, ob, state):
     """The batch's new velocities back into the body rows. Lanes of one colour share no movable
     body; the dummy row 0 is written by several lanes, all with its unchanged zeros (a zero mass
     never changes a velocity)."""
     for l in range(LANES_U):
         ra = lane_row[ob + l]
         rb = lane_row[ob + LANES_U + l]
-        state[ra, VX] = g[go + VAX + l]
-        state[ra, VY] = g[go + VAY + l]
-        state[ra, W] = g[go + WA + l]
-        state[rb, VX] = g[go + VBX + l]
-        state[rb, VY] = g[go + VBY + l]
-        state[rb, W] = g[go + WB + l]
+        state[ra, VX] = wide[o + VAX + l]
+        state[ra, VY] = wide[o + VAY + l]
+        state[ra, W] = wide[o + WA + l]
+        state[rb, VX] = wide[o + VBX + l]
+        state[rb, VY] = wide[o + VBY + l]
+        state[rb, W] = wide[o + WB + l]
 
 
 @wide_inline
@@ -112,31 +122,31 @@ def _fmin(a, b):
 
 
 @wide_inline
-def _apply(wide, o, g, go, l, d, dirx, diry, rca, rcb):
+def _apply(wide, o, l, d, dirx, diry, rca, rcb):
     """Impulse d along (dirx, diry) on B and its reaction on A, at arms whose cross products with
     the direction are rca (A's) and rcb (B's), into the batch's velocity fields."""
-    g[go + VAX + l] -= wide[o + MA + l] * d * dirx
-    g[go + VAY + l] -= wide[o + MA + l] * d * diry
-    g[go + WA + l] -= wide[o + IA + l] * d * rca
-    g[go + VBX + l] += wide[o + MB + l] * d * dirx
-    g[go + VBY + l] += wide[o + MB + l] * d * diry
-    g[go + WB + l] += wide[o + IB + l] * d * rcb
+    wide[o + VAX + l] -= wide[o + MA + l] * d * dirx
+    wide[o + VAY + l] -= wide[o + MA + l] * d * diry
+    wide[o + WA + l] -= wide[o + IA + l] * d * rca
+    wide[o + VBX + l] += wide[o + MB + l] * d * dirx
+    wide[o + VBY + l] += wide[o + MB + l] * d * diry
+    wide[o + WB + l] += wide[o + IB + l] * d * rcb
 
 
 @wide_inline
-def _relative_velocity(g, go, l, dirx, diry, rca, rcb):
+def _relative_velocity(wide, o, l, dirx, diry, rca, rcb):
     """B's contact point's velocity minus A's along (dirx, diry): (vB - vA) . dir + wB rcb - wA rca
     (w x r . dir = w (r x dir))."""
     return (
-        (g[go + VBX + l] - g[go + VAX + l]) * dirx
-        + (g[go + VBY + l] - g[go + VAY + l]) * diry
-        + g[go + WB + l] * rcb
-        - g[go + WA + l] * rca
+        (wide[o + VBX + l] - wide[o + VAX + l]) * dirx
+        + (wide[o + VBY + l] - wide[o + VAY + l]) * diry
+        + wide[o + WB + l] * rcb
+        - wide[o + WA + l] * rca
     )
 
 
 @wide_inline
-def _moved_anchors(wide, o, g, go, l, p, nx, ny):
+def _moved_anchors(wide, o, l, p, nx, ny):
     """Point p's anchors turned with their bodies, and where B's moved anchor lies from A's.
 
     Each anchor sits on its own body's surface (``contacts``) and has moved with its body this
@@ -148,16 +158,16 @@ def _moved_anchors(wide, o, g, go, l, p, nx, ny):
     ray = wide[o + p + RAY1 + l]
     rbx = wide[o + p + RBX1 + l]
     rby = wide[o + p + RBY1 + l]
-    qca = g[go + QCA + l]
-    qsa = g[go + QSA + l]
-    qcb = g[go + QCB + l]
-    qsb = g[go + QSB + l]
+    qca = wide[o + QCA + l]
+    qsa = wide[o + QSA + l]
+    qcb = wide[o + QCB + l]
+    qsb = wide[o + QSB + l]
     sax = qca * rax - qsa * ray  # anchors turned with their bodies
     say = qsa * rax + qca * ray
     sbx = qcb * rbx - qsb * rby
     sby = qsb * rbx + qcb * rby
-    ox = (g[go + DPBX + l] - g[go + DPAX + l]) + sbx - sax
-    oy = (g[go + DPBY + l] - g[go + DPAY + l]) + sby - say
+    ox = (wide[o + DPBX + l] - wide[o + DPAX + l]) + sbx - sax
+    oy = (wide[o + DPBY + l] - wide[o + DPAY + l]) + sby - say
     # B's moved anchor minus A's: the start offset (the start separation along n) plus their
     # relative motion since
     s0 = wide[o + p + BASE1 + l] + (rbx - rax) * nx + (rby - ray) * ny
@@ -199,17 +209,15 @@ def arms(n_batches, wide, lane_row, state):
     state rows instead of gathering them first cost twice as much (0.11 ms: no packed code).
     Fused into the first relax sweep (each batch's arms just before it is solved), the pass
     saved nothing in wall time: the relax sweep slowed by what the pass had cost."""
-    g = scratch()
-    go = U64(0)
     for b in range(U64(n_batches)):
         o = b * STRIDE_U
         ob = b * U64(2) * LANES_U
-        _gather_poses(g, go, lane_row, ob, state)
+        _gather_poses(wide, o, lane_row, ob, state)
         for l in range(LANES_U):
             nx = wide[o + NX + l]
             ny = wide[o + NY + l]
             for p in (U64(0), POINT2):
-                sax, say, sbx, sby, ox, oy, dx, dy = _moved_anchors(wide, o, g, go, l, p, nx, ny)
+                sax, say, sbx, sby, ox, oy, dx, dy = _moved_anchors(wide, o, l, p, nx, ny)
                 rna, rnb = line_arms(sax, say, sbx, sby, dx, dy, nx, ny)
                 rta, rtb = line_arms(sax, say, sbx, sby, dx, dy, ny, -nx)
                 wide[o + p + RNA1 + l] = rna
@@ -231,31 +239,29 @@ def arms(n_batches, wide, lane_row, state):
 
 
 @wide_inline
-def _warm_point(wide, o, g, go, l, p, nx, ny):
+def _warm_point(wide, o, l, p, nx, ny):
     pn = wide[o + p + PN1 + l]
     pt = wide[o + p + PT1 + l]
     wide[o + p + TN1 + l] += pn  # TOTALS
     wide[o + p + TT1 + l] += pt
     # the normal and the friction impulse each on its own line (see line_arms)
-    _apply(wide, o, g, go, l, pn, nx, ny, wide[o + p + RNA1 + l], wide[o + p + RNB1 + l])
-    _apply(wide, o, g, go, l, pt, ny, -nx, wide[o + p + RTA1 + l], wide[o + p + RTB1 + l])
+    _apply(wide, o, l, pn, nx, ny, wide[o + p + RNA1 + l], wide[o + p + RNB1 + l])
+    _apply(wide, o, l, pt, ny, -nx, wide[o + p + RTA1 + l], wide[o + p + RTB1 + l])
 
 
 @wide_kernel
 def warm_start(n_batches, wide, lane_row, state):
     """Apply each point's accumulated impulses (normal and friction) from the last substep."""
-    g = scratch()
-    go = U64(0)
     for b in range(U64(n_batches)):
         o = b * STRIDE_U
         ob = b * U64(2) * LANES_U
-        _gather_velocities(g, go, lane_row, ob, state)
+        _gather_velocities(wide, o, lane_row, ob, state)
         for l in range(LANES_U):
             nx = wide[o + NX + l]
             ny = wide[o + NY + l]
-            _warm_point(wide, o, g, go, l, U64(0), nx, ny)
-            _warm_point(wide, o, g, go, l, POINT2, nx, ny)
-        _scatter(g, go, lane_row, ob, state)
+            _warm_point(wide, o, l, U64(0), nx, ny)
+            _warm_point(wide, o, l, POINT2, nx, ny)
+        _scatter(wide, o, lane_row, ob, state)
 
 
 @wide_inline
@@ -271,7 +277,7 @@ def _bias(s, inv_h, push, use_bias, mass_scale, bias_rate, impulse_scale):
 
 
 @wide_inline
-def _normal_rows(wide, o, g, go, l, nx, ny, inv_h, push, use_bias):
+def _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias):
     """Both points' non-penetration rows of a lane.
 
     Solved point by point, the first point's impulse turns the body before the second is
@@ -291,8 +297,8 @@ def _normal_rows(wide, o, g, go, l, nx, ny, inv_h, push, use_bias):
     rn1b = wide[o + RNB1 + l]
     rn2a = wide[o + RNA2 + l]
     rn2b = wide[o + RNB2 + l]
-    vn1 = _relative_velocity(g, go, l, nx, ny, rn1a, rn1b)
-    vn2 = _relative_velocity(g, go, l, nx, ny, rn2a, rn2b)
+    vn1 = _relative_velocity(wide, o, l, nx, ny, rn1a, rn1b)
+    vn2 = _relative_velocity(wide, o, l, nx, ny, rn2a, rn2b)
     # the normal-mass matrix K of these arms (the arms move with the bodies: masses computed once
     # at the start of the step would not match them, and a fast body's collision gained energy)
     ma = wide[o + MA + l]
@@ -325,16 +331,16 @@ def _normal_rows(wide, o, g, go, l, nx, ny, inv_h, push, use_bias):
     new2 = x2 if block else y2
     wide[o + PN1 + l] = new1
     wide[o + PN2 + l] = new2
-    _apply(wide, o, g, go, l, new1 - old1, nx, ny, rn1a, rn1b)
-    _apply(wide, o, g, go, l, new2 - old2, nx, ny, rn2a, rn2b)
+    _apply(wide, o, l, new1 - old1, nx, ny, rn1a, rn1b)
+    _apply(wide, o, l, new2 - old2, nx, ny, rn2a, rn2b)
 
 
 @wide_inline
-def _friction_point(wide, o, g, go, l, p, nx, ny):
+def _friction_point(wide, o, l, p, nx, ny):
     """One point's Coulomb friction row, bounded by its current normal impulse."""
     rta = wide[o + p + RTA1 + l]
     rtb = wide[o + p + RTB1 + l]
-    vt = _relative_velocity(g, go, l, ny, -nx, rta, rtb)
+    vt = _relative_velocity(wide, o, l, ny, -nx, rta, rtb)
     k = (
         wide[o + MA + l]
         + wide[o + MB + l]
@@ -346,7 +352,7 @@ def _friction_point(wide, o, g, go, l, p, nx, ny):
     limit = wide[o + MU + l] * wide[o + p + PN1 + l]
     new = _fmin(limit, _fmax(-limit, old - tm * vt))
     wide[o + p + PT1 + l] = new
-    _apply(wide, o, g, go, l, new - old, ny, -nx, rta, rtb)
+    _apply(wide, o, l, new - old, ny, -nx, rta, rtb)
 
 
 @wide_inline
@@ -379,9 +385,7 @@ def _solve_batches(
             continue
         o = b * STRIDE_U
         ob = b * U64(2) * LANES_U
-        g = wide
-        go = o + VELOCITIES
-        _gather_velocities(g, go, lane_row, ob, state)
+        _gather_velocities(wide, o, lane_row, ob, state)
         # friction first, bounded by the normal impulses so far; the normal rows last, so that
         # the turn a friction impulse gives a body (it acts below the centre of mass) is taken out
         # before the positions move: solved after the normal rows, the impulse that stops a
@@ -390,13 +394,13 @@ def _solve_batches(
             for l in range(LANES_U):
                 nx = wide[o + NX + l]
                 ny = wide[o + NY + l]
-                _friction_point(wide, o, g, go, l, U64(0), nx, ny)
-                _friction_point(wide, o, g, go, l, POINT2, nx, ny)
+                _friction_point(wide, o, l, U64(0), nx, ny)
+                _friction_point(wide, o, l, POINT2, nx, ny)
         for l in range(LANES_U):
             nx = wide[o + NX + l]
             ny = wide[o + NY + l]
-            _normal_rows(wide, o, g, go, l, nx, ny, inv_h, push, use_bias)
-        _scatter(g, go, lane_row, ob, state)
+            _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias)
+        _scatter(wide, o, lane_row, ob, state)
 
 
 @wide_kernel
@@ -465,7 +469,7 @@ def relax_hard(
 
 
 @wide_inline
-def _restitution_point(wide, o, g, go, l, p, nx, ny, threshold):
+def _restitution_point(wide, o, l, p, nx, ny, threshold):
     """Bounce: drive the normal velocity to -e times the approach speed at the start of the step,
     for points that approached faster than ``threshold`` and carried an impulse."""
     relv = wide[o + p + RELV1 + l]
@@ -476,11 +480,11 @@ def _restitution_point(wide, o, g, go, l, p, nx, ny, threshold):
         mass = 0.0
     rna = wide[o + p + RNA1 + l]
     rnb = wide[o + p + RNB1 + l]
-    vn = _relative_velocity(g, go, l, nx, ny, rna, rnb)
+    vn = _relative_velocity(wide, o, l, nx, ny, rna, rnb)
     old = wide[o + p + PN1 + l]
     new = _fmax(0.0, old - mass * (vn + e * relv))
     wide[o + p + PN1 + l] = new
-    _apply(wide, o, g, go, l, new - old, nx, ny, rna, rnb)
+    _apply(wide, o, l, new - old, nx, ny, rna, rnb)
 
 
 @wide_kernel
@@ -504,15 +508,13 @@ def _restitution_sweep(n_colours, colour_batches, wide, lane_row, state, thresho
             if not bouncy:
                 continue
             ob = b * U64(2) * LANES_U
-            g = wide
-            go = o + VELOCITIES
-            _gather_velocities(g, go, lane_row, ob, state)
+            _gather_velocities(wide, o, lane_row, ob, state)
             for l in range(LANES_U):
                 nx = wide[o + NX + l]
                 ny = wide[o + NY + l]
-                _restitution_point(wide, o, g, go, l, U64(0), nx, ny, threshold)
-                _restitution_point(wide, o, g, go, l, POINT2, nx, ny, threshold)
-            _scatter(g, go, lane_row, ob, state)
+                _restitution_point(wide, o, l, U64(0), nx, ny, threshold)
+                _restitution_point(wide, o, l, POINT2, nx, ny, threshold)
+            _scatter(wide, o, lane_row, ob, state)
 
 
 @wide_kernel

@@ -16,16 +16,15 @@ LANES_U = U64(LANES)
 #: impulses (N s; warm start), the step's totals, the approach velocity (m/s) and the carried
 #: load, then what depends on the poses only (batches.arms, once per pose, not once per sweep):
 #: each body's lever arm crossed with the normal (RNA, RNB; m) and with the tangent (RTA, RTB; m)
-#: and the current separation (SEP; m); last, the two bodies' velocity rows gathered for the
-#: batch's lanes by the sweeps (VELOCITIES: VAX..WB of ``scratch`` from there; the arms pass and
-#: the warm start gather into a buffer on their stack instead, ``scratch`` says why)
+#: and the current separation (SEP; m); last, GATHER_FIELDS scratch fields for the two bodies'
+#: rows gathered from the state (see GATHERED)
 FIELD_NAMES = (
     "NX NY MU E MA IA MB IB BIAS_RATE MASS_SCALE IMPULSE_SCALE "
     "RAX1 RAY1 RBX1 RBY1 BASE1 NMASS1 ON1 PN1 PT1 TN1 TT1 RELV1 LN1 "
     "RNA1 RNB1 RTA1 RTB1 SEP1 "
     "RAX2 RAY2 RBX2 RBY2 BASE2 NMASS2 ON2 PN2 PT2 TN2 TT2 RELV2 LN2 "
     "RNA2 RNB2 RTA2 RTB2 SEP2 "
-    "VELOCITIES VG1 VG2 VG3 VG4 VG5"
+    "G0 G1 G2 G3 G4 G5 G6 G7"
 ).split()
 #: number of fields of a batch; field F of lane l of batch b is wide[b * STRIDE + F + l]
 N_FIELDS = len(FIELD_NAMES)
@@ -78,13 +77,25 @@ STRIDE = N_FIELDS * LANES
     RTA2,
     RTB2,
     SEP2,
-    VELOCITIES,
-    _VG1,
-    _VG2,
-    _VG3,
-    _VG4,
-    _VG5,
+    G0,
+    G1,
+    G2,
+    G3,
+    G4,
+    G5,
+    G6,
+    G7,
 ) = [U64(k * LANES) for k in range(N_FIELDS)]
+#: GATHERED: the two bodies' rows, gathered from the state into the batch so that the lanes
+#: compute on consecutive addresses (packed). A batch holds either its velocities (the sweeps:
+#: gathered, changed, scattered back) or its displacements and rotations so far (the arms pass:
+#: gathered, read), never both at once, so both share the same scratch fields: 8 fields a batch
+#: fewer to stream through memory in every pass (rest_row(5000)'s batches do not fit the L2
+#: cache). They must stay in the batch's own run of fields: a second array, or one run shared by
+#: all batches, might alias the batch's fields for LLVM, which then keeps the scalar code.
+GATHER_FIELDS = 8
+VAX, VAY, WA, VBX, VBY, WB = G0, G1, G2, G3, G4, G5
+DPAX, DPAY, QCA, QSA, DPBX, DPBY, QCB, QSB = G0, G1, G2, G3, G4, G5, G6, G7
 #: offset of point 2's fields from point 1's, and the number of fields per point
 POINT2 = U64((RAX2 - RAX1))
 POINT_FIELDS = int(RAX2 - RAX1) // LANES

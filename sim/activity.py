@@ -15,7 +15,7 @@ import numpy as np
 
 from .contacts import sleep_contacts_of, wake_contacts_of
 from .data import Activity, N_AWAKE, N_EVENTS, RESTING_DIRTY, STEP_COUNT
-from .jit import inline_kernel, kernel
+from .jit import inline_kernel, lean_kernel
 from .state import State
 
 # event columns
@@ -96,7 +96,7 @@ def wake(i, settings, counters, bodies, contacts, activity):
     counters[RESTING_DIRTY] = 1
 
 
-@kernel
+@lean_kernel
 def resting_bodies(n_dynamic, n_bodies, awake_slot, out):
     """Write the indices of every body not awake (frozen dynamic bodies, then all static bodies)
     into ``out`` (M,); returns how many."""

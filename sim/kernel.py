@@ -30,6 +30,7 @@ from .broadphase import build_grid, drop_stale_pairs, find_new_pairs, update_geo
 from .clock import cycles
 from .contacts import sort_awake
 from .data import (
+    AWAKE_UNSORTED,
     BAD_BODY,
     GROW_AWAKE_GRID,
     GROW_NEEDED,
@@ -65,10 +66,11 @@ from .data import (
     STAGE_WARM_START,
     STEP_COUNT,
 )
+from .freeze.codes import OFF
 from .freeze.dispatch import freeze_after_solve, freeze_before_solve
 from .narrowphase import update_manifolds
 from .sweep import sweep_fast_bodies
-from .jit import inline_kernel, kernel
+from .jit import inline_kernel, kernel, lean_kernel
 from .soft_step import (
     HARD_SWEEPS,
     IMPACT_SPEED,
@@ -104,7 +106,7 @@ def _lap(settings, solver, stage, t0):
     return t
 
 
-@kernel
+@lean_kernel
 def first_diverged(counters, bodies, activity):
     """The first awake body whose state is NaN/inf or out of range, else -1."""
     position, angle = bodies.position, bodies.angle
@@ -123,7 +125,7 @@ def first_diverged(counters, bodies, activity):
     return -1
 
 
-@kernel
+@lean_kernel
 def rebuild_resting(settings, counters, bodies, geometry, resting_grid, activity, scratch):
     """The resting grid of all static and frozen bodies' fat boxes, their geometry brought up to
     date (a body froze where it ended its last step). Run only when the frozen set changed.
@@ -139,7 +141,7 @@ def rebuild_resting(settings, counters, bodies, geometry, resting_grid, activity
     return True
 
 
-@kernel
+@lean_kernel
 def broadphase(
     settings,
     counters,
@@ -184,7 +186,7 @@ def broadphase(
     return True
 
 
-@kernel
+@lean_kernel
 def solve_step(settings, counters, bodies, contacts, activity, solver, t):
     """Colour, prepare, the substeps, restitution and store: velocities and displacements of this
     step in the solver rows. Returns the profiling clock."""
@@ -322,7 +324,8 @@ def run(
             scratch,
         ):
             return GROW, step
-        sort_awake(bodies.position.shape[0], contacts, counters)
+        if counters[AWAKE_UNSORTED] != 0:  # (the test first: a call costs ~0.2 us, see jit)
+            sort_awake(bodies.position.shape[0], contacts, counters)
         t = _lap(settings, solver, STAGE_BROADPHASE, t)
         update_manifolds(settings, bodies, geometry, contacts, counters)
         t = _lap(settings, solver, STAGE_NARROWPHASE, t)
@@ -331,7 +334,12 @@ def run(
         counters[STEP_COUNT] += 1
         # Bodies woken by this step's contacts join it: their contacts are awake again, and get
         # their manifolds from the current poses; until no more wake.
-        while freeze_before_solve(settings, counters, bodies, contacts, activity) > 0:
+        # (policy off: no call at all. A call into a policy costs a reference-count increment
+        # and decrement for every array it is passed, ~0.8 us a step; see sim/jit.py)
+        while (
+            settings.policy != OFF
+            and freeze_before_solve(settings, counters, bodies, contacts, activity) > 0
+        ):
             sort_awake(bodies.position.shape[0], contacts, counters)
             update_manifolds(settings, bodies, geometry, contacts, counters)
         t = solve_step(settings, counters, bodies, contacts, activity, solver, t)
@@ -356,7 +364,8 @@ def run(
             counters[BAD_BODY] = bad
             return NON_FINITE, step + 1
         t = _lap(settings, solver, STAGE_FINALIZE, t)
-        freeze_after_solve(settings, counters, bodies, contacts, activity)
+        if settings.policy != OFF:
+            freeze_after_solve(settings, counters, bodies, contacts, activity)
         t = _lap(settings, solver, STAGE_FREEZE_AFTER, t)
         if settings.profile:
             solver.steps_profiled[0] += 1

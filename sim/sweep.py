@@ -29,7 +29,7 @@ from .body import MAX_COORDINATE
 from .broadphase import query_box
 from .continuous import swept_aabb, time_of_impact
 from .data import DPX, DPY, N_AWAKE, N_IMPACTS, N_SWEPT, N_TOI_PAIRS, TURN
-from .jit import inline_kernel, kernel
+from .jit import inline_kernel, lean_kernel
 
 #: a body is swept when it moved more than this fraction of its size (thinnest width) in a step
 FAST_FRACTION = 0.5
@@ -73,7 +73,7 @@ def surely_apart(pose_i, pose_j, reach):
     return dx * dx + dy * dy > reach * reach
 
 
-@kernel
+@lean_kernel
 def sweep_fast_bodies(
     settings, counters, bodies, geometry, awake_grid, resting_grid, activity, solver, found
 ):

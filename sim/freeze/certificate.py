@@ -95,7 +95,7 @@ from ..data import (
     SLOP,
     TANGENT_IMPULSE,
 )
-from ..jit import inline_kernel, kernel
+from ..jit import inline_kernel, kernel, lean_kernel
 from . import feasibility
 
 #: support points one certificate takes; a body with more is not certified (stays awake)
@@ -225,6 +225,48 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
     docstring)? ``awake_slot`` (N,): -1 for a frozen body (a support, like the floor and static
     bodies). Margins from ``settings.friction_margin`` and ``settings.tip_margin``. Looks only at
     this step's active contacts, contacts.active[:n_active]. Returns (n_candidates,) bool."""
+    # the work arrays here, the work in a lean kernel (no reference counting, see sim/jit: its
+    # loops pass the contacts to inlined helpers, each call an increment per array otherwise)
+    out = np.zeros(n_candidates, np.bool_)
+    _holds_into(
+        candidates,
+        n_candidates,
+        awake_slot,
+        settings,
+        bodies,
+        contacts,
+        n_active,
+        np.full(settings.n_dynamic, -1, np.int64),  # row_of
+        np.zeros(n_candidates + 1, np.int64),  # row
+        np.empty(2 * n_active + 1, np.int64),  # entry: each contact is in at most two rows
+        np.empty(n_candidates + 1, np.int64),  # fill
+        np.empty((2 * MAX_SUPPORT_POINTS, 3)),  # cone edges: supports, then bracing loads
+        np.empty((2 * MAX_SUPPORT_POINTS, 3)),  # brace
+        np.empty(2 * MAX_SUPPORT_POINTS),  # weights
+        out,
+    )
+    return out
+
+
+@lean_kernel
+def _holds_into(
+    candidates,
+    n_candidates,
+    awake_slot,
+    settings,
+    bodies,
+    contacts,
+    n_active,
+    row_of,
+    row,
+    entry,
+    fill,
+    cone,
+    brace,
+    weights,
+    out,
+):
+    """``holds``'s work, in its work arrays; the answers into ``out``."""
     n_dyn = settings.n_dynamic
     position, extent, size, inv_mass = (
         bodies.position,
@@ -239,10 +281,8 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
     dt = settings.dt
     # each candidate's contacts, in compressed rows: entries row[k]..row[k+1]-1 of ``entry``
     # hold positions in contacts.active
-    row_of = np.full(n_dyn, -1, np.int64)
     for k in range(n_candidates):
         row_of[candidates[k]] = k
-    row = np.zeros(n_candidates + 1, np.int64)
     for kk in range(n_active):
         c = contacts.active[kk]
         for body in (ci[c, BODY_A], ci[c, BODY_B]):
@@ -250,8 +290,8 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
                 row[row_of[body] + 1] += 1
     for k in range(n_candidates):
         row[k + 1] += row[k]
-    entry = np.empty(row[n_candidates], np.int64)
-    fill = row[:n_candidates].copy()
+    for k in range(n_candidates):  # the row starts, advanced as each is filled
+        fill[k] = row[k]
     for kk in range(n_active):
         c = contacts.active[kk]
         for body in (ci[c, BODY_A], ci[c, BODY_B]):
@@ -259,10 +299,6 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
                 entry[fill[row_of[body]]] = kk
                 fill[row_of[body]] += 1
 
-    out = np.zeros(n_candidates, np.bool_)
-    cone = np.empty((2 * MAX_SUPPORT_POINTS, 3))  # cone edges: supports, then bracing loads
-    brace = np.empty((2 * MAX_SUPPORT_POINTS, 3))
-    weights = np.empty(2 * MAX_SUPPORT_POINTS)
     for k in range(n_candidates):
         i = candidates[k]
         length = extent[i]
@@ -314,7 +350,9 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
         if too_many:
             continue  # not certified: stays awake
         n_all = min(n_points + n_brace, MAX_SUPPORT_POINTS)
-        cone[2 * n_points : 2 * n_all] = brace[: 2 * (n_all - n_points)]
+        for e in range(2 * (n_all - n_points)):  # (element by element: a slice copy needs
+            for q in range(3):  # reference counting, which this kernel runs without)
+                cone[2 * n_points + e, q] = brace[e, q]
         out[k] = _margin(
             cone,
             n_all,
@@ -324,7 +362,6 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
             settings.tip_margin * size[i] * np.hypot(lx, ly) / length,
             weights,
         )
-    return out
 
 
 @inline_kernel

@@ -81,7 +81,7 @@ from ..data import (
     NORMAL_IMPULSE,
     POINT_COUNT,
 )
-from ..jit import kernel
+from ..jit import kernel, lean_kernel
 from . import certificate, extended_layout
 from .contact_math import arrives, stopping_impulse
 from .extended_layout import (
@@ -164,13 +164,22 @@ def before_solve(settings, counters, bodies, contacts, activity):
     support graph, all it carries) if the estimates add up to more than ``impulse_threshold``
     (an impact), or if its load plus the estimated push breaks its equilibrium (a push, or
     tipping). Returns the number of bodies woken."""
+    # the work arrays here; the walk over contacts in a lean kernel (no reference counting:
+    # sim/jit), for a kernel that allocates counts every array its inlined helpers are passed
+    touched = np.empty(min(2 * counters[N_ACTIVE], settings.n_dynamic) + 1, np.int64)
+    queue = np.empty(settings.n_dynamic, np.int64)
+    return _impacts(settings, counters, bodies, contacts, activity, touched, queue)
+
+
+@lean_kernel
+def _impacts(settings, counters, bodies, contacts, activity, touched, queue):
+    """``before_solve``'s work, in its work arrays ``touched`` and ``queue``."""
     position = bodies.position
     ci = contacts.contact_int
     cf = contacts.contact_float
     awake_slot, body_real, body_int = activity.awake_slot, activity.body_real, activity.body_int
     n_dyn = settings.n_dynamic
     count = counters[N_ACTIVE]
-    touched = np.empty(min(2 * count, n_dyn) + 1, np.int64)
     n_touched = 0
     for k in range(count):
         c = contacts.active[k]
@@ -201,7 +210,6 @@ def before_solve(settings, counters, bodies, contacts, activity):
                         wy - position[frozen_body, 1]
                     ) * px
                     body_real[frozen_body, PUSH_NORMAL] += p
-    queue = np.empty(n_dyn, np.int64)
     n_queue = 0
     for k in range(n_touched):
         i = touched[k]
@@ -224,31 +232,56 @@ def after_solve(settings, counters, bodies, contacts, activity):
     """Loads on frozen bodies from this step's solved impulses (the weight of awake bodies
     resting on them, which the approach estimate before the solve does not see), then the rest
     test and freezing (see the module docstring)."""
-    position, velocity, angular_velocity = bodies.position, bodies.velocity, bodies.angular_velocity
-    inv_mass, extent = bodies.inv_mass, bodies.extent
-    ci = contacts.contact_int
-    cf = contacts.contact_float
-    pf = contacts.point_float
-    states, awake, awake_slot, events = (
-        activity.states,
-        activity.awake,
-        activity.awake_slot,
-        activity.events,
+    # the walks over bodies and contacts run in lean kernels (no reference counting: sim/jit);
+    # this one allocates the work arrays and runs the certificate, which allocates its own
+    touched = np.empty(min(2 * counters[N_ACTIVE], settings.n_dynamic) + 1, np.int64)
+    queue = np.empty(settings.n_dynamic, np.int64)
+    if not _candidates(settings, counters, bodies, contacts, activity, touched, queue):
+        return
+    awake, awake_slot = activity.awake, activity.awake_slot
+    body_int = activity.body_int
+    n_dyn = settings.n_dynamic
+    count = counters[N_ACTIVE]
+    n_awake = counters[N_AWAKE]
+    # the certificate (sim/freeze/certificate.py): static equilibrium with margin. A body that
+    # is still but not certified (MARK 2: on a point, at its friction limit) stays awake, but
+    # does not keep its neighbours awake: it pushes nothing, and if it starts to, the wake rules
+    # see it as they see any awake body touching frozen ones
+    candidates = np.empty(n_awake, np.int64)
+    n_candidates = 0
+    for k in range(n_awake):
+        if body_int[awake[k], MARK] == 1:
+            candidates[n_candidates] = awake[k]
+            n_candidates += 1
+    held = certificate.holds(
+        candidates, n_candidates, awake_slot, settings, bodies, contacts, count
     )
+    counters[N_CERTIFICATES] += n_candidates
+    counters[N_CERTIFICATES] += wedges(
+        candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, contacts, count
+    )
+    for k in range(n_candidates):
+        if not held[k]:
+            body_int[candidates[k], MARK] = 2
+            body_int[candidates[k], WAITING] = WAIT_UNCERTIFIED
+    _freeze_certified(settings, counters, bodies, contacts, activity)
+
+
+@lean_kernel
+def _candidates(settings, counters, bodies, contacts, activity, touched, queue):
+    """``after_solve``'s first part: loads and wakes of frozen bodies, the rest test, and the
+    candidates for the certificate (body_int[:, MARK] == 1). Returns whether there are any."""
+    position, velocity, angular_velocity = bodies.position, bodies.velocity, bodies.angular_velocity
+    extent = bodies.extent
+    ci = contacts.contact_int
+    pf = contacts.point_float
+    awake, awake_slot = activity.awake, activity.awake_slot
     body_real, body_int = activity.body_real, activity.body_int
-    links, link_load = activity.links, activity.link_load
     n_dyn = settings.n_dynamic
     dt = settings.dt
-    gx = settings.gravity_x
-    gy = settings.gravity_y
-    g = np.hypot(gx, gy)
-    up_x = -gx / g if g > 0 else 0.0
-    up_y = -gy / g if g > 0 else 1.0
     count = counters[N_ACTIVE]
-
     # ---- 1. pushes and tipping: frozen bodies touched by awake bodies ----------------------------
     n_touched = 0
-    touched = np.empty(min(2 * count, n_dyn) + 1, np.int64)
     for kk in range(count):
         c = contacts.active[kk]
         a = ci[c, BODY_A]
@@ -276,7 +309,6 @@ def after_solve(settings, counters, bodies, contacts, activity):
                 rx = wx - position[frozen_body, 0]
                 ry = wy - position[frozen_body, 1]
                 body_real[frozen_body, PUSH_M] += rx * py - ry * px
-    queue = np.empty(n_dyn, np.int64)
     n_queue = 0
     for k in range(n_touched):
         i = touched[k]
@@ -291,7 +323,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
     # ---- 2. the rest test -----------------------------------------------------------------
     n_awake = counters[N_AWAKE]
     if n_awake == 0:
-        return
+        return False
     limit = settings.rest_speed
     change_limit = settings.rest_acceleration * dt
     any_candidate = False
@@ -330,7 +362,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
         elif body_int[i, WAITING] == WAIT_NONE:
             body_int[i, WAITING] = WAIT_COUNTING
     if not any_candidate:
-        return
+        return False
     # Not sliding: a candidate with a contact whose friction is at its Coulomb limit while its
     # surfaces slip faster than slip_speed is in motion the forces explain, however slow its
     # centre is (a box gliding to a stop on ice slides until its friction stops it): MARK 0,
@@ -360,28 +392,36 @@ def after_solve(settings, counters, bodies, contacts, activity):
                     body_int[body, MARK] = 2
                     body_int[body, WAITING] = WAIT_DEEP
     if not whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
-        return
-    # the certificate (sim/freeze/certificate.py): static equilibrium with margin. A body that
-    # is still but not certified (MARK 2: on a point, at its friction limit) stays awake, but
-    # does not keep its neighbours awake: it pushes nothing, and if it starts to, the wake rules
-    # see it as they see any awake body touching frozen ones
-    candidates = np.empty(n_awake, np.int64)
-    n_candidates = 0
-    for k in range(n_awake):
-        if body_int[awake[k], MARK] == 1:
-            candidates[n_candidates] = awake[k]
-            n_candidates += 1
-    held = certificate.holds(
-        candidates, n_candidates, awake_slot, settings, bodies, contacts, count
+        return False
+    return True
+
+
+@lean_kernel
+def _freeze_certified(settings, counters, bodies, contacts, activity):
+    """``after_solve``'s last part: freeze every body still marked (MARK 1), with the summary of
+    its supports and loads that the wake rules read."""
+    position = bodies.position
+    inv_mass = bodies.inv_mass
+    ci = contacts.contact_int
+    cf = contacts.contact_float
+    pf = contacts.point_float
+    states, awake, awake_slot, events = (
+        activity.states,
+        activity.awake,
+        activity.awake_slot,
+        activity.events,
     )
-    counters[N_CERTIFICATES] += n_candidates
-    counters[N_CERTIFICATES] += wedges(
-        candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, contacts, count
-    )
-    for k in range(n_candidates):
-        if not held[k]:
-            body_int[candidates[k], MARK] = 2
-            body_int[candidates[k], WAITING] = WAIT_UNCERTIFIED
+    body_real, body_int = activity.body_real, activity.body_int
+    links, link_load = activity.links, activity.link_load
+    n_dyn = settings.n_dynamic
+    dt = settings.dt
+    gx = settings.gravity_x
+    gy = settings.gravity_y
+    g = np.hypot(gx, gy)
+    up_x = -gx / g if g > 0 else 0.0
+    up_y = -gy / g if g > 0 else 1.0
+    count = counters[N_ACTIVE]
+    n_awake = counters[N_AWAKE]
     on_the_awake(count, n_dyn, contacts, awake_slot, body_int, up_x, up_y)
     # freeze the survivors: summarise supports and loads, link dynamic supports
     for k in range(n_awake):

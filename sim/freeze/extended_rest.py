@@ -31,7 +31,7 @@ from ..data import (
 )
 import numpy as np
 
-from ..jit import inline_kernel, kernel
+from ..jit import inline_kernel, kernel, lean_kernel
 from . import certificate, feasibility
 from .contact_math import touching
 from .extended_layout import (
@@ -51,7 +51,7 @@ SLIDING_SHARE = 0.98
 SLIDING, DEEP = 1, 2
 
 
-@kernel
+@lean_kernel
 def whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
     """Clear the mark of every candidate (MARK 1) that touches an awake body in motion (MARK 0),
     to a fixed point: an awake body that is still moving keeps its neighbours awake, so nothing
@@ -288,7 +288,7 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
     return tried
 
 
-@kernel
+@lean_kernel
 def on_the_awake(count, n_dyn, contacts, awake_slot, body_int, up_x, up_y):
     """Set MARK 2 (still, not frozen) on every certified candidate (MARK 1) that rests on an
     awake body that is not freezing with it, to a fixed point: "rests on" is an impulse on it

@@ -10,7 +10,7 @@ consistent, and both hooks call them (``before_solve`` on the estimated pushes,
 
 from ..activity import CAUSE, record, wake
 from ..data import ANCHOR_BX, ANCHOR_BY, BODY_B, N_LINKS, POINT_COUNT
-from ..jit import inline_kernel, kernel
+from ..jit import inline_kernel, lean_kernel
 from .extended_layout import (
     FREE,
     LOAD_M,
@@ -102,7 +102,7 @@ def wake_one(i, cause, n_queue, queue, settings, counters, bodies, contacts, act
     return n_queue + 1
 
 
-@kernel
+@lean_kernel
 def wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity):
     """Support removed: everything the bodies in queue[0..n_queue-1] carry wakes too, in this
     same step, transitively (breadth first over the links). Returns the number woken in all."""
@@ -129,7 +129,7 @@ def wake_supported(n_queue, queue, settings, counters, bodies, contacts, activit
     return n_queue
 
 
-@kernel
+@lean_kernel
 def drop_links_of_awake(counters, activity):
     """Compact the link list, keeping only links whose supported body is still frozen. A dropped
     link's push leaves its support's load: the awake body's contacts now push live (else the

@@ -76,7 +76,7 @@ from ..data import (
     END_SEPARATION,
     SLOP,
 )
-from ..jit import inline_kernel, kernel
+from ..jit import inline_kernel, kernel, lean_kernel
 from ..state import State
 from .contact_math import arrives, stopping_impulse, touching
 
@@ -129,7 +129,7 @@ def _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float):
     return states[other] == _RS
 
 
-@kernel
+@lean_kernel
 def before_solve(settings, counters, bodies, contacts, activity):
     """Section 3: a moving body colliding with a held body (frozen, or RS and sliding) anywhere
     but its floor-parallel top edge makes it FREE before the solve. Returns the number woken."""

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..activity import CAUSE, freeze, record, wake
 from ..data import BODY_A, BODY_B, N_ACTIVE, N_AWAKE
-from ..jit import inline_kernel, kernel
+from ..jit import inline_kernel, kernel, lean_kernel
 from .contact_math import arriving, touching
 from ..state import State
 
@@ -53,7 +53,7 @@ def _find(parent, i):
     return root
 
 
-@kernel
+@lean_kernel
 def before_solve(settings, counters, bodies, contacts, activity):
     """An awake body touching a sleeping one wakes that body's whole island, before the solve, so
     the touch is solved between moving bodies. Returns the number of bodies woken."""
@@ -97,27 +97,20 @@ def before_solve(settings, counters, bodies, contacts, activity):
     return woken
 
 
-@kernel
-def after_solve(settings, counters, bodies, contacts, activity):
-    """Idle timers, islands, and islands falling asleep."""
+@lean_kernel
+def _timers_and_islands(settings, counters, bodies, contacts, activity):
+    """Idle timers of the awake bodies; when one has been idle for sleep_time, the islands (union-
+    find over this step's manifolds, into body_int[:, PARENT]). Returns the longest timer, s.
+    Lean (no reference counting, see sim/jit): it walks every awake body and contact each step."""
     velocity, angular_velocity, extent = bodies.velocity, bodies.angular_velocity, bodies.extent
     ci = contacts.contact_int
-    states, awake, awake_slot, events = (
-        activity.states,
-        activity.awake,
-        activity.awake_slot,
-        activity.events,
-    )
+    awake, awake_slot = activity.awake, activity.awake_slot
     body_real, body_int = activity.body_real, activity.body_int
     n_dyn = settings.n_dynamic
     dt = settings.dt
-    n_awake = counters[N_AWAKE]
-    if n_awake == 0:
-        return
-    # idle timers
     limit = settings.sleep_speed
     longest = 0.0
-    for k in range(n_awake):
+    for k in range(counters[N_AWAKE]):
         i = awake[k]
         vx = velocity[i, 0]
         vy = velocity[i, 1]
@@ -134,7 +127,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
             body_real[i, TIMER] = 0.0
         body_int[i, PARENT] = i
     if longest < settings.sleep_time:
-        return  # no island can sleep: skip building them
+        return longest  # no island can sleep: skip building them
     # islands of touching awake bodies (union-find over this step's manifolds)
     parent = body_int[:, PARENT]
     for k in range(counters[N_ACTIVE]):
@@ -152,6 +145,25 @@ def after_solve(settings, counters, bodies, contacts, activity):
             rb = _find(parent, b)
             if ra != rb:
                 parent[max(ra, rb)] = min(ra, rb)  # the lower index is the root: deterministic
+    return longest
+
+
+@kernel
+def after_solve(settings, counters, bodies, contacts, activity):
+    """Idle timers, islands, and islands falling asleep."""
+    states, awake, awake_slot, events = (
+        activity.states,
+        activity.awake,
+        activity.awake_slot,
+        activity.events,
+    )
+    body_real, body_int = activity.body_real, activity.body_int
+    n_awake = counters[N_AWAKE]
+    if n_awake == 0:
+        return
+    if _timers_and_islands(settings, counters, bodies, contacts, activity) < settings.sleep_time:
+        return
+    parent = body_int[:, PARENT]
     # an island sleeps when its least idle body has been idle long enough (minimum timer per
     # island, indexed by the awake slot of the island's root)
     island_min = np.full(n_awake, np.inf)

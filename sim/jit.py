@@ -39,10 +39,11 @@ inline_kernel = njit(cache=True, error_model="numpy", inline="always")
 #: compiled with reference counting, the increments were 54% of a step of one falling body (8.0
 #: against 4.4 us a step) and ~9% of drop(200)'s (perf, 2026-12-04). A lean kernel cannot call
 #: one that allocates (Numba compiles the callee with the caller's flags), so the loop itself
-#: (``kernel.run``) and the freeze policies' entry points, which allocate their work arrays, keep
-#: counting: each allocates, then hands the arrays to a lean kernel that walks the bodies and
-#: contacts (``sleep.before_solve`` took 14 us a step on a 24-body landing before, 1.2 after).
-#: ``run`` calls them only when they have work (a policy other than ``off``; contacts to sort).
+#: (``kernel.run``) keeps counting, and so do the freeze policies' hooks, which allocate their
+#: work arrays: each hook is inlined into ``run`` (a call would count every array of the state
+#: again), allocates, and hands the arrays to a lean kernel that walks the bodies and contacts
+#: (``sleep.before_solve`` took 14 us a step on a 24-body landing before, 0.7 after). ``run``
+#: calls them only when they have work (a policy other than ``off``; contacts to sort).
 #: tests/unit/test_jit.py lists the kernels that must stay lean.
 lean_kernel = njit(cache=True, error_model="numpy", _nrt=False)
 

@@ -219,14 +219,15 @@ def _supports(i, other, nx, ny, n_dyn, awake_slot, up_x, up_y):
     return not (0 <= other < n_dyn and awake_slot[other] >= 0) or nx * up_x + ny * up_y > SUPPORT_UP
 
 
-@kernel
+@inline_kernel
 def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_active):
     """For each body candidates[k], k < n_candidates: is it certified at rest (see the module
     docstring)? ``awake_slot`` (N,): -1 for a frozen body (a support, like the floor and static
     bodies). Margins from ``settings.friction_margin`` and ``settings.tip_margin``. Looks only at
     this step's active contacts, contacts.active[:n_active]. Returns (n_candidates,) bool."""
-    # the work arrays here, the work in a lean kernel (no reference counting, see sim/jit: its
-    # loops pass the contacts to inlined helpers, each call an increment per array otherwise)
+    # inlined into its caller, which allocates the work arrays; the work in a lean kernel (no
+    # reference counting, see sim/jit: its loops pass the contacts to inlined helpers, each
+    # call an increment per array otherwise)
     out = np.zeros(n_candidates, np.bool_)
     _holds_into(
         candidates,

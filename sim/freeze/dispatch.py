@@ -6,12 +6,12 @@ step's contacts disturb, so the collision is solved with them moving; returns ho
 (settings, counters, bodies, contacts, activity) and walk this step's active contacts,
 ``contacts.active[:counters[N_ACTIVE]]``."""
 
-from ..jit import kernel
+from ..jit import inline_kernel
 from . import extended, paper, sleep
 from .codes import EXTENDED, PAPER, SLEEP
 
 
-@kernel
+@inline_kernel
 def freeze_before_solve(settings, counters, bodies, contacts, activity):
     policy = settings.policy
     if policy == SLEEP:
@@ -23,7 +23,7 @@ def freeze_before_solve(settings, counters, bodies, contacts, activity):
     return 0
 
 
-@kernel
+@inline_kernel
 def freeze_after_solve(settings, counters, bodies, contacts, activity):
     policy = settings.policy
     if policy == SLEEP:

@@ -81,7 +81,7 @@ from ..data import (
     NORMAL_IMPULSE,
     POINT_COUNT,
 )
-from ..jit import kernel, lean_kernel
+from ..jit import inline_kernel, lean_kernel
 from . import certificate, extended_layout
 from .contact_math import arrives, stopping_impulse
 from .extended_layout import (
@@ -151,7 +151,7 @@ _RESTED = CAUSE["rested"]
 _IMPACT = CAUSE["impact"]
 
 
-@kernel
+@inline_kernel
 def before_solve(settings, counters, bodies, contacts, activity):
     """Impacts and pushes, judged *before* the solve so that the collision is solved between
     moving bodies and momentum is passed on, not reflected off an immovable body (a body woken
@@ -227,7 +227,7 @@ def _impacts(settings, counters, bodies, contacts, activity, touched, queue):
     return wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity)
 
 
-@kernel
+@inline_kernel
 def after_solve(settings, counters, bodies, contacts, activity):
     """Loads on frozen bodies from this step's solved impulses (the weight of awake bodies
     resting on them, which the approach estimate before the solve does not see), then the rest

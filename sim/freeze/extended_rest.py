@@ -214,14 +214,15 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
     one point), and so is a plank tipping slowly off a box's edge (the box holds it on one point).
     Returns the number of group certificates tried."""
     ci = contacts.contact_int
-    row_of = np.full(n_dyn, -1, np.int64)
-    parent = np.arange(n_candidates)
     any_refused = False
     for k in range(n_candidates):
-        row_of[candidates[k]] = k
         any_refused = any_refused or not held[k]
     if not any_refused:
-        return 0
+        return 0  # (before any work array: row_of costs a write per body of the World)
+    row_of = np.full(n_dyn, -1, np.int64)
+    parent = np.arange(n_candidates)
+    for k in range(n_candidates):
+        row_of[candidates[k]] = k
     for kk in range(count):
         c = contacts.active[kk]
         a = ci[c, BODY_A]

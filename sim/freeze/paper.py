@@ -76,7 +76,7 @@ from ..data import (
     END_SEPARATION,
     SLOP,
 )
-from ..jit import inline_kernel, kernel, lean_kernel
+from ..jit import inline_kernel, lean_kernel
 from ..state import State
 from .contact_math import arrives, stopping_impulse, touching
 
@@ -200,8 +200,16 @@ def before_solve(settings, counters, bodies, contacts, activity):
     return woken
 
 
-@kernel
+@inline_kernel
 def after_solve(settings, counters, bodies, contacts, activity):
+    """Section 2's transitions after the solve. Inlined into the step loop, which allocates the
+    work array; the walk runs in a lean kernel (no reference counting, see sim/jit)."""
+    held_pairs = np.empty((counters[N_ACTIVE], 2), np.int64)
+    _after_solve(settings, counters, bodies, contacts, activity, held_pairs)
+
+
+@lean_kernel
+def _after_solve(settings, counters, bodies, contacts, activity, held_pairs):
     position, angle, velocity, angular_velocity = (
         bodies.position,
         bodies.angle,
@@ -255,7 +263,6 @@ def after_solve(settings, counters, bodies, contacts, activity):
             body_int[i, RS_CONTACT_STEPS] += 1
         else:
             body_int[i, RS_CONTACT_STEPS] = 0
-    held_pairs = np.empty((count, 2), np.int64)
     n_held = 0
     k = 0
     while k < counters[N_AWAKE]:

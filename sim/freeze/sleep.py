@@ -17,7 +17,7 @@ import numpy as np
 
 from ..activity import CAUSE, freeze, record, wake
 from ..data import BODY_A, BODY_B, N_ACTIVE, N_AWAKE
-from ..jit import inline_kernel, kernel, lean_kernel
+from ..jit import inline_kernel, lean_kernel
 from .contact_math import arriving, touching
 from ..state import State
 
@@ -148,7 +148,7 @@ def _timers_and_islands(settings, counters, bodies, contacts, activity):
     return longest
 
 
-@kernel
+@inline_kernel
 def after_solve(settings, counters, bodies, contacts, activity):
     """Idle timers, islands, and islands falling asleep."""
     states, awake, awake_slot, events = (

@@ -24,6 +24,7 @@ LEAN = {
     "sleep.before_solve": sleep.before_solve,
     "sleep._timers_and_islands": sleep._timers_and_islands,
     "paper.before_solve": paper.before_solve,
+    "paper._after_solve": paper._after_solve,
     "extended._impacts": extended._impacts,
     "extended._candidates": extended._candidates,
     "extended._freeze_certified": extended._freeze_certified,

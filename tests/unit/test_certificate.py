@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import sim
-from sim.freeze import certificate
+from sim.freeze import cone
 from conftest import G
 from naive import nnls
 
@@ -44,7 +44,7 @@ def test_cone_test_agrees_with_nonnegative_least_squares():
             target = rng.normal(size=3)
             if trial % 3 == 0:
                 target[0] = 0.0
-        found, weights = certificate.in_cone(gens, target)
+        found, weights = cone.in_cone(gens, target)
         _, residual = nnls(gens, target)
         scale = np.linalg.norm(target)
         if 1e-7 * scale < residual < 1e-4 * scale:
@@ -59,9 +59,9 @@ def test_cone_test_agrees_with_nonnegative_least_squares():
 
 def test_cone_test_refuses_bad_input():
     with pytest.raises(ValueError, match="must be"):
-        certificate.in_cone(np.zeros((2, 2)), np.zeros(3))
+        cone.in_cone(np.zeros((2, 2)), np.zeros(3))
     with pytest.raises(ValueError, match="finite"):
-        certificate.in_cone(np.full((2, 3), np.nan), np.zeros(3))
+        cone.in_cone(np.full((2, 3), np.nan), np.zeros(3))
 
 
 def _frozen_at(world):

@@ -27,7 +27,7 @@ import numpy as np
 
 from .body import MAX_COORDINATE
 from .broadphase import query_box
-from .continuous import swept_aabb, time_of_impact
+from .continuous import separating_gap, swept_aabb, time_of_impact
 from .data import DPX, DPY, N_AWAKE, N_IMPACTS, N_SWEPT, N_TOI_PAIRS, TURN
 from .jit import inline_kernel, lean_kernel
 
@@ -71,6 +71,29 @@ def surely_apart(pose_i, pose_j, reach):
     dx = pose_i[0] - pose_j[0]
     dy = pose_i[1] - pose_j[1]
     return dx * dx + dy * dy > reach * reach
+
+
+@inline_kernel
+def _sweep_pair(bodies, geometry, i, j, start, end, j_end, target, iterations):
+    """``time_of_impact`` of body i swept from ``start`` to ``end`` against body j held at
+    ``j_end``, stopping within a quarter of ``target``: (t, separation m)."""
+    vs = bodies.vert_start
+    return time_of_impact(
+        bodies.local_verts,
+        bodies.local_normals,
+        vs[i],
+        vs[i + 1],
+        vs[j],
+        vs[j + 1],
+        start,
+        end,
+        j_end,
+        j_end,
+        target,
+        0.25 * target,
+        iterations,
+        geometry.toi_scratch,
+    )
 
 
 @lean_kernel
@@ -119,42 +142,29 @@ def sweep_fast_bodies(
                 # Where the step left them first (a sweep of zero length measures it): it alone
                 # decides whether a time of impact could matter, and costs one iteration, where
                 # the sweep may take dozens. In a settling pile most fast bodies end the step
-                # near, not deep inside, the bodies around them.
-                _, apart = time_of_impact(
-                    bodies.local_verts,
-                    bodies.local_normals,
-                    vs[i],
-                    vs[i + 1],
-                    vs[j],
-                    vs[j + 1],
-                    end,
-                    end,
-                    j_end,
-                    j_end,
-                    target,
-                    0.25 * target,
-                    1,
-                    geometry.toi_scratch,
-                )
+                # near, not deep inside, the bodies around them. Where only a deep overlap counts
+                # (an awake partner, no bullet) the separating axes alone decide it.
                 deep = OVERLAP_FRACTION * min(bodies.size[i], bodies.size[j])
-                passed = apart > target and (rj == 0 or bodies.bullet[i])
-                if not (passed or apart < -deep):
-                    continue
-                t, _ = time_of_impact(
-                    bodies.local_verts,
-                    bodies.local_normals,
-                    vs[i],
-                    vs[i + 1],
-                    vs[j],
-                    vs[j + 1],
-                    start,
-                    end,
-                    j_end,
-                    j_end,
-                    target,
-                    0.25 * target,
-                    MAX_ITERATIONS,
-                    geometry.toi_scratch,
+                if rj > 0 and not bodies.bullet[i]:
+                    apart = separating_gap(
+                        bodies.local_verts,
+                        bodies.local_normals,
+                        vs[i],
+                        vs[i + 1],
+                        vs[j],
+                        vs[j + 1],
+                        end,
+                        j_end,
+                        geometry.toi_scratch,
+                    )
+                    if not apart < -deep:
+                        continue
+                else:
+                    _, apart = _sweep_pair(bodies, geometry, i, j, end, end, j_end, target, 1)
+                    if not (apart > target or apart < -deep):
+                        continue
+                t, _ = _sweep_pair(
+                    bodies, geometry, i, j, start, end, j_end, target, MAX_ITERATIONS
                 )
                 if 0.0 < t < first:
                     first = t

@@ -24,6 +24,7 @@ import sim
 from sim.continuous import (
     bounding_radius,
     pose_at,
+    separating_gap,
     swept_aabb,
     time_of_impact,
     time_of_impact_counted,
@@ -381,6 +382,28 @@ def test_random_polygons_and_motions_against_the_reference(case):
     t, sep, n, t_ref = check(pair, poses, target, tolerance, size)
     event("hit" if sep <= target + tolerance else "miss")
     event(f"iterations {'<= 5' if n <= 5 else '<= 20' if n <= 20 else '> 20'}")
+
+
+@settings(max_examples=150, deadline=None)
+@given(sweeps(), st.floats(0.0, 1.0))
+def test_separating_gap_decides_a_deep_overlap_as_a_zero_length_sweep_does(case, t):
+    """The step's sweep asks of a fast body and an awake neighbour only whether they end the step
+    deep inside each other (``separating_gap`` < -deep), where it used to ask a sweep of zero
+    length: overlapping, both give minus the penetration depth (bit for bit); apart, the gap is a
+    lower bound on the distance, and > 0 like the sweep's separation."""
+    pair, poses, target, tolerance, size = case
+    a0, a1, b0, b1 = pair.rows
+    pa = pose_at(poses[0], poses[1], t)  # poses along the sweep: overlapping ones among them
+    pb = pose_at(poses[2], poses[3], t)
+    gap = separating_gap(pair.verts, pair.normals, a0, a1, b0, b1, pa, pb, pair.scratch)
+    _, separation, _ = pair.toi(pa, pa, pb, pb, target, tolerance, 1)
+    distance = naive_toi.distance(pair.a, pair.b, pa, pa, pb, pb, 0.0)
+    event("overlapping" if distance == 0.0 else "apart")
+    if separation <= 0.0:
+        assert gap == separation
+    else:
+        assert 0.0 < gap <= separation
+        assert gap <= distance + 1e-9 * size
 
 
 def test_pose_at_is_the_pose_the_sweep_stopped_at():

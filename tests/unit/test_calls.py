@@ -54,6 +54,44 @@ def test_compiled_falls_back_to_the_dispatcher_for_other_shapes_of_call():
     assert call._entry is None
 
 
+def test_compiled_keeps_its_entry_for_replaced_arrays_of_the_same_types(monkeypatch):
+    """A World that grows a buffer passes a new named tuple of new arrays of the same types: the
+    entry stands (typing the whole state again cost ~0.5 ms), and it computes on the new arrays."""
+    call = Compiled(_weighted)
+    out = np.zeros(1)
+    assert call(1, _state(np.float64), out) == 8 and out[0] == 6.0
+    lookups = []
+    original = Compiled._lookup
+    monkeypatch.setattr(
+        Compiled, "_lookup", lambda self, args: lookups.append(1) or original(self, args)
+    )
+    grown = State(np.arange(8, dtype=np.float64), np.full(8, 2.0))
+    assert call(1, grown, out) == 8 and out[0] == 56.0
+    assert lookups == []
+    # a strided view has another layout ("A", not "C"): typed again, never the contiguous entry
+    strided = State(np.arange(8, dtype=np.float64)[::2], np.ones(8)[::2])
+    assert call(1, strided, out) == 8 and out[0] == 12.0
+    assert lookups == [1]
+    # so has a read-only array
+    frozen = State(np.arange(4, dtype=np.float64), np.ones(4))
+    frozen.values.flags.writeable = False
+    assert call(1, frozen, out) == 8 and out[0] == 6.0
+    assert lookups == [1, 1]
+
+
+def test_a_world_growing_its_buffers_types_its_state_once(monkeypatch):
+    world = sim.World(sim.scenes.drop(200, seed=0))
+    world.step(1)  # the state typed (and the kernel loaded) once
+    lookups = []
+    original = Compiled._lookup
+    monkeypatch.setattr(
+        Compiled, "_lookup", lambda self, args: lookups.append(1) or original(self, args)
+    )
+    world.step(99)
+    assert world.inspect().regrown >= 3  # the contact store and the solver grew as the pile formed
+    assert lookups == []
+
+
 def test_a_world_stepped_one_call_at_a_time_is_the_same_run():
     scene = sim.scenes.drop(6, seed=2)
     whole = sim.World(scene, freeze="extended").step(90)

@@ -17,9 +17,9 @@ third of the panel's smallest larger value). The engines' sleeping-off
 runs at dt and their default settings (speed-up 1) are the baselines: their error is the time
 step's and the default iterations' own, and a horizontal line at it shows what freezing adds on
 top. A system's Pareto front (no other of its settings is both faster and more accurate) is a
-step line; its default setting has a black edge. sim-off's solver settings are two more series
-(``SOLVER_SERIES``: substeps, iterations), each with its own front; their default is the
-baseline itself.
+step line; its default setting has a black edge. sim-off's solver settings are three more series
+(``SOLVER_SERIES``: substeps, iterations, impact sweeps), each with its own front; their default
+is the baseline itself.
 
 Writes paper/figures/fig_tradeoff.svg, paper/generated/fig_tradeoff.csv (the Pareto points) and
 returns the headline numbers (paper/generated/fig_tradeoff.json): per scene, each engine's baseline
@@ -83,6 +83,11 @@ SOLVER_SERIES = {
         "sim-off",
         "iterations",
         {"color": "#666666", "marker": "X", "linestyle": (0, (1, 1.5))},
+    ),
+    "sim-off impact sweeps": (
+        "sim-off",
+        "impact_iterations",
+        {"color": "#999999", "marker": "P", "linestyle": (0, (4, 1.5))},
     ),
 }
 PEERS = systems.PEERS

@@ -20,12 +20,13 @@ polygons diverges between any two dt, its pose error would measure chaos, not fr
   4.4 and 5.4 m/s (impact impulses 3-5 N s on 1 kg boxes, across the paper's default threshold of
   1 N s). Full: base 8, 2 layers, 3 loners (24 bodies). The scene is mirror-symmetric and every
   landing flat, so the exact answer moves no box sideways; what an engine gets wrong here is how
-  well it converges the impacts' contact impulses. Measured (solver v2, full size): sim-off at its
-  defaults (4 substeps, 1 sweep per substep) slides the pile's boxes up to 3.1 cm sideways
-  during the landings (all leftwards-biased: the sweep order's asymmetry), and does *not* get
-  better with a finer dt or more substeps (dt/8: 2.6 cm; 16 substeps: 3.8 cm) but does with
-  iterations (4 per substep: 5 mm; 8: 1.6 mm; 16 at dt/8: 0.08 mm). Nothing slides once the pile
-  is at rest.
+  well it converges the impacts' contact impulses. Measured (solver v2, full size): without its
+  impact sweeps (``impact_iterations=0``; sim.soft_step.IMPACT_SWEEP_SPEED) sim-off slid the
+  pile's boxes up to 3.3 cm sideways during the landings (all leftwards-biased: the sweep order's
+  asymmetry), and did *not* get better with a finer dt or more substeps (dt/8: 2.6 cm; 16
+  substeps: 3.8 cm) but did with iterations (4 per substep: 6.5 mm; 8: 3.2 mm). With them (8 more
+  sweeps with friction rows per substep, around each landing, in its steps) it ends 0.7 mm from
+  the rest pose. Nothing slides once the pile is at rest.
 Each run lasts ``duration_s`` = 5 s of simulated time (300 steps at dt 1/60): the landing is over
 by ~1 s and Bullet needs its fixed 2 s of rest before a body sleeps.
 
@@ -62,12 +63,15 @@ around the parameter's default (the default itself included), from "freezes almo
   the same axes as every other system's front.
 - sim-off, pymunk, pybullet, box2d at dt 1/60 and their default settings: the baseline (speed-up 1
   by definition; its error is the time step's and the default iterations' own).
-- sim-off's solver knobs (role "solver"), freezing off, one at a time, the other at its default:
-  ``substeps`` per step (default 4, sim.World's) x 2^k, k = -2..2 (1 .. 16 substeps), and
+- sim-off's solver knobs (role "solver"), freezing off, one at a time, the others at their
+  defaults: ``substeps`` per step (default 4, sim.World's) x 2^k, k = -2..2 (1 .. 16 substeps),
   ``iterations`` (biased sweeps per substep; default 1, what the runners give sim) x 2^k,
-  k = 0..3 (1 .. 8); relax sweeps stay at 1 per substep. Cost grows about linearly with
-  substeps x (iterations + 1). Timed and measured exactly as the freezing settings (speed-up over
-  sim-off at its defaults, error against sim's reference), so both trades share the axes.
+  k = 0..3 (1 .. 8), and ``impact_iterations`` (more biased sweeps, with friction rows, per
+  substep of a step with a landing, for the contacts around it; default 8) x 2^k, k = -3..1
+  (1 .. 16); relax sweeps stay at 1 per substep. Cost grows about linearly with
+  substeps x (iterations + 1), plus the impact sweeps in the steps that have them. Timed and
+  measured exactly as the freezing settings (speed-up over sim-off at its defaults, error
+  against sim's reference), so both trades share the axes.
 Settings: each engine at its own defaults (study.peers.DEFAULT_ITERATIONS): sim's soft step
 with 4 substeps and 1 biased + 1 relax sweep per substep; pymunk 10 iterations per step; pybullet
 50 per step; Box2D 8 velocity and 3 position iterations per step. Sim slop and pymunk
@@ -192,6 +196,7 @@ _PYMUNK_SLEEP_TIME = inspect.signature(PymunkRunner).parameters["sleep_time"].de
 #: sim-off's solver defaults, as the baseline runs them: substeps are sim.World's own, iterations
 #: (biased sweeps per substep) what the runners give sim when none are asked for
 SIM_SUBSTEPS = inspect.signature(sim.World).parameters["substeps"].default
+SIM_IMPACT_ITERATIONS = inspect.signature(sim.World).parameters["impact_iterations"].default
 SIM_ITERATIONS = DEFAULT_ITERATIONS["sim"]
 #: (system, parameter, unit, default, log10 step of the grid, exponents k: value = default *
 #: 10^(k * step)). Defaults are read from the code that defines them.
@@ -243,6 +248,7 @@ UNSET_AT_DEFAULT = {("pymunk-sleep", "idle_speed"), ("box2d-sleep", "time_to_sle
 SOLVER_SWEEPS = (
     ("sim-off", "substeps", "per step", SIM_SUBSTEPS, range(-2, 3)),
     ("sim-off", "iterations", "per substep", SIM_ITERATIONS, range(0, 4)),
+    ("sim-off", "impact_iterations", "per substep", SIM_IMPACT_ITERATIONS, range(-3, 2)),
 )
 
 FULL = {
@@ -333,7 +339,7 @@ def check_reference(config):
 def runner_settings(system, parameter, value, is_default):
     if parameter == "none" or (is_default and (system, parameter) in UNSET_AT_DEFAULT):
         return {}
-    if parameter in ("substeps", "iterations"):
+    if parameter in ("substeps", "iterations", "impact_iterations"):
         return {parameter: int(value)}
     return {parameter: value}
 

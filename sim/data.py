@@ -27,6 +27,7 @@ class Settings(NamedTuple):
     substeps: int  # soft-step substeps per step
     iterations: int  # biased solve sweeps per substep
     relax_iterations: int  # unbiased (relax) sweeps per substep
+    impact_iterations: int  # extra biased sweeps per substep on impact batches (with friction)
     gravity_x: float  # m/s^2
     gravity_y: float
     has_floor: bool
@@ -90,8 +91,9 @@ class Settings(NamedTuple):
     N_CERTIFICATES,
     N_QUIET,
     QUIET_ARMED,
-) = range(28)
-N_COUNTERS = 28
+    N_IMPACT_BATCHES,
+) = range(29)
+N_COUNTERS = 29
 # GROW_NEEDED bits: which buffer the kernel found too small (the World grows it and retries)
 GROW_CONTACTS, GROW_AWAKE_GRID, GROW_RESTING_GRID, GROW_SOLVER = 1, 2, 4, 8
 
@@ -271,7 +273,8 @@ class Solver(NamedTuple):
     lane_row: np.ndarray  # flat uint64: solver rows of each lane's bodies A, B
     lane_slot: np.ndarray  # flat int64: contact slot of each lane, -1 padding
     batch_hard: np.ndarray  # (B,) bool: the batch touches a body in a high mass ratio contact
-    row_mark: np.ndarray  # (N+1,) bool scratch: rows in a high mass ratio contact
+    batch_impact: np.ndarray  # (B,) bool: the batch touches a body in an impact this step
+    row_mark: np.ndarray  # (N+1,) bool scratch: rows of the bodies being flagged
     profile: np.ndarray  # (N_STAGES,) int64 cycle counts per stage (settings.profile)
     steps_profiled: np.ndarray  # (1,) int64
 

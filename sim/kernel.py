@@ -42,6 +42,7 @@ from .data import (
     N_COLOURS,
     N_EVENTS,
     N_HARD,
+    N_IMPACT_BATCHES,
     N_LIVE,
     N_MOVED,
     N_QUIET,
@@ -88,6 +89,7 @@ from .soft_step import (
     relax_hard,
     restitution,
     solve,
+    solve_impact,
     store,
     unload_bodies,
     warm_start,
@@ -225,6 +227,18 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
                 inv_h,
                 settings.push_speed,
             )
+        if counters[N_IMPACT_BATCHES] > 0:
+            for _ in range(settings.impact_iterations):
+                solve_impact(
+                    n_colours,
+                    solver.colour_batches,
+                    solver.wide,
+                    solver.lane_row,
+                    solver.state,
+                    inv_h,
+                    settings.push_speed,
+                    solver.batch_impact,
+                )
         t = _lap(settings, solver, STAGE_SOLVE, t)
         integrate_positions(n_awake, solver.state, h)
         t = _lap(settings, solver, STAGE_INTEGRATE, t)

@@ -77,6 +77,9 @@ class Inspection:
                            evaluation each; a pair surely apart is not measured: ``sim.sweep``)
       n_hard_batches       batches that got soft_step.HARD_SWEEPS extra relax sweeps (they hold a
                            contact touching a body in a contact of mass ratio > HARD_RATIO)
+      n_impact_batches     batches that got ``impact_iterations`` extra biased sweeps in the last
+                           step (they touch a body in a contact approaching faster than
+                           soft_step.IMPACT_SWEEP_SPEED)
       certificates         rest certificates tried since the start (extended:
                            ``sim.freeze.certificate``; one per candidate body per step)
       quiet_steps          steps skipped since the start by the "quiet" fast path: nothing was
@@ -109,6 +112,7 @@ class Inspection:
         self.impacts = int(c[D.N_IMPACTS])
         self.toi_pairs = int(c[D.N_TOI_PAIRS])
         self.n_hard_batches = int(c[D.N_HARD])
+        self.n_impact_batches = int(c[D.N_IMPACT_BATCHES])
         self.certificates = int(c[D.N_CERTIFICATES])
         self.quiet_steps = int(c[D.N_QUIET])
 

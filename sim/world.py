@@ -76,6 +76,10 @@ class World:
                             for stiffness and accuracy (``sim.soft_step``)
       iterations            biased solve sweeps per substep (default 1)
       relax_iterations      unbiased sweeps per substep (default 1)
+      impact_iterations     more biased sweeps per substep, with friction rows, for the contacts
+                            around an impact, in a step with one (a contact point approaching
+                            faster than soft_step.IMPACT_SWEEP_SPEED, 1 m/s; default 8, 0
+                            disables): a landing converged, not left to slide sideways
       freeze                "off" | "sleep" | "paper" | "extended" (see ``sim.freeze``)
       slop                  m, contact tolerance cap (default 0.005, pymunk's collision_slop):
                             points within a pair's slop count as touching; pairs of small bodies
@@ -124,6 +128,7 @@ class World:
         *,
         substeps=4,
         relax_iterations=1,
+        impact_iterations=soft_step.IMPACT_ITERATIONS,
         slop=0.005,
         speculative_distance=0.02,
         contact_hertz=None,
@@ -157,6 +162,9 @@ class World:
         self.iterations = count(iterations, "iterations", 1, MAX_SWEEPS, LIMITS_WHY)
         self.relax_iterations = count(
             relax_iterations, "relax_iterations", 0, MAX_SWEEPS, LIMITS_WHY
+        )
+        self.impact_iterations = count(
+            impact_iterations, "impact_iterations", 0, MAX_SWEEPS, LIMITS_WHY
         )
         self.slop = positive(slop, "slop", allow_zero=True)
         self.speculative_distance = positive(
@@ -222,6 +230,7 @@ class World:
             substeps=self.substeps,
             iterations=self.iterations,
             relax_iterations=self.relax_iterations,
+            impact_iterations=self.impact_iterations,
             gravity_x=float(g[0]),
             gravity_y=float(g[1]),
             has_floor=has_floor,

@@ -6,7 +6,9 @@ One step of dt is ``substeps`` substeps of h = dt / substeps, each:
   integrate velocities   v += h g
   warm start             apply each contact's accumulated impulse from the last substep
   solve                  ``iterations`` sweeps with a *soft* bias computed from the current
-                         separation (normal rows only)
+                         separation (normal rows only); in a step with an impact, the batches
+                         around it get ``impact_iterations`` more, with friction rows
+                         (IMPACT_SWEEP_SPEED)
   integrate positions    dp += h v, rotation likewise (bodies keep their start pose; the solver
                          tracks the displacement dp, dq so far)
   arms                   every point's lever arms and separation from the new poses (those of
@@ -41,13 +43,23 @@ The package, one stage per module (the order of a step):
   bodies       the solver's body rows: loaded, integrated, written back
   colouring    contacts into colours and batches (colour; capacity, mask_words size the buffers)
   packing      batches filled from the contacts (prepare), impulses stored back (store)
-  batches      the batch kernels (arms, warm_start, solve, relax, relax_hard, restitution)
+  batches      the batch kernels (arms, warm_start, solve, solve_impact, relax, relax_hard,
+               restitution)
   layout       the fields of a batch in ``SolverData.wide``
 
 ``sim.kernel.step`` calls them in that order; what other modules use is re-exported here.
 """
 
-from .batches import arms, deepest_separation, relax, relax_hard, restitution, solve, warm_start
+from .batches import (
+    arms,
+    deepest_separation,
+    relax,
+    relax_hard,
+    restitution,
+    solve,
+    solve_impact,
+    warm_start,
+)
 from .bodies import integrate_positions, integrate_velocities, load_bodies, row_of, unload_bodies
 from .colouring import capacity, colour, mask_words, max_colours
 from .layout import LANES, N_FIELDS, STRIDE
@@ -57,7 +69,9 @@ from .parameters import (
     DYNAMIC_CAP,
     HARD_RATIO,
     HARD_SWEEPS,
+    IMPACT_ITERATIONS,
     IMPACT_SPEED,
+    IMPACT_SWEEP_SPEED,
     LOAD_TIME,
     MAX_CONDITION,
     PUSH_SPEED,
@@ -75,6 +89,7 @@ __all__ = [
     "relax_hard",
     "restitution",
     "solve",
+    "solve_impact",
     "warm_start",
     "integrate_positions",
     "integrate_velocities",
@@ -95,7 +110,9 @@ __all__ = [
     "DYNAMIC_CAP",
     "HARD_RATIO",
     "HARD_SWEEPS",
+    "IMPACT_ITERATIONS",
     "IMPACT_SPEED",
+    "IMPACT_SWEEP_SPEED",
     "LOAD_TIME",
     "MAX_CONDITION",
     "PUSH_SPEED",

@@ -377,11 +377,11 @@ def _solve_batches(
     use_bias,
     friction,
     skip_frictionless,
-    only_hard,
-    batch_hard,
+    only_flagged,
+    flags,
 ):
     for b in range(U64(first), U64(last)):
-        if only_hard and not batch_hard[b]:
+        if only_flagged and not flags[b]:
             continue
         o = b * STRIDE_U
         ob = b * U64(2) * LANES_U
@@ -403,11 +403,13 @@ def _solve_batches(
         _scatter(wide, o, lane_row, ob, state)
 
 
-@wide_kernel
-def solve(n_colours, colour_batches, wide, lane_row, state, inv_h, push):
-    """One biased sweep over every batch, colour by colour: normal rows only (friction is solved
-    in the relax sweeps, as Box2D v3 does: with it here too a sweep cost ~40% more, and no
-    test of the physics got better)."""
+@wide_inline
+def _sweep(
+    n_colours, colour_batches, wide, lane_row, state, inv_h, push, rows, only_flagged, flags
+):
+    """One sweep over every batch, colour by colour (only those ``flags`` marks when
+    ``only_flagged``). ``rows``: (use_bias, friction, skip_frictionless), see _solve_batches."""
+    use_bias, friction, skip = rows
     for c in range(n_colours):
         _solve_batches(
             colour_batches[c],
@@ -417,33 +419,37 @@ def solve(n_colours, colour_batches, wide, lane_row, state, inv_h, push):
             state,
             inv_h,
             push,
-            True,
-            False,
-            False,
-            False,
-            lane_row,
+            use_bias,
+            friction,
+            skip,
+            only_flagged,
+            flags,
         )
+
+
+@wide_kernel
+def solve(n_colours, colour_batches, wide, lane_row, state, inv_h, push):
+    """One biased sweep over every batch, colour by colour: normal rows only (friction is solved
+    in the relax sweeps, as Box2D v3 does: with it here too a sweep cost ~40% more, and no
+    test of the physics got better)."""
+    rows = (True, False, False)
+    _sweep(n_colours, colour_batches, wide, lane_row, state, inv_h, push, rows, False, lane_row)
+
+
+@wide_kernel
+def solve_impact(n_colours, colour_batches, wide, lane_row, state, inv_h, push, batch_impact):
+    """One more biased sweep, with friction rows, over the batches flagged as touching a body in an
+    impact (see IMPACT_SWEEP_SPEED)."""
+    rows = (True, True, False)
+    _sweep(n_colours, colour_batches, wide, lane_row, state, inv_h, push, rows, True, batch_impact)
 
 
 @wide_kernel
 def relax(n_colours, colour_batches, wide, lane_row, state, inv_h, skip_frictionless):
     """One unbiased sweep (normal and friction rows): removes the bias velocity.
     ``skip_frictionless``: the "friction" fast path (see ``_frictionless``)."""
-    for c in range(n_colours):
-        _solve_batches(
-            colour_batches[c],
-            colour_batches[c + 1],
-            wide,
-            lane_row,
-            state,
-            inv_h,
-            0.0,
-            False,
-            True,
-            skip_frictionless,
-            False,
-            lane_row,
-        )
+    rows = (False, True, skip_frictionless)
+    _sweep(n_colours, colour_batches, wide, lane_row, state, inv_h, 0.0, rows, False, lane_row)
 
 
 @wide_kernel
@@ -451,21 +457,8 @@ def relax_hard(
     n_colours, colour_batches, wide, lane_row, state, inv_h, skip_frictionless, batch_hard
 ):
     """One more unbiased sweep over the batches flagged hard only (see HARD_RATIO)."""
-    for c in range(n_colours):
-        _solve_batches(
-            colour_batches[c],
-            colour_batches[c + 1],
-            wide,
-            lane_row,
-            state,
-            inv_h,
-            0.0,
-            False,
-            True,
-            skip_frictionless,
-            True,
-            batch_hard,
-        )
+    rows = (False, True, skip_frictionless)
+    _sweep(n_colours, colour_batches, wide, lane_row, state, inv_h, 0.0, rows, True, batch_hard)
 
 
 @wide_inline

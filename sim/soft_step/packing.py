@@ -19,6 +19,7 @@ from ..data import (
     NORMAL_Y,
     N_BATCHES,
     N_HARD,
+    N_IMPACT_BATCHES,
     POINT_COUNT,
     RESTITUTION,
     SEPARATION,
@@ -68,7 +69,7 @@ from .layout import (
     TT1,
     U64,
 )
-from .parameters import HARD_RATIO, pair_hertz, softness
+from .parameters import HARD_RATIO, IMPACT_SWEEP_SPEED, pair_hertz, softness
 
 
 @lean_kernel
@@ -202,18 +203,32 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
             wide[o + BIAS_RATE + l] = bias_rate
             wide[o + MASS_SCALE + l] = mass_scale
             wide[o + IMPULSE_SCALE + l] = impulse_scale
-    if settings.mixed_masses:
-        counters[N_HARD] = _mark_hard(counters[N_BATCHES], wide, solver)
-    else:  # no contact can be hard (validation.mixed_masses)
-        for b in range(counters[N_BATCHES]):
-            solver.batch_hard[b] = False
-        counters[N_HARD] = 0
+    n_batches = counters[N_BATCHES]
+    # no contact can be hard without mixed masses (validation.mixed_masses)
+    found = settings.mixed_masses and _mark_hard_rows(n_batches, wide, solver)
+    counters[N_HARD] = _flag_batches(n_batches, found, solver, solver.batch_hard)
+    # the impact sweeps' batches (IMPACT_SWEEP_SPEED), hard ones left out (see there)
+    found = settings.impact_iterations > 0 and _mark_impact_rows(n_batches, wide, solver)
+    counters[N_IMPACT_BATCHES] = _flag_batches(n_batches, found, solver, solver.batch_impact)
+    if counters[N_HARD] > 0 and counters[N_IMPACT_BATCHES] > 0:
+        for b in range(n_batches):
+            if solver.batch_hard[b] and solver.batch_impact[b]:
+                solver.batch_impact[b] = False
+                counters[N_IMPACT_BATCHES] -= 1
 
 
 @inline_kernel
-def _mark_hard(n_batches, wide, solver):
-    """Flag the batches that touch a body in a contact of mass ratio > HARD_RATIO (both bodies
-    movable); returns how many."""
+def _mark_lane_rows(solver, b, lane):
+    """Mark (solver.row_mark) the rows of both bodies of lane ``lane`` of batch b."""
+    ob = U64(2 * b * LANES + lane)
+    solver.row_mark[solver.lane_row[ob]] = True
+    solver.row_mark[solver.lane_row[ob + LANES_U]] = True
+
+
+@inline_kernel
+def _mark_hard_rows(n_batches, wide, solver):
+    """Mark the rows of both bodies of every contact of mass ratio > HARD_RATIO (both bodies
+    movable); returns whether any was."""
     found = False
     for b in range(n_batches):
         o = U64(b) * STRIDE_U
@@ -222,28 +237,51 @@ def _mark_hard(n_batches, wide, solver):
             ma = wide[o + MA + l]
             mb = wide[o + MB + l]
             if ma > 0.0 and mb > 0.0 and (ma > HARD_RATIO * mb or mb > HARD_RATIO * ma):
-                ob = U64(2 * b * LANES + lane)
-                solver.row_mark[solver.lane_row[ob]] = True
-                solver.row_mark[solver.lane_row[ob + LANES_U]] = True
+                _mark_lane_rows(solver, b, lane)
                 found = True
-    n_hard = 0
+    return found
+
+
+@inline_kernel
+def _mark_impact_rows(n_batches, wide, solver):
+    """Mark the rows of both bodies of every contact with a point that approached faster than
+    IMPACT_SWEEP_SPEED at the start of the step (see there); returns whether any did."""
+    found = False
     for b in range(n_batches):
-        hard = False
+        o = U64(b) * STRIDE_U
+        for lane in range(LANES):
+            l = U64(lane)
+            # a void point (ON = 0) has every field zero: its approach speed reads 0
+            if min(wide[o + RELV1 + l], wide[o + POINT2 + RELV1 + l]) < -IMPACT_SWEEP_SPEED:
+                _mark_lane_rows(solver, b, lane)
+                found = True
+    return found
+
+
+@inline_kernel
+def _flag_batches(n_batches, found, solver, flags):
+    """Flag (``flags``) the batches with a lane touching a marked movable row, clear the marks;
+    returns how many batches are flagged. ``found``: whether any row is marked."""
+    n_flagged = 0
+    for b in range(n_batches):
+        flagged = False
         if found:
             for lane in range(LANES):
                 ob = U64(2 * b * LANES + lane)
                 ra = solver.lane_row[ob]
                 rb = solver.lane_row[ob + LANES_U]
-                hard = hard or (ra > 0 and solver.row_mark[ra]) or (rb > 0 and solver.row_mark[rb])
-        solver.batch_hard[b] = hard
-        n_hard += 1 if hard else 0
+                flagged = (
+                    flagged or (ra > 0 and solver.row_mark[ra]) or (rb > 0 and solver.row_mark[rb])
+                )
+        flags[b] = flagged
+        n_flagged += 1 if flagged else 0
     if found:
         for b in range(n_batches):
             for lane in range(LANES):
                 ob = U64(2 * b * LANES + lane)
                 solver.row_mark[solver.lane_row[ob]] = False
                 solver.row_mark[solver.lane_row[ob + LANES_U]] = False
-    return n_hard
+    return n_flagged
 
 
 @lean_kernel

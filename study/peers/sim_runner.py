@@ -26,11 +26,12 @@ DEFAULT_ITERATIONS = _DEFAULTS["iterations"].default
 DEFAULT_SUBSTEPS = _DEFAULTS["substeps"].default
 
 #: sim.World's settings recorded in ``settings`` (besides dt, iterations, freeze), as the World
-#: holds them: the soft step's knobs (substeps, relax sweeps, contact stiffness and damping, push
-#: speed, load time), the contact tolerances, and the switches.
+#: holds them: the soft step's knobs (substeps, relax and impact sweeps, contact stiffness and
+#: damping, push speed, load time), the contact tolerances, and the switches.
 _WORLD_SETTINGS = (
     "substeps",
     "relax_iterations",
+    "impact_iterations",
     "contact_hertz",
     "damping_ratio",
     "push_speed",

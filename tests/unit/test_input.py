@@ -295,6 +295,7 @@ def test_bodies_faster_than_the_solver_can_follow_are_refused(field, value):
     [
         ("iterations", 10**9),
         ("relax_iterations", 1001),
+        ("impact_iterations", 1001),
         ("substeps", 10**6),
         ("initial_iterations", 10**7),
     ],

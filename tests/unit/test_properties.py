@@ -142,6 +142,7 @@ WORLD = {
     "substeps": st.integers(1, 8),
     "iterations": st.integers(1, 4),
     "relax_iterations": st.integers(0, 2),
+    "impact_iterations": st.integers(0, 8),
     "slop": st.floats(0, 0.01),
     "speculative_distance": st.floats(1e-4, 0.05),
     "contact_hertz": st.one_of(st.none(), st.floats(1, 120)),

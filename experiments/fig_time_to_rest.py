@@ -52,7 +52,7 @@ n_not_free_at_end), value, unit, flag.
 
     python -m experiments.fig_time_to_rest [--quick]
 writes results/data/fig_time_to_rest.csv and fig_time_to_rest.json. --quick: rest_row(50),
-stack(5), pyramid(5), drop(10, seed 0), seed_fig1..3, cap 5 s.
+stack(5), pyramid(5), drop(10, seed 10), seed_fig1..3, cap 5 s.
 """
 
 import math
@@ -88,7 +88,9 @@ QUICK = {
         ("rest_row", {"n": 50}),
         ("stack", {"height": 5}),
         ("pyramid", {"base": 5}),
-        ("drop", {"n": 10, "seed": 0}),
+        # the one pile of drop(10) seeds 0-11 that keeps a body awake (uncertified) for 30 s:
+        # what the quick run's "waiting" numbers need (seed 0 did, before the impact sweeps)
+        ("drop", {"n": 10, "seed": 10}),
     )
     + SEED_FIGS,
     "cap_s": 5.0,

@@ -83,7 +83,8 @@ Reference per engine: the same engine with sleeping off at dt / ``fine`` (fine =
 relax sweeps per substep at its default 4 substeps; pymunk 40, pybullet 200 and Box2D 32 velocity
 iterations per step: 4x their defaults; Box2D's 3 position iterations stay). A fine dt alone is
 not a reference for sim: its landing converges with sweeps, not with the step, and its friction is
-solved only in the relax sweeps (measured on the full landing at 238f82e, at dt/8 with 16 biased
+solved only in the relax sweeps and a landing's impact sweeps (measured on the full landing at
+238f82e, before the impact sweeps, at dt/8 with 16 biased
 sweeps: 4 relax sweeps instead of 1 moved boxes by up to 9.6 mm, 32 biased sweeps instead of 16 by
 1.4 mm, dt/16 by 1.7 mm; see ``reference_settings`` for the relax sweeps' convergence). The
 peers' references were iteration-bound too, less so: pymunk at dt/8 with 10 iterations moved
@@ -306,8 +307,10 @@ def reference_settings(engine, config, role):
     resolution ("resolution": half the iterations).
 
     sim's reference converges its relax sweeps (``reference_relax_iterations``) as well as its
-    biased ones: friction is solved only in the relax sweeps, and with one per substep the
-    reference was not converged. Measured on the full landing at dt/8 (238f82e): with 16 biased
+    biased ones: friction is solved only in the relax sweeps (and a landing's impact sweeps), and
+    with one relax sweep per substep the reference was not converged. Measured on the full landing
+    at dt/8 (238f82e, before the impact sweeps; with them the reference is 0.20 mm from the exact
+    pose, 0.31 mm before): with 16 biased
     sweeps, 4 relax sweeps instead of 1 moved boxes by up to 9.6 mm; against 64 biased and 64
     relax sweeps, 16 and 64 is 0.35 mm off, 64 and 16 4.4 mm, 16 and 16 4.5 mm, 32 and 32
     0.75 mm: the relax sweeps are what converges it."""

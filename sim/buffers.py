@@ -108,6 +108,7 @@ def new_solver(n, n_contacts, max_degree, old=None):
         lane_slot=np.full(batches * soft_step.LANES, -1, np.int64),
         batch_hard=np.zeros(batches, bool),
         batch_impact=np.zeros(batches, bool),
+        batch_deep=np.zeros(batches, bool),
         row_mark=np.zeros(n + 1, bool),
         profile=old.profile if old is not None else np.zeros(D.N_STAGES, np.int64),
         steps_profiled=(old.steps_profiled if old is not None else np.zeros(1, np.int64)),

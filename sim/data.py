@@ -92,8 +92,9 @@ class Settings(NamedTuple):
     N_QUIET,
     QUIET_ARMED,
     N_IMPACT_BATCHES,
-) = range(29)
-N_COUNTERS = 29
+    N_DEEP_BATCHES,
+) = range(30)
+N_COUNTERS = 30
 # GROW_NEEDED bits: which buffer the kernel found too small (the World grows it and retries)
 GROW_CONTACTS, GROW_AWAKE_GRID, GROW_RESTING_GRID, GROW_SOLVER = 1, 2, 4, 8
 
@@ -274,6 +275,7 @@ class Solver(NamedTuple):
     lane_slot: np.ndarray  # flat int64: contact slot of each lane, -1 padding
     batch_hard: np.ndarray  # (B,) bool: the batch touches a body in a high mass ratio contact
     batch_impact: np.ndarray  # (B,) bool: the batch touches a body in an impact this step
+    batch_deep: np.ndarray  # (B,) bool: the batch touches a body in a deep contact this step
     row_mark: np.ndarray  # (N+1,) bool scratch: rows of the bodies being flagged
     profile: np.ndarray  # (N_STAGES,) int64 cycle counts per stage (settings.profile)
     steps_profiled: np.ndarray  # (1,) int64

@@ -43,6 +43,7 @@ from .data import (
     N_EVENTS,
     N_HARD,
     N_IMPACT_BATCHES,
+    N_DEEP_BATCHES,
     N_LIVE,
     N_MOVED,
     N_QUIET,
@@ -73,6 +74,7 @@ from .narrowphase import update_manifolds
 from .sweep import sweep_fast_bodies
 from .jit import inline_kernel, kernel, lean_kernel
 from .soft_step import (
+    DEEP_SWEEPS,
     HARD_SWEEPS,
     IMPACT_SPEED,
     LANES,
@@ -238,6 +240,18 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
                     inv_h,
                     settings.push_speed,
                     solver.batch_impact,
+                )
+        if counters[N_DEEP_BATCHES] > 0:
+            for _ in range(DEEP_SWEEPS):
+                solve_impact(  # the same sweep (biased, with friction) over the deep batches
+                    n_colours,
+                    solver.colour_batches,
+                    solver.wide,
+                    solver.lane_row,
+                    solver.state,
+                    inv_h,
+                    settings.push_speed,
+                    solver.batch_deep,
                 )
         t = _lap(settings, solver, STAGE_SOLVE, t)
         integrate_positions(n_awake, solver.state, h)

@@ -80,6 +80,8 @@ class Inspection:
       n_impact_batches     batches that got ``impact_iterations`` extra biased sweeps in the last
                            step (they touch a body in a contact approaching faster than
                            soft_step.IMPACT_SWEEP_SPEED)
+      n_deep_batches       batches that got soft_step.DEEP_SWEEPS extra biased sweeps in the last
+                           step (they touch a body in a contact deeper than DEEP_SLOPS slops)
       certificates         rest certificates tried since the start (extended:
                            ``sim.freeze.certificate``; one per candidate body per step)
       quiet_steps          steps skipped since the start by the "quiet" fast path: nothing was
@@ -113,6 +115,7 @@ class Inspection:
         self.toi_pairs = int(c[D.N_TOI_PAIRS])
         self.n_hard_batches = int(c[D.N_HARD])
         self.n_impact_batches = int(c[D.N_IMPACT_BATCHES])
+        self.n_deep_batches = int(c[D.N_DEEP_BATCHES])
         self.certificates = int(c[D.N_CERTIFICATES])
         self.quiet_steps = int(c[D.N_QUIET])
 

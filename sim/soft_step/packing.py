@@ -18,11 +18,13 @@ from ..data import (
     NORMAL_X,
     NORMAL_Y,
     N_BATCHES,
+    N_DEEP_BATCHES,
     N_HARD,
     N_IMPACT_BATCHES,
     POINT_COUNT,
     RESTITUTION,
     SEPARATION,
+    SLOP,
     TANGENT_IMPULSE,
     WARM_NORMAL,
     WARM_TANGENT,
@@ -69,7 +71,14 @@ from .layout import (
     TT1,
     U64,
 )
-from .parameters import HARD_RATIO, IMPACT_SWEEP_SPEED, pair_hertz, softness
+from .parameters import (
+    DEEP_SLOPS,
+    DEEP_SWEEPS,
+    HARD_RATIO,
+    IMPACT_SWEEP_SPEED,
+    pair_hertz,
+    softness,
+)
 
 
 @lean_kernel
@@ -210,11 +219,23 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
     # the impact sweeps' batches (IMPACT_SWEEP_SPEED), hard ones left out (see there)
     found = settings.impact_iterations > 0 and _mark_impact_rows(n_batches, wide, solver)
     counters[N_IMPACT_BATCHES] = _flag_batches(n_batches, found, solver, solver.batch_impact)
-    if counters[N_HARD] > 0 and counters[N_IMPACT_BATCHES] > 0:
-        for b in range(n_batches):
-            if solver.batch_hard[b] and solver.batch_impact[b]:
-                solver.batch_impact[b] = False
-                counters[N_IMPACT_BATCHES] -= 1
+    # the deep contacts' batches (DEEP_SLOPS), hard ones left out
+    found = DEEP_SWEEPS > 0 and _mark_deep_rows(n_batches, wide, solver, cf)
+    counters[N_DEEP_BATCHES] = _flag_batches(n_batches, found, solver, solver.batch_deep)
+    if counters[N_HARD] > 0:
+        counters[N_IMPACT_BATCHES] -= _unflag_hard(n_batches, solver, solver.batch_impact)
+        counters[N_DEEP_BATCHES] -= _unflag_hard(n_batches, solver, solver.batch_deep)
+
+
+@inline_kernel
+def _unflag_hard(n_batches, solver, flags):
+    """Clear ``flags`` of the hard batches (Solver.batch_hard); returns how many were set."""
+    n = 0
+    for b in range(n_batches):
+        if solver.batch_hard[b] and flags[b]:
+            flags[b] = False
+            n += 1
+    return n
 
 
 @inline_kernel
@@ -237,6 +258,27 @@ def _mark_hard_rows(n_batches, wide, solver):
             ma = wide[o + MA + l]
             mb = wide[o + MB + l]
             if ma > 0.0 and mb > 0.0 and (ma > HARD_RATIO * mb or mb > HARD_RATIO * ma):
+                _mark_lane_rows(solver, b, lane)
+                found = True
+    return found
+
+
+@inline_kernel
+def _mark_deep_rows(n_batches, wide, solver, cf):
+    """Mark the rows of both bodies of every contact with a point deeper than DEEP_SLOPS times
+    its pair's slop (``cf``: the contacts' floats) at the start of the step (see there); returns
+    whether any was."""
+    found = False
+    for b in range(n_batches):
+        o = U64(b) * STRIDE_U
+        for lane in range(LANES):
+            s = solver.lane_slot[b * LANES + lane]
+            if s < 0:
+                continue
+            l = U64(lane)
+            deep = -DEEP_SLOPS * cf[s, SLOP]
+            # a void point (ON = 0) has every field zero: its separation reads 0
+            if min(wide[o + SEP1 + l], wide[o + POINT2 + SEP1 + l]) < deep:
                 _mark_lane_rows(solver, b, lane)
                 found = True
     return found

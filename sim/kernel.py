@@ -190,6 +190,24 @@ def broadphase(
     return True
 
 
+@inline_kernel
+def _flagged_sweeps(count, n_colours, solver, inv_h, push, flags):
+    """``count`` more biased sweeps with friction rows over the batches ``flags`` marks: a
+    landing's (impact_iterations, Solver.batch_impact) and the deep contacts' (DEEP_SWEEPS,
+    Solver.batch_deep)."""
+    for _ in range(count):
+        solve_impact(
+            n_colours,
+            solver.colour_batches,
+            solver.wide,
+            solver.lane_row,
+            solver.state,
+            inv_h,
+            push,
+            flags,
+        )
+
+
 @lean_kernel
 def solve_step(settings, counters, bodies, contacts, activity, solver, t):
     """Colour, prepare, the substeps, restitution and store: velocities and displacements of this
@@ -230,29 +248,18 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
                 settings.push_speed,
             )
         if counters[N_IMPACT_BATCHES] > 0:
-            for _ in range(settings.impact_iterations):
-                solve_impact(
-                    n_colours,
-                    solver.colour_batches,
-                    solver.wide,
-                    solver.lane_row,
-                    solver.state,
-                    inv_h,
-                    settings.push_speed,
-                    solver.batch_impact,
-                )
+            _flagged_sweeps(
+                settings.impact_iterations,
+                n_colours,
+                solver,
+                inv_h,
+                settings.push_speed,
+                solver.batch_impact,
+            )
         if counters[N_DEEP_BATCHES] > 0:
-            for _ in range(DEEP_SWEEPS):
-                solve_impact(  # the same sweep (biased, with friction) over the deep batches
-                    n_colours,
-                    solver.colour_batches,
-                    solver.wide,
-                    solver.lane_row,
-                    solver.state,
-                    inv_h,
-                    settings.push_speed,
-                    solver.batch_deep,
-                )
+            _flagged_sweeps(
+                DEEP_SWEEPS, n_colours, solver, inv_h, settings.push_speed, solver.batch_deep
+            )
         t = _lap(settings, solver, STAGE_SOLVE, t)
         integrate_positions(n_awake, solver.state, h)
         t = _lap(settings, solver, STAGE_INTEGRATE, t)

@@ -35,10 +35,12 @@ Per scene, ``solver_and_freezing`` gives per freezing system its engine's solver
 baseline's pose error against the reference), freezing's own error at the default setting and the
 largest over its settings, and the default's error against the reference (the two together).
 
-Per scene, ``beyond_extended_front`` lists per measure every other freezing system's setting that
-``sim-extended``'s front does not dominate (no extended setting is at least as fast and at least
-as accurate); an empty list is a dominating front. Speed-ups are each engine's over itself
-without sleeping.
+Per scene, per measure, two lists answer "does ``sim-extended``'s front dominate?" in its two
+readings (``analysis/fronts.py``): ``beyond_extended_front``, every other freezing system's
+setting that no extended setting is at least as fast and at least as accurate as (empty: the
+strict reading holds), and ``beating_extended_front``, every other setting with both more
+speed-up and less error than a point of extended's front (empty: the issue's reading holds).
+Speed-ups are each engine's over itself without sleeping.
 
 Per scene the numbers also hold ``solver`` (every sim-off solver setting: value, speed-up, errors)
 and ``defaults_comparison``: each engine's pose error at its defaults with sleeping off (sim-off,
@@ -58,6 +60,7 @@ import numpy as np
 import pandas as pd
 
 from analysis import style
+from analysis.fronts import beating_front, beyond_front, pareto, setting_label
 from study import systems
 
 NAME = "fig_tradeoff"
@@ -115,61 +118,8 @@ REQUIRED = {
 }
 
 
-def pareto(points, column):
-    """The rows of ``points`` on the speed-up / ``column`` Pareto front (higher speed-up and
-    lower error both better), sorted by speed-up ascending; NaN errors are left out."""
-    p = points[np.isfinite(points[column]) & np.isfinite(points["speedup"])]
-    p = p.sort_values(["speedup", column], ascending=[False, True])
-    keep, best = [], math.inf
-    for idx, err in zip(p.index, p[column]):
-        if err < best:
-            keep.append(idx)
-            best = err
-    return p.loc[keep].sort_values("speedup")
-
-
 #: the policy whose front the study asks to dominate every other freezing system's points
 CHALLENGER = "sim-extended"
-#: m: errors closer than this are a tie when fronts are compared (a micrometre: round-off and
-#: the solvers' resting jitter on a pyramid placed at rest, 1e-8 to 1e-7 m, are far below it;
-#: nothing the study reports turns on less)
-TIE_M = 1e-6
-
-
-def beyond_front(rows, column, challenger=CHALLENGER, tie=TIE_M):
-    """The freezing settings of ``rows`` (one scene's timed rows) that ``challenger``'s front does
-    not dominate in ``column``: no setting of the challenger is at least as fast *and* at least
-    as accurate (errors within ``tie`` m count as equal). [] when its front dominates every other
-    system's settings (NaN errors are left out). Each: system, setting, speed-up, error, and the
-    challenger's best error at that speed-up or more (None: the challenger is never that fast)."""
-    own = rows[(rows["system"] == challenger) & np.isfinite(rows[column])]
-    others = rows[
-        rows["system"].isin(FREEZING)
-        & (rows["system"] != challenger)
-        & (rows["role"] == "sweep")
-        & np.isfinite(rows[column])
-    ]
-    out = []
-    for _, p in others.iterrows():
-        fast_enough = own[own["speedup"] >= p["speedup"]]
-        best = float(fast_enough[column].min()) if len(fast_enough) else None
-        if best is None or best > p[column] + tie:
-            out.append(
-                {
-                    "system": p["system"],
-                    "setting": _setting(p),
-                    "speedup": p["speedup"],
-                    "error_m": p[column],
-                    "challenger_error_m": best,
-                }
-            )
-    return sorted(out, key=lambda d: (d["system"], d["speedup"]))
-
-
-def _setting(row):
-    if row["parameter"] == "none":
-        return "sleeping off"
-    return f"{row['parameter']}={row['value']:.3g}"
 
 
 def _errors(row):
@@ -232,7 +182,7 @@ def defaults_comparison(scene_numbers, rows):
         out["sim_off_fastest_setting_within_best_peer"] = "none"
     else:
         p = solver.loc[solver["speedup"].idxmax()]
-        out["sim_off_fastest_setting_within_best_peer"] = _setting(p)
+        out["sim_off_fastest_setting_within_best_peer"] = setting_label(p)
         out["sim_off_fastest_within_best_peer"] = _errors(p)
     return out
 
@@ -308,15 +258,19 @@ def draw(table, meta):
         # be ~1, so its spread is the timing noise of this run (the machine is shared)
         idle = rows[(rows["role"] == "sweep") & (rows["awake_fraction"] >= 1.0)]
         scene_numbers["never_froze_speedups"] = {
-            f"{p['system']} {_setting(p)}": {
+            f"{p['system']} {setting_label(p)}": {
                 "speedup": p["speedup"],
                 "speedup_min": p["speedup_min"],
             }
             for _, p in idle.iterrows()
         }
         # does extended's front dominate every other system's settings, measure by measure?
+        measures = [(column, short) for column, _, short in (FREEZE_MEASURE,) + MEASURES]
         scene_numbers["beyond_extended_front"] = {
-            short: beyond_front(rows, column) for column, _, short in (FREEZE_MEASURE,) + MEASURES
+            short: beyond_front(rows, column, CHALLENGER, FREEZING) for column, short in measures
+        }
+        scene_numbers["beating_extended_front"] = {
+            short: beating_front(rows, column, CHALLENGER, FREEZING) for column, short in measures
         }
         others = rows[
             rows["system"].isin(FREEZING)
@@ -332,6 +286,8 @@ def draw(table, meta):
                 "more_accurate_at_its_speed": sum(
                     p["challenger_error_m"] is not None for p in points
                 ),
+                # of those, faster *and* more accurate than a point of extended's front
+                "beating": len(scene_numbers["beating_extended_front"][short]),
             }
             for short, points in scene_numbers["beyond_extended_front"].items()
         }
@@ -366,7 +322,7 @@ def draw(table, meta):
                 }
             fastest = pts.loc[pts["speedup"].idxmax()]
             entry["fastest"] = {
-                "setting": _setting(fastest),
+                "setting": setting_label(fastest),
                 "speedup": fastest["speedup"],
                 "freeze_error_max_m": fastest["freeze_error_max_m"],
                 "pose_error_max_m": fastest["pose_error_max_m"],
@@ -386,7 +342,7 @@ def draw(table, meta):
             else:
                 best = ok.loc[ok["speedup"].idxmax()]
                 entry["best_speedup_matching_baseline"] = best["speedup"]
-                entry["best_setting_matching_baseline"] = _setting(best)
+                entry["best_setting_matching_baseline"] = setting_label(best)
                 entry["best_matching_pose_error_max_m"] = best["pose_error_max_m"]
                 entry["best_matching_penetration_final_m"] = best["penetration_final_m"]
 

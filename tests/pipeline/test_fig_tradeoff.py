@@ -15,6 +15,7 @@ import pytest
 
 import sim
 from analysis import fig_tradeoff as analysis
+from analysis import fronts
 from experiments import fig_tradeoff as exp
 from study import paths, tradeoff
 from study.common import SLOP, build
@@ -153,34 +154,64 @@ def test_pareto_front():
     pts = pd.DataFrame(
         {"speedup": [1.0, 2.0, 3.0, 4.0, 0.5, 5.0], "err": [5.0, 3.0, 4.0, 1.0, 0.5, math.nan]}
     )
-    front = analysis.pareto(pts, "err")
+    front = fronts.pareto(pts, "err")
     assert list(zip(front["speedup"], front["err"])) == [(0.5, 0.5), (4.0, 1.0)]
 
 
+#: extended's settings p (its front: 2x at 1 mm, 4x at 10 mm) and other systems' sweep settings
+FRONT_ROWS = pd.DataFrame(
+    [
+        ("sim-extended", "sweep", "p", 1.0, 2.0, 1e-3),
+        ("sim-extended", "sweep", "p", 2.0, 4.0, 1e-2),
+        ("sim-extended", "sweep", "p", 3.0, 1.0, 5e-2),  # not on its own front
+        ("sim-sleep", "sweep", "q", 1.0, 1.5, 2e-3),  # dominated (2.0x at 1e-3)
+        ("sim-sleep", "sweep", "q", 2.0, 3.0, 1e-4),  # more accurate at its speed: beats 2x
+        ("sim-sleep", "sweep", "q", 3.0, 3.9, 1e-2 - 5e-7),  # a tie with 4.0x: dominated
+        ("sim-sleep", "sweep", "q", 4.0, 3.0, 5e-3),  # in the gap: faster than 2x, not better
+        ("pymunk-sleep", "sweep", "r", 1.0, 8.0, 0.5),  # faster than any extended setting
+        ("pymunk-sleep", "sweep", "r", 2.0, 8.0, 2e-3),  # faster, and better than 4x only
+        ("sim-off", "baseline", "none", float("nan"), 1.0, 0.0),
+        ("sim-off", "solver", "substeps", 1.0, 1.2, 0.0),
+    ],
+    columns=["system", "role", "parameter", "value", "speedup", "err"],
+)
+FREEZING = ("sim-extended", "sim-sleep", "pymunk-sleep")
+
+
 def test_beyond_front_lists_what_extendeds_front_does_not_dominate():
-    """A point beats the front when no extended setting is at least as fast and at least as
+    """A point is beyond the front when no extended setting is at least as fast and at least as
     accurate (within the tie); a point faster than extended's fastest has nothing to compare
     with; the baseline and the solver rows are not freezing settings."""
-    rows = pd.DataFrame(
-        [
-            ("sim-extended", "sweep", "p", 1.0, 2.0, 1e-3),
-            ("sim-extended", "sweep", "p", 2.0, 4.0, 1e-2),
-            ("sim-sleep", "sweep", "q", 1.0, 1.5, 2e-3),  # dominated (2.0x at 1e-3)
-            ("sim-sleep", "sweep", "q", 2.0, 3.0, 1e-4),  # more accurate at its speed
-            ("sim-sleep", "sweep", "q", 3.0, 3.9, 1e-2 - 5e-7),  # a tie with 4.0x: dominated
-            ("pymunk-sleep", "sweep", "r", 1.0, 8.0, 0.5),  # faster than any extended setting
-            ("sim-off", "baseline", "none", float("nan"), 1.0, 0.0),
-            ("sim-off", "solver", "substeps", 1.0, 1.2, 0.0),
-        ],
-        columns=["system", "role", "parameter", "value", "speedup", "err"],
-    )
-    out = analysis.beyond_front(rows, "err")
-    assert [(p["system"], p["speedup"]) for p in out] == [("pymunk-sleep", 8.0), ("sim-sleep", 3.0)]
+    out = fronts.beyond_front(FRONT_ROWS, "err", "sim-extended", FREEZING)
+    assert [(p["system"], p["setting"], p["speedup"]) for p in out] == [
+        ("pymunk-sleep", "r=1", 8.0),
+        ("pymunk-sleep", "r=2", 8.0),
+        ("sim-sleep", "q=2", 3.0),
+        ("sim-sleep", "q=4", 3.0),
+    ]
     assert out[0]["challenger_error_m"] is None
-    assert out[1]["challenger_error_m"] == 1e-2 and out[1]["error_m"] == 1e-4
-    assert (
-        analysis.beyond_front(rows[rows["system"] != "pymunk-sleep"].iloc[[0, 1, 2]], "err") == []
-    )
+    assert out[2]["challenger_error_m"] == 1e-2 and out[2]["error_m"] == 1e-4
+    assert fronts.beyond_front(FRONT_ROWS.iloc[[0, 1, 3, 5]], "err", "sim-extended", FREEZING) == []
+
+
+def test_beating_front_lists_what_beats_a_point_of_extendeds_front():
+    """A point beats the front when it is faster *and* more accurate than one of the front's
+    points; beyond the front is not enough (faster than all of it with more error, or in a gap
+    of its grid), nor is beating a setting that is off extended's own front."""
+    out = fronts.beating_front(FRONT_ROWS, "err", "sim-extended", FREEZING)
+    assert [(p["system"], p["setting"]) for p in out] == [
+        ("pymunk-sleep", "r=2"),
+        ("sim-sleep", "q=2"),
+    ]
+    assert [b["speedup"] for b in out[0]["beats"]] == [4.0]
+    assert [b["speedup"] for b in out[1]["beats"]] == [2.0]
+    # errors within the tie are equal: no beating
+    tied = FRONT_ROWS.copy()
+    tied.loc[(tied["system"] == "sim-sleep") & (tied["value"] == 2.0), "err"] = 1e-3 - 5e-7
+    assert ("sim-sleep", "q=2") not in [
+        (p["system"], p["setting"])
+        for p in fronts.beating_front(tied, "err", "sim-extended", FREEZING)
+    ]
 
 
 # ---- end to end --------------------------------------------------------------------------------
@@ -402,6 +433,11 @@ def test_analysis_draws_and_quotes(quick_run, monkeypatch, tmp_path):
                 points
             )
             assert all(p["system"] != analysis.CHALLENGER for p in points)
+            # a point that beats a point of the front is beyond it too
+            beating = sn["beating_extended_front"][short]
+            assert counts["beating"] == len(beating)
+            beyond = {(p["system"], p["setting"]) for p in points}
+            assert all((p["system"], p["setting"]) in beyond and p["beats"] for p in beating)
     # the two errors apart, per freezing system: its engine's solver's and freezing's own
     t = pd.read_csv(folder / f"{exp.NAME}.csv")
     for scene, sn in numbers["scenes"].items():

@@ -49,12 +49,26 @@ def policy_parameters():
     return {name: dict(getattr(modules[name], "PARAMETERS", {})) for name in sim.POLICY_NAMES}
 
 
+def provenance(metadata):
+    """Which commit produced which results: ``metadata`` {result name: its metadata}. A list of
+    {"commit": the first 10 hex digits, "+dirty" when the tree had uncommitted changes,
+    "results": [names]}, the commit that produced the most results first (then by name), so that
+    a results set remade in part says so instead of naming one commit for all of it."""
+    by_commit = {}
+    for name, m in sorted(metadata.items()):
+        git = m.get("git", {})
+        label = git.get("commit", "unknown")[:10] + ("+dirty" if git.get("dirty") else "")
+        by_commit.setdefault(label, []).append(name)
+    order = sorted(by_commit.items(), key=lambda kv: (-len(kv[1]), kv[0]))
+    return [{"commit": label, "results": names} for label, names in order]
+
+
 def setup_numbers():
     """Machine, versions and provenance from the experiments' metadata."""
-    commits, quick, meta = set(), set(), None
+    quick, meta, metadata = set(), None, {}
     for path in sorted(paths.DATA.glob("*.json")):
         m = json.loads(path.read_text())
-        commits.add(m.get("git", {}).get("commit", "unknown"))
+        metadata[path.stem] = m
         quick.add(bool(m.get("parameters", {}).get("quick", False)))
     for name in SETUP_FROM:
         path = paths.DATA / f"{name}.json"
@@ -73,7 +87,7 @@ def setup_numbers():
         "platform": meta["platform"],
         "python": meta["python"],
         "packages": meta["packages"],
-        "commits": sorted(commits),
+        "provenance": provenance(metadata),
         "quick": any(quick),
         "date_utc": meta["date_utc"],
     }

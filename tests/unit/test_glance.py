@@ -1,6 +1,7 @@
 """The README's results bullets say what the numbers say, in the study's protocol."""
 
-from analysis.glance import extremes_line, frozen_cost_line, time_to_rest_line
+from analysis.glance import extremes_line, frozen_cost_line, provenance_text, time_to_rest_line
+from analysis.paper import provenance
 
 
 def _extremes(per_axis, fair):
@@ -107,3 +108,21 @@ def test_the_frozen_cost_bullet_says_what_the_fit_can_tell():
     assert "too little to measure" in line
     assert "below zero even at two standard errors" in line and "drift in the timings" in line
     assert "at most" not in line
+
+
+def test_provenance_names_every_commit_that_made_a_result():
+    """A results set remade in part (one experiment rerun at a later commit, or from a tree with
+    uncommitted changes) names each commit with the results it made; one commit, one name."""
+    clean = {"commit": "a" * 40, "dirty": False}
+    later = {"commit": "0" * 40, "dirty": True}  # sorts first by name, not by count
+    meta = {"x": {"git": clean}, "y": {"git": clean}, "z": {"git": later}, "w": {}}
+    got = provenance(meta)
+    assert got == [
+        {"commit": "aaaaaaaaaa", "results": ["x", "y"]},
+        {"commit": "0000000000+dirty", "results": ["z"]},
+        {"commit": "unknown", "results": ["w"]},
+    ]
+    assert provenance_text(got) == (
+        "commit `aaaaaaaaaa` (`z` from commit `0000000000+dirty`; `w` from commit `unknown`)"
+    )
+    assert provenance_text(provenance({"x": {"git": clean}})) == "commit `aaaaaaaaaa`"

@@ -380,6 +380,22 @@ def _collide(s, margin, settings, bodies, geometry, contacts):
         cf[s, LOCAL_FACE_Y] = settings.floor_y
         ref_nx = 0.0
         ref_ny = 1.0
+    elif edge < 0:
+        # corners apart (geometry._closest_points): A is the reference, its feature the plane
+        # through its closest point, normal to the line between the closest points; kept in A's
+        # frame like a face, so that a refresh measures the point against the turned plane
+        ref = a
+        inc = b
+        ref_nx = normal[0]
+        ref_ny = normal[1]
+        fx = points[0, 0] - seps[0] * ref_nx - position[a, 0]
+        fy = points[0, 1] - seps[0] * ref_ny - position[a, 1]
+        ca = rotation[a, 0]
+        sa = rotation[a, 1]
+        cf[s, LOCAL_NORMAL_X] = ca * ref_nx + sa * ref_ny  # R^T n
+        cf[s, LOCAL_NORMAL_Y] = -sa * ref_nx + ca * ref_ny
+        cf[s, LOCAL_FACE_X] = ca * fx + sa * fy
+        cf[s, LOCAL_FACE_Y] = -sa * fx + ca * fy
     else:
         if flip == 1:
             ref = b

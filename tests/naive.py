@@ -290,7 +290,44 @@ def collide_polygons(verts_a, verts_b, margin):
                 "inc_edge": inc_edge,
                 "choice": choice,
             }
+    # Neither face keeps a point: corners approaching each other, each past the other's face
+    # end. Apart and within the margin, one point at the closest points (A the reference).
+    if max(choice["sep_a"], choice["sep_b"]) > 0.0:
+        d, p, q, fa, fb, kind = closest_points(va, vb)
+        if d <= margin:
+            return {
+                "count": 1,
+                "flip": 0,
+                "edge": -1,
+                "normal": (q - p) / d,
+                "points": [q],
+                "separations": [d],
+                "ids": [((2 * ID_BASE + fa) * ID_BASE + fb) * 2 + kind],
+                "inc_edge": None,
+                "choice": choice,
+            }
     return empty
+
+
+def closest_points(verts_a, verts_b):
+    """The closest points of two disjoint convex polygons, by brute force over every (vertex,
+    edge) pair both ways, B's vertices against A's edges first, the first strictly nearer pair
+    kept (the kernel's order). Returns (distance, point on A, point on B, A's feature, B's
+    feature, kind): kind 0 when the point on B is B's vertex fb and the one on A lies on A's edge
+    fa, kind 1 when A's vertex fa meets B's edge fb."""
+    best = None
+    for kind, (v_verts, e_verts) in enumerate(((verts_b, verts_a), (verts_a, verts_b))):
+        dist, t = point_segment_distances(v_verts, e_verts)
+        for i in range(dist.shape[0]):
+            for k in range(dist.shape[1]):
+                if best is None or dist[i, k] < best[0]:
+                    end = e_verts[(k + 1) % len(e_verts)]
+                    on_edge = e_verts[k] + t[i, k] * (end - e_verts[k])
+                    best = (float(dist[i, k]), v_verts[i], on_edge, i, k, kind)
+    d, vertex, on_edge, i, k, kind = best
+    if kind == 0:
+        return d, on_edge, vertex, k, i, 0
+    return d, vertex, on_edge, i, k, 1
 
 
 def floor_contacts(vertices, floor_y, margin):

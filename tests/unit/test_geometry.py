@@ -459,9 +459,14 @@ def test_collide_symmetric_in_a_and_b(pair, margin_frac):
     if ab["count"]:
         tol = 1e-10 * coord_scale(a, b)
         assert np.allclose(ab["normal"], -ba["normal"], atol=1e-12)
+        assert np.allclose(ab["separations"], ba["separations"], rtol=0.0, atol=tol)
+        if ab["edge"] < 0:  # corners: each call's point is on its second polygon
+            assert ba["edge"] < 0
+            other = ab["points"] - ab["separations"][:, None] * ab["normal"]
+            assert np.allclose(other, ba["points"], rtol=0.0, atol=tol)
+            return
         assert ab["flip"] != ba["flip"]
         assert np.allclose(ab["points"], ba["points"], rtol=0.0, atol=tol)
-        assert np.allclose(ab["separations"], ba["separations"], rtol=0.0, atol=tol)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -483,7 +488,8 @@ def test_collide_matches_reference_clipping(pair, margin_frac):
     if not ref["count"]:
         return
     assert (got["flip"], got["edge"]) == (ref["flip"], ref["edge"])
-    assert got["ids"] == ref["ids"]
+    if ref["edge"] >= 0:  # corners (edge -1): a vertex met at two edges ties; see the test below
+        assert got["ids"] == ref["ids"]
     assert np.allclose(got["normal"], ref["normal"], rtol=0.0, atol=1e-12)
     assert np.allclose(got["points"], ref["points"], rtol=0.0, atol=gap)
     assert np.allclose(got["separations"], ref["separations"], rtol=0.0, atol=gap)
@@ -497,7 +503,7 @@ def test_contact_points_lie_on_incident_boundary(pair, margin_frac):
     margin = margin_frac * inner
     tol = 1e-9 * coord_scale(a, b)
     got = kernel_collide(a, b, margin)
-    if not got["count"]:
+    if not got["count"] or got["edge"] < 0:  # corners: no face (test_polygons_apart_within_...)
         return
     ref_v, inc_v = (b, a) if got["flip"] else (a, b)
     r0, r1 = naive.edges(ref_v)[got["edge"]]
@@ -552,6 +558,89 @@ def test_overlap_inside_bias_band_gets_a_contact():
     assert naive.polygons_intersect(a, b) and naive.sat_separation(a, b) < -0.01
     assert kernel_collide(b, a, 0.0)["count"] == 2
     assert kernel_collide(a, b, 0.0)["count"] >= 1
+
+
+def test_corners_apart_get_one_point_at_their_closest_points():
+    """Two unit boxes corner to corner, g = 10 mm apart along each axis: each box's incident
+    edge lies wholly past the other's face end, so clipping keeps nothing. The manifold is then
+    one point at the closest points (the corners, g sqrt 2 apart), A the reference (edge -1), the
+    normal along the diagonal; none beyond the margin. Before, no point at all: a corner met in
+    a step went into the other body by up to the step's travel."""
+    g = 0.01
+    a = box(0.0, 0.0, 1.0, 1.0)
+    b = box(1.0 + g, 1.0 + g, 1.0, 1.0)
+    got = kernel_collide(a, b, 0.02)
+    assert (got["count"], got["flip"], got["edge"]) == (1, 0, -1)
+    assert got["separations"][0] == pytest.approx(g * math.sqrt(2.0), rel=1e-12)
+    np.testing.assert_allclose(got["points"][0], [0.5 + g, 0.5 + g], atol=1e-12)
+    np.testing.assert_allclose(got["normal"], [math.sqrt(0.5), math.sqrt(0.5)], atol=1e-12)
+    assert (got["ids"][0] >> 1) // naive.ID_BASE**2 == 2  # apart from every face-clipping id
+    ref = naive.collide_polygons(a, b, 0.02)
+    assert (ref["count"], ref["edge"], ref["ids"]) == (1, -1, got["ids"])
+    back = kernel_collide(b, a, 0.02)  # B first: the point on A, the normal reversed
+    np.testing.assert_allclose(back["points"][0], [0.5, 0.5], atol=1e-12)
+    np.testing.assert_allclose(back["normal"], -got["normal"], atol=1e-12)
+    assert kernel_collide(a, b, 0.014)["count"] == 0  # g sqrt 2 = 14.1 mm: beyond the margin
+
+
+def _vertex_cone(v, i):
+    """The outward normals of the two edges that meet at vertex i of CCW polygon v: directions
+    from the vertex that point away from the polygon lie between them."""
+    n = naive.normals(v)
+    return n[i - 1], n[i]
+
+
+def _angle(u):
+    return math.atan2(u[1], u[0])
+
+
+@st.composite
+def corner_pairs(draw):
+    """Two polygons corner to corner: a vertex of b placed a random fraction of the pair's inner
+    size from a vertex of a, along a direction inside a's cone there, b turned so that the
+    opposite direction lies inside its own vertex's cone. Their closest points are then those two
+    vertices, and often neither face's clip keeps a point."""
+    a = draw(polygons)
+    b = draw(polygons)
+    inner = min(inradius_about(a, a.mean(axis=0)), inradius_about(b, b.mean(axis=0)))
+    i = draw(st.integers(0, len(a) - 1))
+    j = draw(st.integers(0, len(b) - 1))
+    lo, hi = (_angle(n) for n in _vertex_cone(a, i))
+    sweep = (hi - lo) % (2.0 * math.pi)
+    u_angle = lo + sweep * draw(st.floats(0.1, 0.9))
+    u = np.array([math.cos(u_angle), math.sin(u_angle)])
+    blo, bhi = (_angle(n) for n in _vertex_cone(b, j))
+    bsweep = (bhi - blo) % (2.0 * math.pi)
+    inward = blo + bsweep * draw(st.floats(0.1, 0.9))  # a direction out of b at vertex j
+    turn = (u_angle + math.pi) - inward  # ... turned to point back at a
+    local = (b - b[j]) @ naive.rotation(turn).T
+    gap = draw(st.floats(1e-3, 0.3)) * inner
+    return a, np.ascontiguousarray(local + a[i] + gap * u), inner
+
+
+@SETTINGS
+@given(st.one_of(pairs(min_frac=1e-3, max_frac=0.3), corner_pairs()), st.floats(0.0, 0.4))
+def test_polygons_apart_within_the_margin_always_get_a_point(pair, margin_frac):
+    """No speculative contact is missed: two polygons closer than the margin (their true
+    distance, naive.polygon_distance) get at least one point whichever comes first, every point
+    at or within the margin; where no face keeps a point, the one point is the closest points'
+    (the reference's answer, the distance itself)."""
+    a, b, inner = pair
+    margin = margin_frac * inner
+    tol = 1e-9 * coord_scale(a, b)
+    distance, _ = naive.polygon_distance(a, b)
+    assume(distance < margin - tol)
+    for p, q in ((a, b), (b, a)):
+        got = kernel_collide(p, q, margin)
+        event(f"edge={'corner' if got['edge'] < 0 else 'face'}")
+        assert got["count"] >= 1
+        assert got["separations"].max() <= margin
+        if got["edge"] < 0:
+            ref = naive.collide_polygons(p, q, margin)
+            assert ref["edge"] == -1
+            assert got["separations"][0] == pytest.approx(distance, abs=tol)
+            np.testing.assert_allclose(got["points"], ref["points"], rtol=0.0, atol=tol)
+            np.testing.assert_allclose(got["normal"], ref["normal"], rtol=0.0, atol=1e-9)
 
 
 def test_box_resting_on_wider_box():

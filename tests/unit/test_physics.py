@@ -8,6 +8,7 @@ import pytest
 
 import sim
 from conftest import G, run_until, tilted_box
+import naive
 
 
 @pytest.mark.parametrize("substeps", [1, 4, 7])
@@ -155,6 +156,41 @@ def test_momentum_conserved_in_gravity_free_collision():
     np.testing.assert_allclose(p1, p0, rtol=1e-10, atol=1e-10)
     assert l1 == pytest.approx(l0, rel=1e-9, abs=1e-9)
     assert world.kinetic_energy() <= ke0 * (1 + 1e-9)  # never gains energy
+
+
+def _box_overlap(world):
+    """m: how far two unit boxes of ``world`` overlap (0 when apart): minus their largest
+    separation along either's edge normals (tests/naive.py)."""
+    corners = np.array([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
+    verts = []
+    for i in range(2):
+        c, s = math.cos(world.angles[i]), math.sin(world.angles[i])
+        verts.append(corners @ np.array([[c, s], [-s, c]]) + world.positions[i])
+    sep = max(
+        naive.axis_separations(verts[0], verts[1]).max(),
+        naive.axis_separations(verts[1], verts[0]).max(),
+    )
+    return max(0.0, -sep)
+
+
+@pytest.mark.parametrize("phase", range(4))
+def test_boxes_meeting_corner_to_corner_do_not_interpenetrate(phase):
+    """Two unit boxes, no gravity, one at rest and one coming at it along the diagonal at 2.1
+    m/s (25 mm a step on each axis), corner to corner, the meeting at four phases of a step.
+    The corners never overlap (a speculative contact at the closest points exists before they
+    meet), and the head-on inelastic collision leaves both at the common velocity, half the
+    mover's (momentum). Measured before that contact (geometry._closest_points): 5-25 mm of
+    overlap, growing with the phase, and the two ended 0.1-0.3 m/s off the common velocity."""
+    start = 1.25 + phase * 0.025 / 4
+    a = sim.Body.box(1.0, 1.0, position=(0.0, 0.0))
+    b = sim.Body.box(1.0, 1.0, position=(start, start), velocity=(-1.5, -1.5))
+    world = sim.World(sim.Scene(bodies=[a, b], gravity=(0.0, 0.0), floor_y=None))
+    deepest = 0.0
+    for _ in range(30):
+        world.step(1)
+        deepest = max(deepest, _box_overlap(world))
+    assert deepest < 1e-4, f"the corners overlapped by {deepest:.3g} m"
+    np.testing.assert_allclose(world.velocities, [[-0.75, -0.75], [-0.75, -0.75]], atol=1e-3)
 
 
 @pytest.mark.parametrize("offset_deg,falls", [(-2.0, False), (2.0, True)])
@@ -335,15 +371,19 @@ def test_fast_paths_are_validated():
 
 
 #: m/s, the largest speed of any body of each drop(30) pile in the 20th second, sim-off at its
-#: defaults, for the piles that do not come to rest: none since the deep sweeps
-#: (soft_step.DEEP_SWEEPS). Before them seed 2 crept: body 17 (230 g), held between a 30 g and a
-#: 132 g polygon, at 1.4e-4 m/s (2.2-2.4 um a step; 1.4e-4 m over the second), and before the
-#: impact sweeps seed 4 instead (body 20, 18 g, pinched between polygons 10-20 times heavier,
-#: slipping in jerks of ~4 mm/s). A pile listed here is a strict xfail. The same piles in pymunk
-#: moved at most 4e-7 m over that second, Box2D 2.3 2e-4 m, pybullet 2e-3 to 8e-3 m.
-PILE_CREEP = {}
+#: defaults, for the piles that do not come to rest. Seed 1 since the corner contacts
+#: (geometry._closest_points), which change these chaotic piles: its body 12 (28 g, 8 cm thin)
+#: is pinched between the floor, the bin's wall and heavier polygons, carrying 170 times its
+#: weight, and slips (3.7e-4 m over the second); over seeds 0-99, 9 piles do not come to rest (13
+#: before the corner contacts). None in seeds 0-4 from the deep sweeps (soft_step.DEEP_SWEEPS)
+#: to the corner contacts. Before the deep sweeps seed 2 crept: body 17 (230 g), held between a
+#: 30 g and a 132 g polygon, at 1.4e-4 m/s (2.2-2.4 um a step; 1.4e-4 m over the second), and
+#: before the impact sweeps seed 4 instead (body 20, 18 g, pinched between polygons 10-20 times
+#: heavier, slipping in jerks of ~4 mm/s). A pile listed here is a strict xfail. The same piles
+#: in pymunk moved at most 4e-7 m over that second, Box2D 2.3 2e-4 m, pybullet 2e-3 to 8e-3 m.
+PILE_CREEP = {1: 2.8e-4}
 #: seeds whose pile does come to rest
-PILES_AT_REST = (0, 1, 2, 3, 4)
+PILES_AT_REST = (0, 2, 3, 4)
 
 
 @pytest.mark.parametrize(
@@ -355,7 +395,7 @@ PILES_AT_REST = (0, 1, 2, 3, 4)
                 strict=True,
                 reason=(
                     f"measured: the pile still moves at {speed:.2g} m/s after 19 s: one "
-                    "polygon creeps between two lighter ones (see PILE_CREEP; issue 11's drift)"
+                    "polygon pinched under heavier ones creeps (see PILE_CREEP; issue 11's drift)"
                 ),
             ),
         )
@@ -375,9 +415,11 @@ def test_a_dropped_pile_comes_to_rest(seed):
 
 
 def test_most_dropped_piles_come_to_rest():
-    # The same on 20 piles, so that no one chaotic pile decides it: all 20 come to rest (moving
-    # less than 0.1 mm over the 20th second; 17 before the deep sweeps, soft_step.DEEP_SWEEPS, 16
-    # before the impact sweeps). When a point's feature id changed (the other body's face became
+    # The same on 20 piles, so that no one chaotic pile decides it: 18 come to rest (moving less
+    # than 0.1 mm over the 20th second: all but seeds 1 and 14; all 20 before the corner contacts,
+    # geometry._closest_points, which change these chaotic piles, and over seeds 0-99 91 now
+    # against 87 then; 17 before the deep sweeps, soft_step.DEEP_SWEEPS, 16 before the impact
+    # sweeps). When a point's feature id changed (the other body's face became
     # the reference face, as it does between two nearly parallel faces whenever the full
     # narrowphase runs again) it restarted without its load and friction, and only 2 of the 20
     # came to rest.

@@ -163,7 +163,10 @@ def time_to_rest_line(ttr):
     def pile(system):
         never = sum(1 for s in piles if s in ttr[system]["never"])
         median = ttr[system]["family_median_steps"].get("drop")
-        return f"({never} of {len(piles)} never froze)" if median is None else f"{median:g}"
+        counted = f"{never} of {len(piles)} never froze"
+        if median is None:
+            return f"({counted})"
+        return f"{median:g}" + (f" ({counted}: beyond the cap in the median)" if never else "")
 
     cert = ttr["certificate"]
     return (

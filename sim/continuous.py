@@ -65,6 +65,7 @@ import math
 
 import numpy as np
 
+from .geometry import closest_vertex_edge, edge_point
 from .jit import inline_kernel, lean_kernel
 
 
@@ -183,29 +184,9 @@ def separating_gap(local_verts, local_normals, a0, a1, b0, b1, pose_a, pose_b, s
 def _closest_offset(world, p0, p1, q0, q1):
     """Shortest offset (m) from a vertex of polygon P (rows p0..p1-1) to an edge of Q (q0..q1-1):
     returns (squared length, x, y), the offset pointing from P's vertex to Q's edge."""
-    best = np.inf
-    bx = 0.0
-    by = 0.0
-    k = q1 - q0
-    for i in range(p0, p1):
-        px = world[i, 0]
-        py = world[i, 1]
-        for j in range(k):
-            ax = world[q0 + j, 0]
-            ay = world[q0 + j, 1]
-            jn = j + 1 if j + 1 < k else 0
-            ex = world[q0 + jn, 0] - ax
-            ey = world[q0 + jn, 1] - ay
-            u = ((px - ax) * ex + (py - ay) * ey) / (ex * ex + ey * ey)
-            u = min(max(u, 0.0), 1.0)
-            wx = ax + u * ex - px
-            wy = ay + u * ey - py
-            d2 = wx * wx + wy * wy
-            if d2 < best:
-                best = d2
-                bx = wx
-                by = wy
-    return best, bx, by
+    best, i, j, u = closest_vertex_edge(world, p0, p1, q0, q1)
+    x, y = edge_point(world, q0, q1, j, u)
+    return best, x - world[p0 + i, 0], y - world[p0 + i, 1]
 
 
 @inline_kernel

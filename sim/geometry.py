@@ -184,40 +184,46 @@ def _clip(p0x, p0y, p1x, p1y, d0, d1):
 
 
 @inline_kernel
-def _closest_on_edges(verts, v0, v1, e0, e1, best, vertex_on_b):
-    """The closest pair (vertex of rows v0..v1-1, point of an edge of rows e0..e1-1) if nearer
-    than ``best`` (squared distance, vertex index, edge index, edge fraction, vertex_on_b), else
-    ``best``. Each vertex is projected onto each edge segment, clamped to its ends; squared
-    distances, so that the loop has no square root and divides only for a point inside an edge."""
-    d2, iv, ie, frac, on_b = best
-    k = e1 - e0
-    for i in range(v0, v1):
+def closest_vertex_edge(verts, p0, p1, q0, q1):
+    """The nearest (vertex of P, point of an edge of Q): P is rows p0..p1-1 and Q rows q0..q1-1
+    of ``verts`` (m). Returns (squared distance, vertex i - p0, edge j, u): the point on edge j
+    is q_j + u (q_j+1 - q_j), u clamped to [0, 1]; the first strictly nearer pair is kept.
+    Shared by the narrowphase's corner contacts (``_closest_points``) and continuous
+    collision's closest-point axis (``sim.continuous``)."""
+    best = np.inf
+    bi = 0
+    bj = 0
+    bu = 0.0
+    k = q1 - q0
+    for i in range(p0, p1):
         px = verts[i, 0]
         py = verts[i, 1]
         for j in range(k):
-            ax = verts[e0 + j, 0]
-            ay = verts[e0 + j, 1]
-            nxt = e0 + j + 1 if j + 1 < k else e0
-            ux = verts[nxt, 0] - ax
-            uy = verts[nxt, 1] - ay
-            rx = px - ax
-            ry = py - ay
-            along = rx * ux + ry * uy
-            uu = ux * ux + uy * uy
-            if along <= 0.0:  # before the edge's start: the start itself
-                dist2 = rx * rx + ry * ry
-                f = 0.0
-            elif along >= uu:  # past its end: the end itself (a + 1 * u would round)
-                wx = px - verts[nxt, 0]
-                wy = py - verts[nxt, 1]
-                dist2 = wx * wx + wy * wy
-                f = 1.0
-            else:
-                dist2 = rx * rx + ry * ry - along * along / uu
-                f = along / uu
-            if dist2 < d2:
-                d2, iv, ie, frac, on_b = dist2, i - v0, j, f, vertex_on_b
-    return d2, iv, ie, frac, on_b
+            ax = verts[q0 + j, 0]
+            ay = verts[q0 + j, 1]
+            jn = j + 1 if j + 1 < k else 0
+            ex = verts[q0 + jn, 0] - ax
+            ey = verts[q0 + jn, 1] - ay
+            u = ((px - ax) * ex + (py - ay) * ey) / (ex * ex + ey * ey)
+            u = min(max(u, 0.0), 1.0)
+            wx = ax + u * ex - px
+            wy = ay + u * ey - py
+            d2 = wx * wx + wy * wy
+            if d2 < best:
+                best = d2
+                bi = i - p0
+                bj = j
+                bu = u
+    return best, bi, bj, bu
+
+
+@inline_kernel
+def edge_point(verts, q0, q1, j, u):
+    """(x, y) m: the point ``u`` along edge j of the polygon in rows q0..q1-1."""
+    jn = j + 1 if j + 1 < q1 - q0 else 0
+    ax = verts[q0 + j, 0]
+    ay = verts[q0 + j, 1]
+    return ax + u * (verts[q0 + jn, 0] - ax), ay + u * (verts[q0 + jn, 1] - ay)
 
 
 @lean_kernel
@@ -239,37 +245,24 @@ def _closest_points(
     A kernel of its own, called, not inlined: it runs for a few pairs a step (3 of ~590 in
     drop(200)), and inlined into the narrowphase its loops slowed every pair's collision (drop(200)
     7% slower a step)."""
-    best = (np.inf, 0, 0, 0.0, False)
-    best = _closest_on_edges(verts, b0, b1, a0, a1, best, True)  # B's vertices, A's edges
-    best = _closest_on_edges(verts, a0, a1, b0, b1, best, False)  # A's vertices, B's edges
-    d2, iv, ie, frac, on_b = best
-    if not (0.0 < d2 <= margin * margin):
+    # B's vertices against A's edges first; A's against B's only if strictly nearer
+    db, ib, ja, ua = closest_vertex_edge(verts, b0, b1, a0, a1)
+    da, ia, jb, ub = closest_vertex_edge(verts, a0, a1, b0, b1)
+    if not (0.0 < min(da, db) <= margin * margin):
         return 0
-    # the vertex, and the point at ``frac`` along the edge (its ends exactly)
-    v_rows, e_rows = (b0, a0) if on_b else (a0, b0)
-    k = (a1 - a0) if on_b else (b1 - b0)
-    vx = verts[v_rows + iv, 0]
-    vy = verts[v_rows + iv, 1]
-    s0 = e_rows + ie
-    s1 = e_rows + ie + 1 if ie + 1 < k else e_rows
-    if frac <= 0.0:
-        ex = verts[s0, 0]
-        ey = verts[s0, 1]
-    elif frac >= 1.0:
-        ex = verts[s1, 0]
-        ey = verts[s1, 1]
-    else:
-        ex = verts[s0, 0] + frac * (verts[s1, 0] - verts[s0, 0])
-        ey = verts[s0, 1] + frac * (verts[s1, 1] - verts[s0, 1])
-    d = np.hypot(vx - ex, vy - ey)
+    if db <= da:  # B's vertex ib, the point on A's edge ja
+        qx = verts[b0 + ib, 0]
+        qy = verts[b0 + ib, 1]
+        px, py = edge_point(verts, a0, a1, ja, ua)
+        fa, fb, kind = ja, ib, 0
+    else:  # A's vertex ia, the point on B's edge jb
+        px = verts[a0 + ia, 0]
+        py = verts[a0 + ia, 1]
+        qx, qy = edge_point(verts, b0, b1, jb, ub)
+        fa, fb, kind = ia, jb, 1
+    d = np.hypot(qx - px, qy - py)
     if not (0.0 < d <= margin):
         return 0
-    if on_b:  # the vertex is B's, the point on A's edge
-        qx, qy, px, py = vx, vy, ex, ey
-        fa, fb, kind = ie, iv, 0
-    else:
-        qx, qy, px, py = ex, ey, vx, vy
-        fa, fb, kind = iv, ie, 1
     out_points[0, 0] = qx
     out_points[0, 1] = qy
     out_separations[0] = d

@@ -25,21 +25,21 @@ STATIC_CAP = 0.25
 #: too small even at the cap is refused (``tolerances.check_step``).
 STIFFNESS_RATIO = 25.0
 #: Time constant (s) with which a contact's carried load follows the impulse it applies. A soft
-#: contact is a spring: it carries a load L by sinking L / (m omega^2), and in a stack every
-#: contact sinks by what it carries (a 10-box column sank 3 cm, a 50-box one 0.7 m). Here the
-#: spring only acts on the *change* of load: the load the contact has carried for a while is held
-#: rigidly (``_normal_rows``: the leak is impulse_scale * (impulse - carried)), so a resting
-#: stack does not sink at all. Followed instantly the carried load becomes an integrator that
-#: makes tall columns oscillate; followed over a third of a second, the spring damps first.
-#: Faster is not better overall (measured on 2503cec; drop(30) seeds 0-19, 20 s, sim-off): at
-#: 0.05 s piles settle sooner (a body moving at 1 mm/s or more until step 270 instead of 464,
-#: median; 19 of 20 at rest over their 20th second instead of 17; extended froze them whole in 182
-#: steps instead of 224) and a box sliding to a stop no longer creeps (2e-8 m/s instead of
-#: 2.4e-6), but pyramid(40) moved 0.47 m in 5 s instead of 2.6 mm, a 50-box column started
-#: without the presolve fell (0.88 m; 0.47 m at 0.15 s, 0.24 m at 0.1 s) and a 1000:1 stack
-#: toppled. Releasing load fast and taking it up slowly (0.05 s and 1/3 s, 1/3 s both ways near a
-#: mass ratio) kept the stacks standing but gave the piles nothing beyond chaos (1 mm/s until step
-#: 493, extended 218 steps against sleep's 184).
+#: contact is a spring: it carries a load L by sinking L / (m omega^2), and in a stack every contact
+#: sinks by what it carries (a 10-box column sank 3 cm, a 50-box one 0.7 m). Here the spring only
+#: acts on the *change* of load: the load the contact has carried for a while is held rigidly
+#: (``_normal_rows``: the leak is impulse_scale * (impulse - carried)), so a resting stack does not
+#: sink at all. Followed instantly the carried load becomes an integrator that makes tall columns
+#: oscillate; followed over a third of a second, the spring damps first. Faster is not better
+#: overall (measured on 2503cec; drop(30) seeds 0-19, 20 s, sim-off): at 0.05 s piles settle sooner
+#: (a body moving at 1 mm/s or more until step 270 instead of 464, median; 19 of 20 at rest over
+#: their 20th second instead of 17; extended froze them whole in 182 steps instead of 224) and a box
+#: sliding to a stop no longer crept (2e-8 m/s instead of 2.4e-6; now stopped by carrying the split
+#: of a two-point manifold on an immovable body at once, see packing's store), but pyramid(40) moved
+#: 0.47 m in 5 s instead of 2.6 mm, a 50-box column started without the presolve fell (0.88 m; 0.47
+#: m at 0.15 s, 0.24 m at 0.1 s) and a 1000:1 stack toppled. Releasing load fast and taking it up
+#: slowly (0.05 s and 1/3 s, 1/3 s both ways near a mass ratio) kept the stacks standing but gave
+#: the piles nothing beyond chaos (1 mm/s until step 493, extended 218 steps against sleep's 184).
 LOAD_TIME = 1.0 / 3.0
 #: A two-point manifold is solved as one 2x2 block unless K's condition number is worse than this
 #: (the points nearly coincide): then point by point.

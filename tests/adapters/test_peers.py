@@ -255,25 +255,20 @@ def test_resting_box_stays_within_the_slop(system):
 
 
 SIM_STOP_TRANSIENT = (
-    "measured: sim-off still moves at 2.4e-6 m/s 2 s after the launch (1.2 s "
-    "after it stopped) and ends 1.75e-4 m short of its integrator's discrete "
-    "answer (1.14037 vs 1.14055 m): friction pitches the box forward as it "
-    "stops, and the soft step's carried load (load_time 1/3 s) lets the "
-    "contacts' load shift back only slowly (with load_time 0.03 s: 9e-9 m/s, "
-    "still 1.6e-4 m short)"
+    "measured: sim-off stops 1.6e-4 m short of its integrator's discrete answer (1.14039 vs "
+    "1.14055 m). In the substep where the box stops, the warm start applies the last substep's "
+    "full sliding friction; the biased sweep has no friction rows to take back the part that "
+    "reverses the box (-5 mm/s), the position moves with it, and only the relax sweep stops it. "
+    "With friction rows in the biased sweep too (Box2D v3's choice) it is 5.3e-5 m short, but "
+    "pyramid(40), the tipping box, the landing and seed_fig1 under paper got worse (not adopted)"
 )
 
 
-@pytest.mark.parametrize(
-    "system",
-    [
-        pytest.param(s, marks=pytest.mark.xfail(strict=True, reason=SIM_STOP_TRANSIENT))
-        if s == "sim-off"
-        else s
-        for s in SYSTEMS_OFF
-    ],
-)
+@pytest.mark.parametrize("system", SYSTEMS_OFF)
 def test_slide_distance(system):
+    # sim-off crept forward at 2.4e-6 m/s two seconds after it stopped until a two-point
+    # manifold on an immovable body carried its load's split between the points at once (the
+    # soft step's store): 2.3e-9 m/s
     speed, mu = 3.0, 0.4
     with _build(system, sim.scenes.sliding_box(speed=speed, friction=mu)) as runner:
         x0 = runner.positions[0, 0]

@@ -7,7 +7,7 @@ hold (bodies awake again 1 s later) is marked with a red cross.
 
 paper/generated/fig_time_to_rest.csv: scene x system, steps (or "never (k awake)"). The numbers:
 per system, the steps for every scene, how many scenes it never froze (and which), the median
-steps over the scenes it did freeze; the cap.
+steps over the scenes it did freeze; the cap; the piles' larger seed sample (``_seed_sample``).
 """
 
 import math
@@ -26,12 +26,12 @@ NAME = "fig_time_to_rest"
 FREEZING = systems.FREEZING
 
 
-def runs_of(table):
-    """One row per (scene, system): steps (NaN = never), never, awake at the end, awake 1 s
-    after, cap, bodies; scenes in the order of the table."""
-    t = table[table["part"] == "time_to_freeze"] if "part" in table else table
+def runs_of(table, part="time_to_freeze"):
+    """One row per (scene, system) of ``part``: steps (NaN = never), never, awake at the end,
+    awake 1 s after, cap, bodies; scenes in the order of the table."""
+    t = table[table["part"] == part] if "part" in table else table
     if t.empty:
-        raise ValueError(f"{NAME}: no time_to_freeze rows in the results table")
+        raise ValueError(f"{NAME}: no {part} rows in the results table")
     wide = t.pivot_table(
         index=["scene", "system"], columns="metric", values="value", aggfunc="first", dropna=False
     )
@@ -136,7 +136,34 @@ def draw(table, meta):
         **_numbers(runs, scenes, systems, cap, dt),
         "certificate": _certificate(table),
         "reference": _reference(table),
+        "seed_sample": _seed_sample(table),
     }
+
+
+def _seed_sample(table, first=5):
+    """The piles' larger seed sample (experiments.fig_time_to_rest, part "seed_sample"): per
+    system the median steps to all frozen over every seed and over the ``first`` seeds (the
+    figure's piles), each with a pile that never froze counted as beyond the cap
+    (``median_beyond_cap``: None when the median is such a pile), and how many never froze; and
+    the ratio of sim-extended's median to sim-sleep's over the whole sample (None if either is).
+    None when the table has no such rows."""
+    if "part" not in table or not (table["part"] == "seed_sample").any():
+        return None
+    runs = runs_of(table, "seed_sample")
+    runs = runs.assign(seed=runs["scene"].str.extract(r"seed=(\d+)", expand=False).astype(int))
+    out = {"seeds": int(runs["seed"].nunique()), "first": first, "scene": None, "systems": {}}
+    out["scene"] = str(runs["scene"].iloc[0]).split(",")[0] + ")"
+    for system, s in runs.groupby("system", sort=False):
+        head = s[s["seed"] < first]
+        out["systems"][system] = {
+            "median_steps": median_beyond_cap(s["steps_to_all_frozen"], s["never"]),
+            "median_steps_first": median_beyond_cap(head["steps_to_all_frozen"], head["never"]),
+            "never": int(s["never"].sum()),
+        }
+    medians = {k: v["median_steps"] for k, v in out["systems"].items()}
+    ext, slp = medians.get("sim-extended"), medians.get("sim-sleep")
+    out["extended_over_sleep"] = ext / slp if ext is not None and slp else None
+    return out
 
 
 def _reference(table):

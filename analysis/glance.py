@@ -176,9 +176,30 @@ def time_to_rest_line(ttr):
         "seeds: "
         + ", ".join(f"{s} {pile(s)}" for s in TTR_SYSTEMS if s in ttr)
         + _reference_piles(ttr.get("reference"))
+        + _seed_sample(ttr.get("seed_sample"))
         + ". `extended`'s certificate of rest costs "
         f"{fmt(cert['median_us_per_certificate'], 2)} µs per certificate (median over the "
         f"scenes; at most {fmt(cert['max_us_per_certificate'], 2)} µs)."
+    )
+
+
+def _seed_sample(sample):
+    """The same piles over a larger seed sample (fig_time_to_rest's seed_sample), sim's two rest
+    rules: the medians (beyond the cap when a pile that never froze is the median) and the
+    ratio, which the five seeds alone leave to chance."""
+    if not sample:
+        return ""
+
+    def med(system):
+        s = sample["systems"][system]
+        v = "beyond the cap" if s["median_steps"] is None else f"{s['median_steps']:g}"
+        return f"{system} {v}" + (f" ({s['never']} never froze)" if s["never"] else "")
+
+    ratio = sample.get("extended_over_sleep")
+    return (
+        f"; over {sample['seeds']} seeds of {sample['scene']}: "
+        + ", ".join(med(s) for s in ("sim-extended", "sim-sleep") if s in sample["systems"])
+        + (f" ({fmt(ratio, 2)}×)" if ratio is not None else "")
     )
 
 

@@ -43,7 +43,14 @@ freezes a whole pile before the reference stops moving has frozen motion (or a p
 another path, since piles are chaotic): so this is how soon a pile *can* be frozen whole without
 freezing what the solver still moves.
 
-Columns (long form, bench_freeze's): part ("time_to_freeze", "certificate" or "reference"),
+And the same piles over more seeds (``SAMPLE``, part "seed_sample", sim-sleep and sim-extended
+only, the two rest rules of one solver): piles are chaotic, and the median of five seeds moves by
+tens of steps with any change to the solver (a step's rounding sends a body another way), so the
+figure's five piles are checked against drop(30) seeds 0-99, run exactly as above (the first five
+are the figure's piles again). --quick: drop(10) seeds 0-3.
+
+Columns (long form, bench_freeze's): part ("time_to_freeze", "seed_sample", "certificate" or
+"reference"),
 scene, system,
 bodies, n_awake,
 n_frozen (at the freeze, or at the cap), metric (steps_to_all_frozen, time_to_all_frozen,
@@ -67,6 +74,8 @@ from study.protocols import FREEZE_HOLD_S, FREEZING, freeze_run, freeze_tasks, l
 
 NAME = "fig_time_to_rest"
 SYSTEMS = FREEZING
+#: the seed sample's systems (see the module's docstring)
+SAMPLE_SYSTEMS = ("sim-sleep", "sim-extended")
 SEED_FIGS = (("seed_fig1", {}), ("seed_fig2", {}), ("seed_fig3", {}))
 #: m/s: sleep's sleep_speed, extended's rest_speed, and a creep (``reference_motion``)
 REFERENCE_SPEEDS = (0.05, 0.02, 0.001)
@@ -82,6 +91,7 @@ FULL = {
     )
     + SEED_FIGS,
     "cap_s": 30.0,
+    "sample": {"n": 30, "seeds": 100},
 }
 QUICK = {
     "scenes": (
@@ -99,6 +109,7 @@ QUICK = {
     )
     + SEED_FIGS,
     "cap_s": 5.0,
+    "sample": {"n": 10, "seeds": 4},
 }
 
 
@@ -107,6 +118,14 @@ def run(config, args):
     compile_kernels()
     tasks = freeze_tasks(config["scenes"], config["cap_s"], SYSTEMS)
     rows = [row for rows in run_tasks(freeze_run, tasks, desc=f"{NAME} runs") for row in rows]
+    sample = config["sample"]
+    piles = [("drop", {"n": sample["n"], "seed": seed}) for seed in range(sample["seeds"])]
+    tasks = freeze_tasks(piles, config["cap_s"], SAMPLE_SYSTEMS)
+    rows += [
+        {**row, "part": "seed_sample"}
+        for rows in run_tasks(freeze_run, tasks, desc=f"{NAME} seed sample")
+        for row in rows
+    ]
     scenes = [sim.scenes.BUILDERS[name](**params) for name, params in config["scenes"]]
     rows += [row for scene in scenes for row in certificate_cost(scene, config["cap_s"])]
     rows += [row for scene in scenes for row in reference_motion(scene, config["cap_s"])]
@@ -123,6 +142,7 @@ def run(config, args):
         "systems": SYSTEMS,
         "frozen_means": FROZEN_MEANS,
         "reference_speeds_m_per_s": REFERENCE_SPEEDS,
+        "seed_sample": {"scene": "drop", **sample, "systems": SAMPLE_SYSTEMS},
         "system_settings": settings,
     }
     return pd.DataFrame(rows), scenes, parameters

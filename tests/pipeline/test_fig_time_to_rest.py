@@ -33,8 +33,8 @@ def quick_run(tmp_path_factory):
     return table, numbers, folder
 
 
-def _steps(table):
-    return table[table["metric"] == "steps_to_all_frozen"]
+def _steps(table, part="time_to_freeze"):
+    return table[(table["part"] == part) & (table["metric"] == "steps_to_all_frozen")]
 
 
 def _one(table, scene, system, metric="steps_to_all_frozen"):
@@ -152,3 +152,34 @@ def test_the_reference_says_which_scenes_move_and_for_how_long(quick_run):
     # a falling pile moves, and it moves at a creep for longer than at rest speed
     assert 0 < pile["0.05"] <= pile["0.02"] <= pile["0.001"]
     assert numbers["reference"]["pile_median_steps"]["0.02"] == pile["0.02"]
+
+
+def test_the_seed_sample_reruns_the_piles_over_more_seeds(quick_run):
+    """Part "seed_sample": every (seed, system) of the sample is one run of the time_to_freeze
+    protocol; its numbers are the sample's medians (a pile that never froze counts as beyond
+    the cap) over every seed and over the first five, as read from the rows here."""
+    table, numbers, _ = quick_run
+    sample = fig_time_to_rest.QUICK["sample"]
+    rows = _steps(table, "seed_sample")
+    expected = {
+        (f"drop({sample['n']},seed={seed})", system)
+        for seed in range(sample["seeds"])
+        for system in fig_time_to_rest.SAMPLE_SYSTEMS
+    }
+    assert set(zip(rows["scene"], rows["system"])) == expected and len(rows) == len(expected)
+    got = numbers["seed_sample"]
+    assert got["seeds"] == sample["seeds"] and got["scene"] == f"drop({sample['n']})"
+    cap = int(round(fig_time_to_rest.QUICK["cap_s"] / fig_time_to_rest.DT))
+    for system in fig_time_to_rest.SAMPLE_SYSTEMS:
+        r = rows[rows["system"] == system]
+        values = sorted(cap + 1 if f == "never" else v for v, f in zip(r["value"], r["flag"]))
+        median = (values[(len(values) - 1) // 2] + values[len(values) // 2]) / 2
+        assert got["systems"][system]["never"] == (r["flag"] == "never").sum()
+        assert got["systems"][system]["median_steps"] == (None if median > cap else median)
+        assert sample["seeds"] <= got["first"]  # the quick sample is all "first" seeds
+        assert (
+            got["systems"][system]["median_steps_first"] == got["systems"][system]["median_steps"]
+        )
+    ext = got["systems"]["sim-extended"]["median_steps"]
+    slp = got["systems"]["sim-sleep"]["median_steps"]
+    assert got["extended_over_sleep"] == pytest.approx(ext / slp)

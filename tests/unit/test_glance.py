@@ -99,6 +99,35 @@ def test_the_time_to_rest_bullet_says_how_long_the_reference_piles_move():
     )
 
 
+def test_the_time_to_rest_bullet_quotes_the_larger_seed_sample():
+    scenes = ["rest_row(50)", "drop(30,seed=0)"]
+    sample = {
+        "seeds": 100,
+        "scene": "drop(30)",
+        "systems": {
+            "sim-sleep": {"median_steps": 170.0, "never": 0},
+            "sim-extended": {"median_steps": 215.5, "never": 3},
+        },
+        "extended_over_sleep": 215.5 / 170.0,
+    }
+    ttr = {
+        "dt": 1 / 60,
+        "scenes": scenes,
+        "sim-extended": _system(dict(zip(scenes, [1, 120]))),
+        "certificate": {"median_us_per_certificate": 3.51, "max_us_per_certificate": 9.46},
+        "seed_sample": sample,
+    }
+    line = time_to_rest_line(ttr)
+    assert (
+        "over 100 seeds of drop(30): sim-extended 215.5 (3 never froze), sim-sleep 170 (1.3×)"
+        in line
+    )
+    sample["systems"]["sim-extended"]["median_steps"] = None
+    sample["extended_over_sleep"] = None
+    line = time_to_rest_line(ttr)
+    assert "sim-extended beyond the cap (3 never froze), sim-sleep 170." in line
+
+
 def _fit(b_over_a, stderr):
     fit = {"b_over_a": b_over_a, "b_over_a_stderr": stderr, "a": 1e-4, "b": b_over_a * 1e-4}
     off = {"b_over_a": 1e3, "b_over_a_stderr": 1e5, "a": 1e-7, "b": 3.3e-5}  # a unresolved

@@ -10,9 +10,13 @@ later speed-up is measured from, and shows how each system's cost grows with the
 Scenes
 - resting: rest_row(n) for n in 10, 100, 1000, 5000 (independent boxes on the floor: contacts with
   the floor only) and pyramid(base) for base in 10, 20, 40 (stacked boxes: coupled contacts).
-- settling: drop(200, seed 0), random convex polygons falling into a walled bin, timed over the
-  first WINDOW steps (240 = 4 s: they fall, collide and pile up), the part of a run where every
-  body moves and contacts come and go.
+- settling: drop(200), random convex polygons falling into a walled bin, timed over the first
+  WINDOW steps (240 = 4 s: they fall, collide and pile up), the part of a run where every body
+  moves and contacts come and go. Repeat r drops seed r (seeds 0..R-1; every system of a repeat
+  the same pile): a pile is chaotic, and one seed's cost is one path of it (the corner contacts
+  cost seed 0 8% a step, seeds 0-4 3.5% on average: seed 0's pile took a path with 249 full
+  collisions a step instead of 204), so the median over repeats is a median over piles.
+  Labelled "drop(200)", its seeds in ``seeds``.
 
 Systems: each at its own defaults (study.peers.DEFAULT_ITERATIONS), so the comparison is
 fair by construction: same scene, same start state, dt 1/60 s, slop 0.005 m, no sleeping, each
@@ -28,19 +32,20 @@ one profiled step, so profiling compiles nothing either).
 - resting scenes: each system is built, then WARMUP_STEPS untimed steps; then R repeats of K steps
   each, timed with time.perf_counter and the garbage collector paused, round-robin over the
   systems (order reversed every other repeat) so that machine noise hits both alike.
-- settling scene: every repeat builds both systems afresh (building is not timed: sim's includes
-  its initial-impulse solve) and times the same window, steps 1..WINDOW, in one call per system,
-  interleaved as above.
+- settling scene: every repeat builds every system afresh on that repeat's seed (building is not
+  timed: sim's includes its initial-impulse solve) and times the same window, steps 1..WINDOW, in
+  one call per system, interleaved as above.
 Reported per step: median and min over repeats, ms; on the sim rows the ratio peer/sim of
 medians (``speedup_vs_pymunk``, ``speedup_vs_box2d``: > 1 means sim is faster).
 ``max_displacement_m`` (largest distance any body moved from its start) guards resting scenes
 against a blow-up or collapse looking fast;
 ``bodies_in_bin`` (settling scene: bodies between the walls, below their top, at the end of the
-window) guards the drop.
+window; the fewest over the repeats' piles) guards the drop.
 
 Second output, ``bench_step_profile``: sim-off's step by stage (sim.data.STAGES, ``World.profile``),
 ms per step, each stage's median over R profiled repeats: on resting scenes R repeats of K steps
-after the timed ones (same World), on the drop a fresh World per repeat over the same window. The
+after the timed ones (same World), on the drop a fresh World per repeat and seed over the same
+window. The
 "total" row is the sum of the stages' medians, so the stages add up to it;
 ``profile_total_ms`` is the median of the repeats' totals. Profiling reads the cycle counter at
 every stage boundary, which costs time itself: ``profile_total_ms`` beside the unprofiled median
@@ -71,6 +76,7 @@ NAME = "bench_step"
 PROFILE_NAME = "bench_step_profile"
 WARMUP_STEPS = 10
 TARGET_RATIO = 3.0  # the issue's target: sim-off at least this times pymunk's step rate
+#: the settling scene's seed of repeat r is DROP_SEED + r
 DROP_SEED = 0
 
 FULL = {
@@ -92,7 +98,7 @@ QUICK = {
 BUILDERS = {
     "rest_row": sim.scenes.rest_row,
     "pyramid": sim.scenes.pyramid,
-    "drop": lambda n: sim.scenes.drop(n, seed=DROP_SEED),
+    "drop": lambda n, seed=DROP_SEED: sim.scenes.drop(n, seed=seed),
 }
 PARAM = {"rest_row": "n", "pyramid": "base", "drop": "n"}  # the size parameter reported
 SETTLING = ("drop",)  # timed from the start, fresh builds
@@ -226,55 +232,64 @@ def bench_resting(scene, repeats, steps, progress=None):
     )
 
 
-def bench_settling(scene, repeats, window, progress=None):
-    """Time steps 1..``window`` of fresh systems on ``scene``, every repeat, interleaved; then
-    profile the same window in fresh sim Worlds. Returns (rows, profile rows)."""
-    times = {name: [] for name in SYSTEMS}
-    build_s = {name: [] for name in SYSTEMS}
+def bench_settling(name, size, repeats, window, progress=None):
+    """Time steps 1..``window`` of fresh systems on the settling scene ``name``(``size``), repeat
+    r on seed DROP_SEED + r, interleaved; then profile the same windows in fresh sim Worlds.
+    Returns (rows, profile rows, the scenes)."""
+    scenes = [BUILDERS[name](size, seed=DROP_SEED + r) for r in range(repeats)]
+    times = {system: [] for system in SYSTEMS}
+    build_s = {system: [] for system in SYSTEMS}
+    in_bin = {system: [] for system in SYSTEMS}
     last = {}
-    for r in range(repeats):
-        for name in SYSTEMS if r % 2 == 0 else SYSTEMS[::-1]:
+    for r, scene in enumerate(scenes):
+        for system in SYSTEMS if r % 2 == 0 else SYSTEMS[::-1]:
             t0 = time.perf_counter()
-            runner = build(name, scene)
-            build_s[name].append(time.perf_counter() - t0)
-            times[name].append(1e3 * timed(runner, window) / window)
-            if last.get(name) is not None:
-                last[name].close()
-            last[name] = runner
+            runner = build(system, scene)
+            build_s[system].append(time.perf_counter() - t0)
+            times[system].append(1e3 * timed(runner, window) / window)
+            in_bin[system].append(bodies_in_bin(scene, runner))
+            if last.get(system) is not None:
+                last[system].close()
+            last[system] = runner
             if progress is not None:
                 progress.update()
     inspection = _inspection(last["sim-off"].world)
     profiles = []
-    for _ in range(repeats):
+    for scene in scenes:
         runner = build("sim-off", scene)
         profiles.append(runner.world.profile(window))
+    seeds = f"{DROP_SEED}-{DROP_SEED + repeats - 1}" if repeats > 1 else f"{DROP_SEED}"
+    named = {"label": f"{name}({size})", "seeds": seeds}
     rows = []
-    for name in SYSTEMS:
-        runner = last[name]
+    for system in SYSTEMS:
+        runner = last[system]
         rows.append(
             _row(
-                scene,
+                scenes[0],
                 runner,
-                times[name],
+                times[system],
                 window,
-                statistics.median(build_s[name]),
-                f"settling (fresh build, steps 1..{window})",
+                statistics.median(build_s[system]),
+                f"settling (fresh build on seed {DROP_SEED} + repeat, steps 1..{window})",
                 {
                     "max_displacement_m": np.nan,
-                    "bodies_in_bin": bodies_in_bin(scene, runner),
-                    **(inspection if name == "sim-off" else {}),
+                    # the fewest of any repeat's pile: every pile stayed in its bin
+                    "bodies_in_bin": min(in_bin[system]),
+                    **named,
+                    **(inspection if system == "sim-off" else {}),
                 },
             )
         )
         runner.close()
-    return rows, _profile_rows(
-        scene,
+    profile = _profile_rows(
+        scenes[0],
         profiles,
         statistics.median(times["sim-off"]),
         window,
         inspection,
         last["sim-off"].settings,
     )
+    return rows, [{**row, **named} for row in profile], scenes
 
 
 def compile_kernels():
@@ -288,17 +303,19 @@ def compile_kernels():
 def run(config, repeats, steps):
     """Benchmark every scene of ``config``; returns (table, profile table, scenes)."""
     compile_kernels()
-    scenes = [BUILDERS[name](p) for name in ("rest_row", "pyramid", "drop") for p in config[name]]
-    rows, profile_rows = [], []
-    with tqdm(total=len(scenes) * repeats * len(SYSTEMS), desc=NAME, unit="repeat") as bar:
-        for scene in scenes:
-            bar.set_postfix_str(f"{label(scene)}, {len(scene.bodies)} bodies")
-            if scene.name in SETTLING:
-                r, p = bench_settling(scene, repeats, config["window"], bar)
+    sizes = [(name, p) for name in ("rest_row", "pyramid", "drop") for p in config[name]]
+    rows, profile_rows, scenes = [], [], []
+    with tqdm(total=len(sizes) * repeats * len(SYSTEMS), desc=NAME, unit="repeat") as bar:
+        for name, p in sizes:
+            bar.set_postfix_str(f"{name}({p})")
+            if name in SETTLING:
+                r, prof, used = bench_settling(name, p, repeats, config["window"], bar)
             else:
-                r, p = bench_resting(scene, repeats, steps, bar)
+                used = [BUILDERS[name](p)]
+                r, prof = bench_resting(used[0], repeats, steps, bar)
             rows += r
-            profile_rows += p
+            profile_rows += prof
+            scenes += used
     table = pd.DataFrame(rows)
     # ratio of medians, on the sim rows: how many times faster sim is than pymunk
     med = table.pivot_table(index=["scene", "param"], columns="system", values="ms_per_step_median")
@@ -358,7 +375,7 @@ def main(argv=None, data_dir=None):
         "repeats": repeats,
         "steps_per_repeat": steps,
         "settle_window_steps": config["window"],
-        "drop_seed": DROP_SEED,
+        "drop_seeds": [DROP_SEED + r for r in range(repeats)],
         "quick": args.quick,
         "sizes": config,
         "systems": list(SYSTEMS),

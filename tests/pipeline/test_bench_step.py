@@ -68,7 +68,15 @@ def test_quick_run_writes_every_row_and_the_metadata(quick):
     assert meta["script"] == "bench_step"
     assert {"commit", "dirty"} <= set(meta["git"])
     assert meta["packages"]["pymunk"] == "7.3.1"
-    assert len(meta["scenes"]) == len(q["rest_row"]) + len(q["pyramid"]) + len(q["drop"])
+    repeats = meta["parameters"]["repeats"]
+    assert len(meta["scenes"]) == len(q["rest_row"]) + len(q["pyramid"]) + len(q["drop"]) * repeats
+    # the settling scene drops one seed per repeat, the same for every system
+    assert meta["parameters"]["drop_seeds"] == list(range(repeats))
+    assert [s["params"]["seed"] for s in meta["scenes"] if s["name"] == "drop"] == list(
+        range(repeats)
+    ) * len(q["drop"])
+    assert (settling["seeds"] == f"0-{repeats - 1}").all()
+    assert set(settling["label"]) == {f"drop({n})" for n in q["drop"]}
     assert meta["parameters"]["targets"] == {}  # no target scene in quick sizes
     assert not list(quick.glob("*.tmp"))  # atomic writes left no temp files
 

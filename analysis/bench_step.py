@@ -28,6 +28,14 @@ def _ratios(table):
     return out.reset_index()
 
 
+def settling_seeds(table):
+    """{label: [seed, ...]} of the settling scenes (bench_step's ``seeds`` column: one pile per
+    repeat); empty lists for a table written before the column existed."""
+    sims = table[(table["system"] == "sim-off") & table["mode"].str.startswith("settling")]
+    seeds = sims["seeds"] if "seeds" in sims else [""] * len(sims)
+    return {label: str(s).split() for label, s in zip(sims["label"], seeds)}
+
+
 def _settings(table, system):
     row = table[table["system"] == system].iloc[0]
     return {
@@ -98,6 +106,8 @@ def draw(table, meta):
         },
         "target_ratio": target,
         "targets": targets,
+        # the settling scene's piles: one seed per repeat, the same for every system
+        "settling_seeds": settling_seeds(table),
         "targets_met": bool(targets) and all(t["met"] for t in targets.values()),
         "sim": _settings(table, "sim-off"),
         "pymunk": _settings(table, "pymunk"),

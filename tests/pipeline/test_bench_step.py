@@ -183,3 +183,16 @@ def test_metadata_survives_missing_git_and_packages(monkeypatch):
     assert meta["git"] == {"commit": "unknown", "dirty": "unknown"}
     assert meta["packages"]["no-such-package-freeze2d"] == "not installed"
     json.dumps(meta)
+
+
+def test_the_analysis_names_the_settling_piles(quick):
+    from analysis.bench_step import settling_seeds
+
+    table = pd.read_csv(quick / "bench_step.csv")
+    repeats = bench_step.QUICK["repeats"]
+    expected = [str(seed) for seed in range(repeats)]
+    assert settling_seeds(table) == {f"drop({n})": expected for n in bench_step.QUICK["drop"]}
+    # a table written before the column existed: no seeds to name, no error
+    assert settling_seeds(table.drop(columns="seeds")) == {
+        f"drop({n})": [] for n in bench_step.QUICK["drop"]
+    }

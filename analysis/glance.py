@@ -234,8 +234,12 @@ def extremes_line(ex):
         f"{s.removesuffix(np_['suffix'])} {c['failed']} failed / {c['degraded']} degraded"
         for s, c in np_["counts"].items()
     )
+    # why each of sim's failed cells failed (a count alone hides a rule's reading, e.g. a dropped
+    # column's landings counted as chattering)
+    why = ex.get("sim_failures") or []
+    sim_cells = f" sim's failed cells: {'; '.join(why)}." if why else ""
     return (
-        f"- **Extremes** ({ex['cells']} cells; failed per system: {failed}). On the "
+        f"- **Extremes** ({ex['cells']} cells; failed per system: {failed}).{sim_cells} On the "
         f"{len(np_['axes'])} axes that start placed at rest sim also ran without its initial "
         f"solve of the start pose, which no peer has ({np_['cells']} cells: {fair}); which "
         "system breaks first is read from those fair rows there, from the rest elsewhere: "

@@ -38,6 +38,21 @@ def test_the_extremes_bullet_quotes_the_fair_headline():
     assert "failed per system: sim-off 0, pymunk 1" in line
     assert "On the 1 axes that start placed at rest" in line
     assert "sim-off 1 failed / 0 degraded" in line
+    assert "sim's failed cells" not in line  # none listed: nothing said
+
+
+def test_the_extremes_bullet_says_why_each_sim_cell_failed():
+    ex = _extremes({}, {})
+    ex["sim_failures"] = [
+        "sim-extended time step (10-box stack) 1/480 s: chattering (a body woken 3 times)",
+        "sim-sleep knife edge tilt 1e-06 rad: outcome stays (reference falls left)",
+    ]
+    line = extremes_line(ex)
+    assert (
+        "sim's failed cells: sim-extended time step (10-box stack) 1/480 s: chattering (a body "
+        "woken 3 times); sim-sleep knife edge tilt 1e-06 rad: outcome stays (reference falls "
+        "left)." in line
+    )
 
 
 def _system(steps, never=()):

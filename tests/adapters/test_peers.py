@@ -257,10 +257,15 @@ def test_resting_box_stays_within_the_slop(system):
 SIM_STOP_TRANSIENT = (
     "measured: sim-off stops 1.6e-4 m short of its integrator's discrete answer (1.14039 vs "
     "1.14055 m). In the substep where the box stops, the warm start applies the last substep's "
-    "full sliding friction; the biased sweep has no friction rows to take back the part that "
-    "reverses the box (-5 mm/s), the position moves with it, and only the relax sweep stops it. "
-    "With friction rows in the biased sweep too (Box2D v3's choice) it is 5.3e-5 m short, but "
-    "pyramid(40), the tipping box, the landing and seed_fig1 under paper got worse (not adopted)"
+    "full sliding friction, which reverses the box; the biased sweep has no friction rows, and "
+    "the relax sweep's friction row stops only 2/5 of the slip (the normal rows after it take "
+    "back the turn it gives the box), so the step ends with the box moving back at 5 mm/s (3e-5 "
+    "m short) and the next step's warm start carries that on (2.1e-4 m short, then 1.6e-4 once "
+    "it stands). With friction rows in the biased sweep too (Box2D v3's choice) it is 5.3e-5 m "
+    "short, but pyramid(40), the tipping box, the landing and seed_fig1 under paper got worse "
+    "(not adopted). With each two-point lane's friction solved in one block with its normal "
+    "rows in the relax sweep, 6.8e-5 m short, but the landing, the step's cost and extended's "
+    "piles got worse (not adopted; docs/ARCHITECTURE.md section 2.3)"
 )
 
 

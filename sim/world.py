@@ -75,7 +75,11 @@ class World:
       substeps              soft-step substeps per step (default 4): the knob that trades speed
                             for stiffness and accuracy (``sim.soft_step``)
       iterations            biased solve sweeps per substep (default 1)
-      relax_iterations      unbiased sweeps per substep (default 1)
+      relax_iterations      unbiased sweeps per substep (default 1). Not an accuracy knob:
+                            more make landings worse (a box dropped across a gap moves 0.04 mm
+                            sideways with 1, 0.8-1.2 mm with 2-16; fig_tradeoff's landing 0.57 mm
+                            from its rest pose with 1, 2.2-17 mm with 2-16). Raise ``substeps``
+                            or ``iterations`` instead (docs/ARCHITECTURE.md section 2.3)
       impact_iterations     more biased sweeps per substep, with friction rows, for the contacts
                             around an impact, in a step with one (a contact point approaching
                             faster than soft_step.IMPACT_SWEEP_SPEED, 1 m/s; default 8, 0

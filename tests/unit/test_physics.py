@@ -217,6 +217,52 @@ def test_tall_box_tips_past_critical_angle(offset_deg, falls):
         assert world.positions[0, 1] == pytest.approx(h / 2, abs=0.006)
 
 
+#: measured (3 s): the most any box moved sideways, with that many relax sweeps per substep
+RELAX_SWEEPS_SLIDE = {2: 0.92e-3, 4: 0.77e-3, 16: 1.19e-3}
+
+
+@pytest.mark.parametrize(
+    "relax",
+    [1]
+    + [
+        pytest.param(
+            r,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason=(
+                    f"measured: with {r} relax sweeps per substep a box moves "
+                    f"{RELAX_SWEEPS_SLIDE[r] * 1e3:.2f} mm sideways (1 sweep: 0.04 mm). The "
+                    "landing's first impulse comes in the relax sweeps of the substep before "
+                    "contact (the speculative row binds once the positions are integrated), "
+                    "where friction is solved before the normal rows; cause of the growth with "
+                    "more sweeps not found (docs/ARCHITECTURE.md section 2.3, 'More relax sweeps')"
+                ),
+            ),
+        )
+        for r in sorted(RELAX_SWEEPS_SLIDE)
+    ],
+)
+def test_box_landing_across_a_gap_stays_centred(relax):
+    # Symmetry: a box dropped flat, centred over the gap between two boxes resting on the floor,
+    # lands on both at once; nothing pushes anything sideways, so every box ends where it started
+    # in x and unturned. More sweeps of the solver must not break that: the relax sweeps are a
+    # documented knob (World's relax_iterations).
+    pitch = 1.125
+    scene = sim.Scene(
+        bodies=[
+            sim.Body.box(1, 1, position=(-pitch / 2, 0.5)),
+            sim.Body.box(1, 1, position=(pitch / 2, 0.5)),
+            sim.Body.box(1, 1, position=(0.0, 2.0)),
+        ]
+    )
+    world = sim.World(scene, relax_iterations=relax)
+    start = world.positions
+    world.step(180)
+    assert np.abs(world.positions[:, 0] - start[:, 0]).max() < 1e-4
+    assert np.abs(world.angles).max() < 1e-3
+    assert world.positions[2, 1] == pytest.approx(1.5, abs=1e-4)
+
+
 def test_pyramid_20_stands_ten_seconds():
     world = sim.World(sim.scenes.pyramid(20))
     start = world.positions

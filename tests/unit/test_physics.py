@@ -263,6 +263,49 @@ def test_box_landing_across_a_gap_stays_centred(relax):
     assert world.positions[2, 1] == pytest.approx(1.5, abs=1e-4)
 
 
+#: measured (3 s): the most any box moved sideways when the falling box is that many times as heavy
+#: as each of the two below (pybullet at its 50 iterations: 0.24 / 2.2 mm; Box2D 2.3: 0.55 / 4.5 mm)
+HEAVY_LANDING_SLIDE = {20: 37.7e-3}
+
+
+@pytest.mark.parametrize(
+    "ratio",
+    [
+        pytest.param(
+            r,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason=(
+                    f"measured: a box {r} times as heavy as the two it lands on slides "
+                    f"{HEAVY_LANDING_SLIDE[r] * 1e3:.1f} mm sideways (5 times: 0.36 mm). Its "
+                    "contacts are hard (soft_step.HARD_RATIO), and hard batches get no impact "
+                    "sweeps: with them 1.1 mm, but a dropped 100:1 stack under sleep then keeps "
+                    "11 mm of overlap (docs/ARCHITECTURE.md section 2.3, 'Landings')"
+                ),
+            ),
+        )
+        if r in HEAVY_LANDING_SLIDE
+        else r
+        for r in (5, 20)
+    ],
+)
+def test_heavy_box_landing_across_a_gap_stays_centred(ratio):
+    # The same symmetric landing with the falling box ``ratio`` times as dense: the exact answer
+    # still moves nothing sideways. Within a millimetre (a thousandth of the box).
+    pitch = 1.125
+    scene = sim.Scene(
+        bodies=[
+            sim.Body.box(1, 1, position=(-pitch / 2, 0.5)),
+            sim.Body.box(1, 1, position=(pitch / 2, 0.5)),
+            sim.Body.box(1, 1, position=(0.0, 2.0), density=float(ratio)),
+        ]
+    )
+    world = sim.World(scene)
+    start = world.positions
+    world.step(180)
+    assert np.abs(world.positions[:, 0] - start[:, 0]).max() < 1e-3
+
+
 def test_pyramid_20_stands_ten_seconds():
     world = sim.World(sim.scenes.pyramid(20))
     start = world.positions

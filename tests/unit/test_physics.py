@@ -277,7 +277,8 @@ HEAVY_LANDING_SLIDE = {20: 37.7e-3}
                 strict=True,
                 reason=(
                     f"measured: a box {r} times as heavy as the two it lands on slides "
-                    f"{HEAVY_LANDING_SLIDE[r] * 1e3:.1f} mm sideways (5 times: 0.36 mm). Its "
+                    f"{HEAVY_LANDING_SLIDE[r] * 1e3:.1f} mm sideways (5 times: 0.36 mm): the "
+                    "inelastic landing bounces it 31 mm and squeezes a light box out. Its "
                     "contacts are hard (soft_step.HARD_RATIO), and hard batches get no impact "
                     "sweeps: with them 1.1 mm, but a dropped 100:1 stack under sleep then keeps "
                     "11 mm of overlap (docs/ARCHITECTURE.md section 2.3, 'Landings')"

@@ -217,6 +217,20 @@ def test_tall_box_tips_past_critical_angle(offset_deg, falls):
         assert world.positions[0, 1] == pytest.approx(h / 2, abs=0.006)
 
 
+def gap_landing(density=1.0):
+    """Two unit boxes on the floor 0.125 m apart and a third (``density`` times as dense) whose
+    bottom is 0.5 m above their tops, centred over the gap: it falls flat and lands on both at
+    once (3.1 m/s)."""
+    pitch = 1.125
+    return sim.Scene(
+        bodies=[
+            sim.Body.box(1, 1, position=(-pitch / 2, 0.5)),
+            sim.Body.box(1, 1, position=(pitch / 2, 0.5)),
+            sim.Body.box(1, 1, position=(0.0, 2.0), density=density),
+        ]
+    )
+
+
 #: measured (3 s): the most any box moved sideways, with that many relax sweeps per substep
 RELAX_SWEEPS_SLIDE = {2: 0.92e-3, 4: 0.77e-3, 16: 1.19e-3}
 
@@ -247,15 +261,7 @@ def test_box_landing_across_a_gap_stays_centred(relax):
     # lands on both at once; nothing pushes anything sideways, so every box ends where it started
     # in x and unturned. More sweeps of the solver must not break that: the relax sweeps are a
     # documented knob (World's relax_iterations).
-    pitch = 1.125
-    scene = sim.Scene(
-        bodies=[
-            sim.Body.box(1, 1, position=(-pitch / 2, 0.5)),
-            sim.Body.box(1, 1, position=(pitch / 2, 0.5)),
-            sim.Body.box(1, 1, position=(0.0, 2.0)),
-        ]
-    )
-    world = sim.World(scene, relax_iterations=relax)
+    world = sim.World(gap_landing(), relax_iterations=relax)
     start = world.positions
     world.step(180)
     assert np.abs(world.positions[:, 0] - start[:, 0]).max() < 1e-4
@@ -293,15 +299,7 @@ HEAVY_LANDING_SLIDE = {20: 37.7e-3}
 def test_heavy_box_landing_across_a_gap_stays_centred(ratio):
     # The same symmetric landing with the falling box ``ratio`` times as dense: the exact answer
     # still moves nothing sideways. Within a millimetre (a thousandth of the box).
-    pitch = 1.125
-    scene = sim.Scene(
-        bodies=[
-            sim.Body.box(1, 1, position=(-pitch / 2, 0.5)),
-            sim.Body.box(1, 1, position=(pitch / 2, 0.5)),
-            sim.Body.box(1, 1, position=(0.0, 2.0), density=float(ratio)),
-        ]
-    )
-    world = sim.World(scene)
+    world = sim.World(gap_landing(density=float(ratio)))
     start = world.positions
     world.step(180)
     assert np.abs(world.positions[:, 0] - start[:, 0]).max() < 1e-3

@@ -80,7 +80,7 @@ class World:
                             sideways with 1, 0.8-1.2 mm with 2-16; fig_tradeoff's landing 0.57 mm
                             from its rest pose with 1, 2.2-17 mm with 2-16). Raise
                             ``iterations`` instead (2-8: 0.40-0.50 mm; ``substeps`` 8: 0.30 mm,
-                            but 16: 6.4 mm; fig_tradeoff; docs/ARCHITECTURE.md section 2.3)
+                            but 16: 6.3 mm; fig_tradeoff; docs/ARCHITECTURE.md section 2.3)
       impact_iterations     more biased sweeps per substep, with friction rows, for the contacts
                             around an impact, in a step with one (a contact point approaching
                             faster than soft_step.IMPACT_SWEEP_SPEED, 1 m/s; default 8, 0

@@ -88,13 +88,21 @@ def signed_area(vertices):
     v = np.asarray(vertices, dtype=np.float64)
     v = v - v.mean(axis=0)  # about the polygon's own centre: far from the origin, the
     x, y = v[:, 0], v[:, 1]  # shoelace terms would cancel catastrophically
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    # elementwise products and numpy's own sums, never np.dot (see mass_properties)
+    return 0.5 * float((x * np.roll(y, -1)).sum() - (np.roll(x, -1) * y).sum())
 
 
 def mass_properties(vertices, density):
     """Mass (kg), centroid (m, shape (2,)) and moment of inertia about the centroid (kg m^2).
 
     Triangle fan from the first vertex, so that polygons far from the origin keep their precision.
+
+    No BLAS call (np.dot, ``@``): OpenBLAS picks its kernel by CPU, and its kernels round
+    differently (an AVX-512 one fuses the multiply and add of a 2-vector dot). A centroid a bit
+    off in its last place changed chaotic scenes: drop(30) piles settled differently on an Intel
+    AVX-512 machine than on an AMD one, and tests of which piles come to rest failed on one of
+    them. Elementwise arithmetic and numpy's sums round the same on every CPU
+    (tests/unit/test_determinism.py runs a pile under two OpenBLAS kernels).
     """
     v = np.asarray(vertices, dtype=np.float64)
     origin = v[0]
@@ -117,7 +125,8 @@ def mass_properties(vertices, density):
         )
     ).sum() / 12.0
     mass = density * area
-    inertia = density * i_origin - mass * float(centroid @ centroid)  # parallel axis theorem
+    c2 = float(centroid[0] * centroid[0] + centroid[1] * centroid[1])
+    inertia = density * i_origin - mass * c2  # parallel axis theorem
     return mass, centroid + origin, inertia
 
 

@@ -52,7 +52,8 @@ lean_kernel = njit(cache=True, error_model="numpy", _nrt=False)
 #: alone, where it saves ~20% of a sweep. Runs stay bit-identical on one machine (the same compiled
 #: code gives the same result every time); across machines, results agree bit for bit only when
 #: both CPUs have FMA (every x86-64 since 2013, every ARM64) and the same LLVM (pinned numba) is
-#: used. No other flag is set: no reassociation (sums keep their order, so vector width does not
-#: change a result) and no "no NaN" (a NaN must reach the divergence check, not be optimised away).
+#: used (and no result goes through BLAS: see ``geometry.mass_properties``). No other flag is
+#: set: no reassociation (sums keep their order, so vector width does not change a result) and no
+#: "no NaN" (a NaN must reach the divergence check, not be optimised away).
 wide_kernel = njit(cache=True, error_model="numpy", _nrt=False, fastmath={"contract"})
 wide_inline = njit(cache=True, error_model="numpy", inline="always", fastmath={"contract"})

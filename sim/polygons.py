@@ -163,8 +163,8 @@ def mass_properties_many(vertices, vert_start, density):
         d = density[index]
         mk = d * area
         mass[index] = mk
-        # np.vecdot reduces each row with the routine `c @ c` uses for one polygon (BLAS dot)
-        inertia[index] = d * i_origin - mk * np.vecdot(c, c)  # parallel axis theorem
+        c2 = c[:, 0] * c[:, 0] + c[:, 1] * c[:, 1]  # as geometry.mass_properties: no BLAS
+        inertia[index] = d * i_origin - mk * c2  # parallel axis theorem
         centroid[index] = c + origin
     return mass, centroid, inertia
 

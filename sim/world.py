@@ -495,18 +495,23 @@ class World:
         """Total kinetic energy, J (translational + rotational)."""
         v = self._bodies.velocity[: self.n_bodies]
         w = self._bodies.angular_velocity[: self.n_bodies]
-        return 0.5 * float(self.masses @ np.einsum("ij,ij->i", v, v) + self.inertias @ (w * w))
+        # numpy's sums, not BLAS dots: the same bits on every CPU (geometry.mass_properties)
+        v2 = v[:, 0] * v[:, 0] + v[:, 1] * v[:, 1]
+        return 0.5 * float((self.masses * v2).sum() + (self.inertias * (w * w)).sum())
 
     def potential_energy(self):
         """Gravitational potential energy relative to the origin, J."""
-        return -float(self.masses @ (self._bodies.position[: self.n_bodies] @ self._gravity))
+        p = self._bodies.position[: self.n_bodies]
+        g = self._gravity
+        return -float((self.masses * (p[:, 0] * g[0] + p[:, 1] * g[1])).sum())
 
     def vertices(self, i):
         """World vertices (K,2) of dynamic body ``i`` at the current pose, m."""
         b = self._bodies
         c, s = math.cos(b.angle[i]), math.sin(b.angle[i])
         local = b.local_verts[b.vert_start[i] : b.vert_start[i + 1]]
-        return local @ np.array([[c, s], [-s, c]]) + b.position[i]
+        x, y = local[:, 0], local[:, 1]
+        return np.stack([x * c - y * s, x * s + y * c], axis=1) + b.position[i]
 
     def _points(self):
         """Every point of this step's active contacts (see ``contacts``)."""

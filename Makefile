@@ -53,9 +53,6 @@ SCENE ?= seed_fig3
 SYSTEMS ?=
 CELL ?=
 
-# Results are never intermediate files: make must not delete results/data/*.csv after drawing.
-.SECONDARY:
-
 .PHONY: all venv lint test test-fast reproduce figures paper glance recordings trace trace-list lock \
         clean distclean $(ALL)
 
@@ -98,8 +95,13 @@ include $(DEPS)
 reproduce: paper recordings glance
 
 # Simulation: results/data/<name>.csv (+ .json) is rebuilt when its script or anything it imports
-# (the solver included) changes; the prerequisites beyond the script come from $(DEPS).
-$(DATA)/%.csv: experiments/%.py | $(STAMP)
+# (the solver included) changes, or when it is missing; the prerequisites beyond the script come
+# from $(DEPS). A static pattern rule, so that the data files are explicit targets, never
+# intermediate files: make neither deletes one after drawing its figure nor, if one is missing,
+# calls the figure (outside results/) up to date. (They were marked `.SECONDARY:` for the first,
+# which made every target secondary and gave the second: `rm -rf results` reran nothing.)
+DATA_FILES := $(foreach n,$(ALL),$(DATA)/$(n).csv)
+$(DATA_FILES): $(DATA)/%.csv: experiments/%.py | $(STAMP)
 	$(PY) -m experiments.$* $(QUICKFLAG)
 
 # Analysis: figures, tables and the numbers the paper quotes; never simulates.

@@ -56,16 +56,21 @@ def built_tree(tmp_path_factory):
     return results, paper, names
 
 
-def _rebuilt(built_tree, edited):
-    """(experiments rerun, analyses rerun) by `make -n figures` if ``edited`` were changed."""
+def _dry_run(built_tree, edited):
+    """What `make -n figures` prints if ``edited`` were changed."""
     results, paper, _ = built_tree
-    out = subprocess.run(
+    return subprocess.run(
         ["make", "-n", "-W", edited, f"RESULTS_DIR={results}", f"PAPER_OUT={paper}", "figures"],
         cwd=ROOT,
         capture_output=True,
         text=True,
         check=True,
     ).stdout
+
+
+def _rebuilt(built_tree, edited):
+    """(experiments rerun, analyses rerun) by `make -n figures` if ``edited`` were changed."""
+    out = _dry_run(built_tree, edited)
     return (
         set(re.findall(r"-m experiments\.(\w+)", out)),
         set(re.findall(r"-m analysis\.(\w+)", out)),
@@ -85,6 +90,24 @@ def test_an_edit_to_a_library_module_reruns_what_imports_it(built_tree):
         {"bench_freeze"},
         {"bench_freeze"},
     )
+
+
+def test_a_missing_data_file_is_rerun(built_tree):
+    # A data file deleted (or lost) while its figure exists is made again, and the figure redrawn:
+    # the figures live outside results/, so `rm -rf results && make reproduce` must rerun every
+    # experiment. Marked secondary (as every target was, by a bare `.SECONDARY:`) a missing one
+    # was not: make called the figure up to date and kept it, drawn from data no longer there.
+    # Nor may make delete the data file once the figure is drawn (as an intermediate file).
+    results, _, _ = built_tree
+    data = results / "data" / "bench_freeze.csv"
+    stamp = data.stat().st_mtime
+    data.unlink()
+    try:
+        assert _rebuilt(built_tree, "README.md") == ({"bench_freeze"}, {"bench_freeze"})
+        assert "rm " not in _dry_run(built_tree, "README.md")
+    finally:
+        data.write_text("")
+        os.utime(data, (stamp, stamp))
 
 
 def test_an_edit_to_the_solver_reruns_every_experiment(built_tree):

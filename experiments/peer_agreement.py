@@ -48,6 +48,7 @@ import sim
 from study.timing import timed
 from study.metadata import collect, write_results
 from study.peers import PybulletRunner, make_runner, solver_summary
+from study.scenarios import world_vertices
 
 NAME = "peer_agreement"
 DT = 1 / 60
@@ -101,14 +102,6 @@ def tipping_scene(offset_deg, width=0.5, height=2.0, friction=0.6):
         name=f"tipping_{label}",
         params={"offset_deg": offset_deg, "width": width, "height": height},
     )
-
-
-def world_vertices(scene, i, position, angle):
-    """World vertices (K,2) of scene body ``i`` with its centre of mass at ``position``."""
-    b = scene.bodies[i]
-    local = b.vertices - b.centroid
-    c, s = math.cos(angle), math.sin(angle)
-    return local @ np.array([[c, s], [-s, c]]) + np.asarray(position)
 
 
 # ---- cases: (label, scene, seconds, metrics) -----------------------------------------------------

@@ -130,6 +130,16 @@ def mass_properties(vertices, density):
     return mass, centroid + origin, inertia
 
 
+def place(local, position, angle):
+    """(K,2) m: body-frame points ``local`` (K,2) m turned by ``angle`` (rad) and moved to
+    ``position`` (m). Elementwise, not a matrix product: a BLAS call rounds by the CPU's kernel
+    (see ``mass_properties``), and poses compared across machines must agree bit for bit."""
+    v = np.asarray(local, dtype=np.float64)
+    c, s = math.cos(angle), math.sin(angle)
+    x, y = v[:, 0], v[:, 1]
+    return np.stack([x * c - y * s, x * s + y * c], axis=1) + np.asarray(position, dtype=np.float64)
+
+
 def edge_normals(vertices):
     """Outward unit normals (K, 2) of a CCW polygon's edges."""
     v = np.asarray(vertices, dtype=np.float64)

@@ -8,7 +8,6 @@ arrays the step loop works in (their sizes, and their growth when a step outgrow
 ``sim.reports`` the read-only reports (``contacts()``, ``inspect()``), ``sim.calls`` the call into
 the compiled step loop (Ctrl-C deferred, Numba's type dispatch skipped)."""
 
-import math
 import time
 
 import numpy as np
@@ -20,6 +19,7 @@ from .arguments import count, flag, positive
 from .activity import CAUSES, initial_activity
 from .broadphase import grid_buffers
 from .calls import Compiled, Deferred
+from . import geometry
 from .buffers import grown, new_bodies, new_contacts, new_geometry, new_solver
 from .clock import ticks_per_second
 from .contacts import sort_awake
@@ -508,10 +508,8 @@ class World:
     def vertices(self, i):
         """World vertices (K,2) of dynamic body ``i`` at the current pose, m."""
         b = self._bodies
-        c, s = math.cos(b.angle[i]), math.sin(b.angle[i])
         local = b.local_verts[b.vert_start[i] : b.vert_start[i + 1]]
-        x, y = local[:, 0], local[:, 1]
-        return np.stack([x * c - y * s, x * s + y * c], axis=1) + b.position[i]
+        return geometry.place(local, b.position[i], b.angle[i])
 
     def _points(self):
         """Every point of this step's active contacts (see ``contacts``)."""

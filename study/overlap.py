@@ -2,9 +2,9 @@
 system (fig_tradeoff, table_extremes): padding polygons to one vertex count, world vertices of a
 body, and the separating-axis separation of many polygon pairs at once (numpy, not the solver)."""
 
-import math
-
 import numpy as np
+
+from sim import geometry
 
 
 def pad(v, k):
@@ -15,9 +15,7 @@ def pad(v, k):
 
 def world_vertices(body):
     """(K,2) m: a sim.Body's vertices placed at its position and angle."""
-    c, s = math.cos(body.angle), math.sin(body.angle)
-    v = np.asarray(body.vertices, dtype=float)
-    return v @ np.array([[c, s], [-s, c]]) + np.asarray(body.position, dtype=float)
+    return geometry.place(body.vertices, body.position, body.angle)
 
 
 def separation(a, b):

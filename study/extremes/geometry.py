@@ -51,12 +51,11 @@ class Shapes:
 
     def energy(self, positions, velocities, angular_velocities):
         """(kinetic, potential relative to the floor) J."""
-        ke = 0.5 * float(
-            self.mass @ np.einsum("ij,ij->i", velocities, velocities)
-            + self.inertia @ (angular_velocities**2)
-        )
+        # numpy's sums, not BLAS products: the same bits on every CPU (sim.geometry.place)
+        v2 = velocities[:, 0] ** 2 + velocities[:, 1] ** 2
+        ke = 0.5 * float((self.mass * v2).sum() + (self.inertia * angular_velocities**2).sum())
         floor = 0.0 if self.floor_y is None else self.floor_y
-        pe = self.g * float(self.mass @ (positions[:, 1] - floor))
+        pe = self.g * float((self.mass * (positions[:, 1] - floor)).sum())
         return ke, pe
 
 
@@ -67,7 +66,7 @@ def thinnest_width(vertices):
     length = np.hypot(e[:, 0], e[:, 1])
     keep = length > 0
     n = np.stack([e[keep, 1], -e[keep, 0]], axis=1) / length[keep, None]
-    proj = n @ v.T  # (E, K)
+    proj = n[:, :1] * v[:, 0] + n[:, 1:] * v[:, 1]  # (E, K) m; elementwise, no BLAS
     return float((proj.max(axis=1) - proj.min(axis=1)).min())
 
 

@@ -6,10 +6,11 @@ and the geometry of a final pose (``wrap``, ``world_vertices``, ``bottom``, ``in
 
 from dataclasses import dataclass
 import inspect
-import math
 from typing import Callable
 
 import numpy as np
+
+from sim import geometry
 
 G = 9.81  # m/s^2, every scene's gravity (sim.Scene's default)
 ARRIVE_S = 3.5  # s, when a scheduled projectile reaches its target (see the package docstring)
@@ -97,9 +98,7 @@ def wrap(angle):
 def world_vertices(scene, i, position, angle):
     """(K,2) m: world vertices of dynamic body ``i`` with its centre of mass at ``position``."""
     body = scene.bodies[i]
-    local = body.vertices - body.centroid
-    c, s = math.cos(angle), math.sin(angle)
-    return local @ np.array([[c, s], [-s, c]]) + np.asarray(position, dtype=float)
+    return geometry.place(body.vertices - body.centroid, position, angle)
 
 
 def bottom(scene, positions, angles, i):

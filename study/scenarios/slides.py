@@ -136,8 +136,8 @@ def slope_creep_plank(acceleration=0.03, friction=0.5, width=1.2, height=0.25, s
 def _slope_measure(scene, p, a):
     """Distance slid down the slope as a fraction of a t^2 / 2."""
     theta = scene.params["theta_rad"]
-    down = np.array([math.cos(theta), -math.sin(theta)])
-    travelled = float((p[0] - np.asarray(scene.bodies[0].position)) @ down)
+    dx, dy = p[0] - np.asarray(scene.bodies[0].position)
+    travelled = float(dx * math.cos(theta) - dy * math.sin(theta))  # along the slope, down
     t = scene.params["seconds"]
     return travelled / (0.5 * scene.params["acceleration"] * t * t)
 

@@ -822,5 +822,7 @@ def test_transform_and_rotate(v, angle, shift):
     assert np.allclose(
         out, v @ naive.rotation(angle).T + shift, rtol=0.0, atol=1e-12 * coord_scale(v, out)
     )
+    # numpy's place (World.vertices, the study's overlaps) is the kernel's pose, bit for bit
+    np.testing.assert_array_equal(geometry.place(v, shift, angle), out)
     geometry.rotate(v, c, s, out)
     assert np.allclose(out, v @ naive.rotation(angle).T, rtol=0.0, atol=1e-12 * coord_scale(v))

@@ -502,8 +502,10 @@ class PybulletRunner:
         m = np.array(pb.getMatrixFromQuaternion(raw_orn[i].tolist()), dtype=np.float64).reshape(
             3, 3
         )
-        pts = np.stack([local[:, 0], np.zeros(len(local)), local[:, 1]], axis=1) @ m.T + raw_pos[i]
-        return pts[:, [0, 2]]
+        # the x and z rows of m applied to (x, 0, z), elementwise (no BLAS: sim.geometry.place)
+        x, z = local[:, 0], local[:, 1]
+        px, _, pz = raw_pos[i]
+        return np.stack([m[0, 0] * x + m[0, 2] * z + px, m[2, 0] * x + m[2, 2] * z + pz], axis=1)
 
     def contacts(self):
         """The contact points of the last step, as SimRunner.contacts gives them: {"point": (K,2)

@@ -265,7 +265,8 @@ class PymunkRunner:
             if not cps.points:
                 return
             n = np.array(cps.normal, dtype=np.float64)
-            share = -float(np.dot(np.array(arbiter.total_impulse), n)) / len(cps.points)
+            jx, jy = arbiter.total_impulse
+            share = -(jx * n[0] + jy * n[1]) / len(cps.points)  # elementwise: no BLAS
             for p in cps.points:
                 point.append(0.5 * (np.array(p.point_a) + np.array(p.point_b)))
                 normal.append(n)

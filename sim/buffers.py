@@ -106,6 +106,7 @@ def new_solver(n, n_contacts, max_degree, old=None):
         wide=aligned((batches * soft_step.STRIDE,)),
         lane_row=np.zeros(batches * 2 * soft_step.LANES, np.uint64),
         lane_slot=np.full(batches * soft_step.LANES, -1, np.int64),
+        batch_kind=np.zeros(batches, np.uint8),
         batch_hard=np.zeros(batches, bool),
         batch_impact=np.zeros(batches, bool),
         batch_deep=np.zeros(batches, bool),

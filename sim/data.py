@@ -273,6 +273,7 @@ class Solver(NamedTuple):
     wide: np.ndarray  # flat float64: constraint batches (see sim/soft_step/layout.py)
     lane_row: np.ndarray  # flat uint64: solver rows of each lane's bodies A, B
     lane_slot: np.ndarray  # flat int64: contact slot of each lane, -1 padding
+    batch_kind: np.ndarray  # (B,) uint8: MOVABLE or FIXED_A (soft_step/layout.py)
     batch_hard: np.ndarray  # (B,) bool: the batch touches a body in a high mass ratio contact
     batch_impact: np.ndarray  # (B,) bool: the batch touches a body in an impact this step
     batch_deep: np.ndarray  # (B,) bool: the batch touches a body in a deep contact this step

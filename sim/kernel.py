@@ -235,7 +235,14 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
             h,
         )
         t = _lap(settings, solver, STAGE_INTEGRATE, t)
-        warm_start(n_batches, solver.wide, solver.lane_row, solver.state)
+        warm_start(
+            n_colours,
+            solver.colour_batches,
+            solver.wide,
+            solver.lane_row,
+            solver.state,
+            solver.batch_kind,
+        )
         t = _lap(settings, solver, STAGE_WARM_START, t)
         for _ in range(settings.iterations):
             solve(
@@ -244,6 +251,7 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
                 solver.wide,
                 solver.lane_row,
                 solver.state,
+                solver.batch_kind,
                 inv_h,
                 settings.push_speed,
             )
@@ -272,6 +280,7 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
                 solver.wide,
                 solver.lane_row,
                 solver.state,
+                solver.batch_kind,
                 inv_h,
                 settings.fast_friction,
             )
@@ -469,6 +478,7 @@ def presolve(
                 solver.wide,
                 solver.lane_row,
                 solver.state,
+                solver.batch_kind,
                 1.0 / h,
                 False,
             )

@@ -69,6 +69,8 @@ class Inspection:
                            order the sweeps solve them (body_a = -1: the floor)
       lanes                soft_step.LANES
       batch_fill           fraction of the batch lanes that hold a contact
+      batch_kinds          (n_batches,) soft_step layout.MOVABLE or FIXED_A of each batch (FIXED_A:
+                           body A of every lane cannot move, and the sweeps leave its terms out)
       resting_rebuilds     how many times the resting grid was rebuilt since the start
       presolve_sweeps      sweeps the initial-impulse solve took
       regrown              how many times a buffer the step loop outgrew was grown
@@ -107,6 +109,7 @@ class Inspection:
         self.pair_colour = pair_colours(solver, contacts.contact_int, self.n_colours)
         self.lanes = soft_step.LANES
         self.batch_fill = self.n_active / (self.n_batches * self.lanes) if self.n_batches else 1.0
+        self.batch_kinds = solver.batch_kind[: self.n_batches].copy()
         self.resting_rebuilds = int(c[D.N_REBUILDS])
         self.presolve_sweeps = int(c[D.PRESOLVE_SWEEPS])
         self.regrown = regrown

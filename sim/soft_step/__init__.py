@@ -36,6 +36,8 @@ colour share a body that can move (static and frozen bodies and the floor are a 
 nothing writes, and use no colour). Each colour is cut into batches of LANES contacts, stored
 field by field in one flat array (``wide``): the solver gathers the batch's body rows into the
 batch, computes all lanes at once (packed vector instructions), and scatters the velocities back.
+A batch whose every lane's body A cannot move (the floor) is swept with A's exact-zero terms left
+out (``layout.FIXED_A``; ``batches``, FIXED SIDE): the same numbers, fewer operations and fields.
 
 The package, one stage per module (the order of a step):
 

@@ -12,6 +12,7 @@ from .layout import (
     DPBX,
     DPBY,
     E,
+    FIXED_A,
     IA,
     IB,
     IMPULSE_SCALE,
@@ -62,15 +63,27 @@ from .layout import (
 from .parameters import MAX_CONDITION, RESTITUTION_SWEEPS
 
 
+#: FIXED SIDE. The sweeps take a compile-time flag ``fa``: body A of every lane of the batch
+#: cannot move (``layout.FIXED_A``: the floor, which is A of its pairs). Its velocity, inverse
+#: mass and inertia are exact zeros, so every term they enter is an exact zero, and leaving those
+#: terms out gives the same numbers (up to the sign of a zero result; ``test_fixed_sides`` checks
+#: each kernel to the bit): the batch's A fields (masses, lever arms, gathered velocities) are
+#: then never read or written. Each sweep is compiled twice over and LLVM removes the branches on
+#: the flag. Not done for B (a static body): there the shorter sums came out in another order
+#: under fused multiply-adds (the last bit of an impulse, in 1 of 8 lanes); nor in ``arms``,
+#: where a product shared by A's and B's arms is fused into B's once A's are left out.
+
+
 @wide_inline
-def _gather_velocities(wide, o, lane_row, ob, state):
+def _gather_velocities(wide, o, lane_row, ob, state, fa):
     """The batch's body velocities into its fields (what the sweeps change)."""
     for l in range(LANES_U):
-        ra = lane_row[ob + l]
+        if not fa:
+            ra = lane_row[ob + l]
+            wide[o + VAX + l] = state[ra, VX]
+            wide[o + VAY + l] = state[ra, VY]
+            wide[o + WA + l] = state[ra, W]
         rb = lane_row[ob + LANES_U + l]
-        wide[o + VAX + l] = state[ra, VX]
-        wide[o + VAY + l] = state[ra, VY]
-        wide[o + WA + l] = state[ra, W]
         wide[o + VBX + l] = state[rb, VX]
         wide[o + VBY + l] = state[rb, VY]
         wide[o + WB + l] = state[rb, W]
@@ -93,16 +106,17 @@ def _gather_poses(wide, o, lane_row, ob, state):
 
 
 @wide_inline
-def _scatter(wide, o, lane_row, ob, state):
+def _scatter(wide, o, lane_row, ob, state, fa):
     """The batch's new velocities back into the body rows. Lanes of one colour share no movable
     body; the dummy row 0 is written by several lanes, all with its unchanged zeros (a zero mass
     never changes a velocity)."""
     for l in range(LANES_U):
-        ra = lane_row[ob + l]
+        if not fa:
+            ra = lane_row[ob + l]
+            state[ra, VX] = wide[o + VAX + l]
+            state[ra, VY] = wide[o + VAY + l]
+            state[ra, W] = wide[o + WA + l]
         rb = lane_row[ob + LANES_U + l]
-        state[ra, VX] = wide[o + VAX + l]
-        state[ra, VY] = wide[o + VAY + l]
-        state[ra, W] = wide[o + WA + l]
         state[rb, VX] = wide[o + VBX + l]
         state[rb, VY] = wide[o + VBY + l]
         state[rb, W] = wide[o + WB + l]
@@ -122,26 +136,44 @@ def _fmin(a, b):
 
 
 @wide_inline
-def _apply(wide, o, l, d, dirx, diry, rca, rcb):
+def _apply(wide, o, l, d, dirx, diry, rca, rcb, fa):
     """Impulse d along (dirx, diry) on B and its reaction on A, at arms whose cross products with
     the direction are rca (A's) and rcb (B's), into the batch's velocity fields."""
-    wide[o + VAX + l] -= wide[o + MA + l] * d * dirx
-    wide[o + VAY + l] -= wide[o + MA + l] * d * diry
-    wide[o + WA + l] -= wide[o + IA + l] * d * rca
+    if not fa:
+        wide[o + VAX + l] -= wide[o + MA + l] * d * dirx
+        wide[o + VAY + l] -= wide[o + MA + l] * d * diry
+        wide[o + WA + l] -= wide[o + IA + l] * d * rca
     wide[o + VBX + l] += wide[o + MB + l] * d * dirx
     wide[o + VBY + l] += wide[o + MB + l] * d * diry
     wide[o + WB + l] += wide[o + IB + l] * d * rcb
 
 
 @wide_inline
-def _relative_velocity(wide, o, l, dirx, diry, rca, rcb):
+def _relative_velocity(wide, o, l, dirx, diry, rca, rcb, fa):
     """B's contact point's velocity minus A's along (dirx, diry): (vB - vA) . dir + wB rcb - wA rca
-    (w x r . dir = w (r x dir))."""
+    (w x r . dir = w (r x dir)); a fixed A's (zero) terms left out (FIXED SIDE)."""
+    if fa:
+        return wide[o + VBX + l] * dirx + wide[o + VBY + l] * diry + wide[o + WB + l] * rcb
     return (
         (wide[o + VBX + l] - wide[o + VAX + l]) * dirx
         + (wide[o + VBY + l] - wide[o + VAY + l]) * diry
         + wide[o + WB + l] * rcb
         - wide[o + WA + l] * rca
+    )
+
+
+@wide_inline
+def _mass_term(wide, o, l, ra1, ra2, rb1, rb2, fa):
+    """mA + mB + iA ra1 ra2 + iB rb1 rb2: with ra1 = ra2, rb1 = rb2 the inverse effective mass of
+    one row (arms crossed with its direction), else the coupling of two rows; a fixed A's (zero)
+    terms left out (FIXED SIDE)."""
+    if fa:
+        return wide[o + MB + l] + wide[o + IB + l] * rb1 * rb2
+    return (
+        wide[o + MA + l]
+        + wide[o + MB + l]
+        + wide[o + IA + l] * ra1 * ra2
+        + wide[o + IB + l] * rb1 * rb2
     )
 
 
@@ -239,29 +271,66 @@ def arms(n_batches, wide, lane_row, state):
 
 
 @wide_inline
-def _warm_point(wide, o, l, p, nx, ny):
+def _arm(wide, o, l, field, fixed):
+    """A lever arm's cross product from the batch, or 0 for a fixed side (FIXED SIDE: never
+    read then, as every term it enters is left out)."""
+    return 0.0 if fixed else wide[o + field + l]
+
+
+@wide_inline
+def _warm_point(wide, o, l, p, nx, ny, fa):
     pn = wide[o + p + PN1 + l]
     pt = wide[o + p + PT1 + l]
     wide[o + p + TN1 + l] += pn  # TOTALS
     wide[o + p + TT1 + l] += pt
     # the normal and the friction impulse each on its own line (see line_arms)
-    _apply(wide, o, l, pn, nx, ny, wide[o + p + RNA1 + l], wide[o + p + RNB1 + l])
-    _apply(wide, o, l, pt, ny, -nx, wide[o + p + RTA1 + l], wide[o + p + RTB1 + l])
+    rna = _arm(wide, o, l, p + RNA1, fa)
+    rnb = wide[o + p + RNB1 + l]
+    rta = _arm(wide, o, l, p + RTA1, fa)
+    rtb = wide[o + p + RTB1 + l]
+    _apply(wide, o, l, pn, nx, ny, rna, rnb, fa)
+    _apply(wide, o, l, pt, ny, -nx, rta, rtb, fa)
 
 
 @wide_kernel
-def warm_start(n_batches, wide, lane_row, state):
-    """Apply each point's accumulated impulses (normal and friction) from the last substep."""
-    for b in range(U64(n_batches)):
-        o = b * STRIDE_U
-        ob = b * U64(2) * LANES_U
-        _gather_velocities(wide, o, lane_row, ob, state)
-        for l in range(LANES_U):
-            nx = wide[o + NX + l]
-            ny = wide[o + NY + l]
-            _warm_point(wide, o, l, U64(0), nx, ny)
-            _warm_point(wide, o, l, POINT2, nx, ny)
-        _scatter(wide, o, lane_row, ob, state)
+def warm_start(n_colours, colour_batches, wide, lane_row, state, batch_kind):
+    """Apply each point's accumulated impulses (normal and friction) from the last substep,
+    colour by colour (the order of the additions to a body's velocity is the batches' order:
+    see _by_kind)."""
+    for c in range(n_colours):
+        first = U64(colour_batches[c])
+        last = U64(colour_batches[c + 1])
+        for b in range(first, last):
+            if _of_kind(batch_kind, b, False):
+                _warm_batch(wide, b, lane_row, state, False)
+        for b in range(first, last):
+            if _of_kind(batch_kind, b, True):
+                _warm_batch(wide, b, lane_row, state, True)
+
+
+@wide_inline
+def _of_kind(batch_kind, b, fa):
+    """Is batch b FIXED_A (``fa``) or MOVABLE (not ``fa``)?
+
+    _by_kind. A sweep goes colour by colour, and in each colour first over the MOVABLE batches,
+    then over the FIXED_A ones, each in a loop of its own: dispatched batch by batch in one loop
+    instead, pyramid(40)'s step (nearly all MOVABLE) was 3-5% slower. Within a colour no two
+    lanes share a body the solver moves, so the order of its batches changes no number; across
+    colours the order stays the colours'."""
+    return (batch_kind[b] == FIXED_A) == fa
+
+
+@wide_inline
+def _warm_batch(wide, b, lane_row, state, fa):
+    o = b * STRIDE_U
+    ob = b * U64(2) * LANES_U
+    _gather_velocities(wide, o, lane_row, ob, state, fa)
+    for l in range(LANES_U):
+        nx = wide[o + NX + l]
+        ny = wide[o + NY + l]
+        _warm_point(wide, o, l, U64(0), nx, ny, fa)
+        _warm_point(wide, o, l, POINT2, nx, ny, fa)
+    _scatter(wide, o, lane_row, ob, state, fa)
 
 
 @wide_inline
@@ -277,7 +346,7 @@ def _bias(s, inv_h, push, use_bias, mass_scale, bias_rate, impulse_scale):
 
 
 @wide_inline
-def _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias):
+def _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias, fa):
     """Both points' non-penetration rows of a lane.
 
     Solved point by point, the first point's impulse turns the body before the second is
@@ -293,22 +362,18 @@ def _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias):
     isc = wide[o + IMPULSE_SCALE + l]
     b1, m1, i1 = _bias(wide[o + SEP1 + l], inv_h, push, use_bias, ms, br, isc)
     b2, m2, i2 = _bias(wide[o + SEP2 + l], inv_h, push, use_bias, ms, br, isc)
-    rn1a = wide[o + RNA1 + l]
+    rn1a = _arm(wide, o, l, RNA1, fa)
     rn1b = wide[o + RNB1 + l]
-    rn2a = wide[o + RNA2 + l]
+    rn2a = _arm(wide, o, l, RNA2, fa)
     rn2b = wide[o + RNB2 + l]
-    vn1 = _relative_velocity(wide, o, l, nx, ny, rn1a, rn1b)
-    vn2 = _relative_velocity(wide, o, l, nx, ny, rn2a, rn2b)
+    vn1 = _relative_velocity(wide, o, l, nx, ny, rn1a, rn1b, fa)
+    vn2 = _relative_velocity(wide, o, l, nx, ny, rn2a, rn2b, fa)
     # the normal-mass matrix K of these arms (the arms move with the bodies: masses computed once
     # at the start of the step would not match them, and a fast body's collision gained energy)
-    ma = wide[o + MA + l]
-    mb = wide[o + MB + l]
-    ia = wide[o + IA + l]
-    ib = wide[o + IB + l]
     real2 = wide[o + ON2 + l] > 0.0  # a second point (else the lane has one)
-    k11 = ma + mb + ia * rn1a * rn1a + ib * rn1b * rn1b
-    k22 = ma + mb + ia * rn2a * rn2a + ib * rn2b * rn2b
-    k12 = ma + mb + ia * rn1a * rn2a + ib * rn1b * rn2b
+    k11 = _mass_term(wide, o, l, rn1a, rn1a, rn1b, rn1b, fa)
+    k22 = _mass_term(wide, o, l, rn2a, rn2a, rn2b, rn2b, fa)
+    k12 = _mass_term(wide, o, l, rn1a, rn2a, rn1b, rn2b, fa)
     nm1 = 1.0 / k11 if k11 > 0.0 else 0.0
     nm2 = 1.0 / k22 if (k22 > 0.0 and real2) else 0.0
     det = k11 * k22 - k12 * k12
@@ -331,28 +396,23 @@ def _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias):
     new2 = x2 if block else y2
     wide[o + PN1 + l] = new1
     wide[o + PN2 + l] = new2
-    _apply(wide, o, l, new1 - old1, nx, ny, rn1a, rn1b)
-    _apply(wide, o, l, new2 - old2, nx, ny, rn2a, rn2b)
+    _apply(wide, o, l, new1 - old1, nx, ny, rn1a, rn1b, fa)
+    _apply(wide, o, l, new2 - old2, nx, ny, rn2a, rn2b, fa)
 
 
 @wide_inline
-def _friction_point(wide, o, l, p, nx, ny):
+def _friction_point(wide, o, l, p, nx, ny, fa):
     """One point's Coulomb friction row, bounded by its current normal impulse."""
-    rta = wide[o + p + RTA1 + l]
+    rta = _arm(wide, o, l, p + RTA1, fa)
     rtb = wide[o + p + RTB1 + l]
-    vt = _relative_velocity(wide, o, l, ny, -nx, rta, rtb)
-    k = (
-        wide[o + MA + l]
-        + wide[o + MB + l]
-        + wide[o + IA + l] * rta * rta
-        + wide[o + IB + l] * rtb * rtb
-    )
+    vt = _relative_velocity(wide, o, l, ny, -nx, rta, rtb, fa)
+    k = _mass_term(wide, o, l, rta, rta, rtb, rtb, fa)
     tm = 1.0 / k if (k > 0.0 and wide[o + p + ON1 + l] > 0.0) else 0.0
     old = wide[o + p + PT1 + l]
     limit = wide[o + MU + l] * wide[o + p + PN1 + l]
     new = _fmin(limit, _fmax(-limit, old - tm * vt))
     wide[o + p + PT1 + l] = new
-    _apply(wide, o, l, new - old, ny, -nx, rta, rtb)
+    _apply(wide, o, l, new - old, ny, -nx, rta, rtb, fa)
 
 
 @wide_inline
@@ -366,74 +426,62 @@ def _frictionless(wide, o):
 
 
 @wide_inline
-def _solve_batches(
-    first,
-    last,
-    wide,
-    lane_row,
-    state,
-    inv_h,
-    push,
-    use_bias,
-    friction,
-    skip_frictionless,
-    only_flagged,
-    flags,
-):
-    for b in range(U64(first), U64(last)):
-        if only_flagged and not flags[b]:
-            continue
-        o = b * STRIDE_U
-        ob = b * U64(2) * LANES_U
-        _gather_velocities(wide, o, lane_row, ob, state)
-        # friction first, bounded by the normal impulses so far; the normal rows last, so that
-        # the turn a friction impulse gives a body (it acts below the centre of mass) is taken out
-        # before the positions move: solved after the normal rows, the impulse that stops a
-        # sliding box tipped it onto its front edge, and it rocked back for a second
-        if friction and not (skip_frictionless and _frictionless(wide, o)):
-            for l in range(LANES_U):
-                nx = wide[o + NX + l]
-                ny = wide[o + NY + l]
-                _friction_point(wide, o, l, U64(0), nx, ny)
-                _friction_point(wide, o, l, POINT2, nx, ny)
+def _solve_batch(wide, b, lane_row, state, inv_h, push, rows, fa):
+    """One batch's rows. ``rows``: (use_bias, friction, skip_frictionless), see _sweep."""
+    use_bias, friction, skip_frictionless = rows
+    o = b * STRIDE_U
+    ob = b * U64(2) * LANES_U
+    _gather_velocities(wide, o, lane_row, ob, state, fa)
+    # friction first, bounded by the normal impulses so far; the normal rows last, so that
+    # the turn a friction impulse gives a body (it acts below the centre of mass) is taken out
+    # before the positions move: solved after the normal rows, the impulse that stops a
+    # sliding box tipped it onto its front edge, and it rocked back for a second
+    if friction and not (skip_frictionless and _frictionless(wide, o)):
         for l in range(LANES_U):
             nx = wide[o + NX + l]
             ny = wide[o + NY + l]
-            _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias)
-        _scatter(wide, o, lane_row, ob, state)
+            _friction_point(wide, o, l, U64(0), nx, ny, fa)
+            _friction_point(wide, o, l, POINT2, nx, ny, fa)
+    for l in range(LANES_U):
+        nx = wide[o + NX + l]
+        ny = wide[o + NY + l]
+        _normal_rows(wide, o, l, nx, ny, inv_h, push, use_bias, fa)
+    _scatter(wide, o, lane_row, ob, state, fa)
 
 
 @wide_inline
-def _sweep(
-    n_colours, colour_batches, wide, lane_row, state, inv_h, push, rows, only_flagged, flags
-):
-    """One sweep over every batch, colour by colour (only those ``flags`` marks when
-    ``only_flagged``). ``rows``: (use_bias, friction, skip_frictionless), see _solve_batches."""
-    use_bias, friction, skip = rows
+def _sweep(n_colours, colour_batches, wide, lane_row, state, batch_kind, inv_h, push, rows):
+    """One sweep over every batch, colour by colour, and in each colour over its MOVABLE, then
+    its FIXED_A batches (_by_kind). ``rows``: (use_bias, friction, skip_frictionless): the soft
+    bias, the friction rows, and the "friction" fast path (``_frictionless``)."""
     for c in range(n_colours):
-        _solve_batches(
-            colour_batches[c],
-            colour_batches[c + 1],
-            wide,
-            lane_row,
-            state,
-            inv_h,
-            push,
-            use_bias,
-            friction,
-            skip,
-            only_flagged,
-            flags,
-        )
+        first = U64(colour_batches[c])
+        last = U64(colour_batches[c + 1])
+        for b in range(first, last):
+            if _of_kind(batch_kind, b, False):
+                _solve_batch(wide, b, lane_row, state, inv_h, push, rows, False)
+        for b in range(first, last):
+            if _of_kind(batch_kind, b, True):
+                _solve_batch(wide, b, lane_row, state, inv_h, push, rows, True)
+
+
+@wide_inline
+def _flagged_sweep(n_colours, colour_batches, wide, lane_row, state, inv_h, push, rows, flags):
+    """One sweep over the batches ``flags`` marks, colour by colour, all with the general rows:
+    these sweeps (few batches, in a few steps) are compiled once, not once per kind."""
+    for c in range(n_colours):
+        for b in range(U64(colour_batches[c]), U64(colour_batches[c + 1])):
+            if flags[b]:
+                _solve_batch(wide, b, lane_row, state, inv_h, push, rows, False)
 
 
 @wide_kernel
-def solve(n_colours, colour_batches, wide, lane_row, state, inv_h, push):
+def solve(n_colours, colour_batches, wide, lane_row, state, batch_kind, inv_h, push):
     """One biased sweep over every batch, colour by colour: normal rows only (friction is solved
     in the relax sweeps, as Box2D v3 does: with it here too a sweep cost ~40% more, and no
     test of the physics got better)."""
     rows = (True, False, False)
-    _sweep(n_colours, colour_batches, wide, lane_row, state, inv_h, push, rows, False, lane_row)
+    _sweep(n_colours, colour_batches, wide, lane_row, state, batch_kind, inv_h, push, rows)
 
 
 @wide_kernel
@@ -441,15 +489,17 @@ def solve_impact(n_colours, colour_batches, wide, lane_row, state, inv_h, push, 
     """One more biased sweep, with friction rows, over the batches flagged as touching a body in an
     impact (see IMPACT_SWEEP_SPEED)."""
     rows = (True, True, False)
-    _sweep(n_colours, colour_batches, wide, lane_row, state, inv_h, push, rows, True, batch_impact)
+    _flagged_sweep(
+        n_colours, colour_batches, wide, lane_row, state, inv_h, push, rows, batch_impact
+    )
 
 
 @wide_kernel
-def relax(n_colours, colour_batches, wide, lane_row, state, inv_h, skip_frictionless):
+def relax(n_colours, colour_batches, wide, lane_row, state, batch_kind, inv_h, skip_frictionless):
     """One unbiased sweep (normal and friction rows): removes the bias velocity.
     ``skip_frictionless``: the "friction" fast path (see ``_frictionless``)."""
     rows = (False, True, skip_frictionless)
-    _sweep(n_colours, colour_batches, wide, lane_row, state, inv_h, 0.0, rows, False, lane_row)
+    _sweep(n_colours, colour_batches, wide, lane_row, state, batch_kind, inv_h, 0.0, rows)
 
 
 @wide_kernel
@@ -458,7 +508,7 @@ def relax_hard(
 ):
     """One more unbiased sweep over the batches flagged hard only (see HARD_RATIO)."""
     rows = (False, True, skip_frictionless)
-    _sweep(n_colours, colour_batches, wide, lane_row, state, inv_h, 0.0, rows, True, batch_hard)
+    _flagged_sweep(n_colours, colour_batches, wide, lane_row, state, inv_h, 0.0, rows, batch_hard)
 
 
 @wide_inline
@@ -473,11 +523,11 @@ def _restitution_point(wide, o, l, p, nx, ny, threshold):
         mass = 0.0
     rna = wide[o + p + RNA1 + l]
     rnb = wide[o + p + RNB1 + l]
-    vn = _relative_velocity(wide, o, l, nx, ny, rna, rnb)
+    vn = _relative_velocity(wide, o, l, nx, ny, rna, rnb, False)
     old = wide[o + p + PN1 + l]
     new = _fmax(0.0, old - mass * (vn + e * relv))
     wide[o + p + PN1 + l] = new
-    _apply(wide, o, l, new - old, nx, ny, rna, rnb)
+    _apply(wide, o, l, new - old, nx, ny, rna, rnb, False)
 
 
 @wide_kernel
@@ -501,13 +551,13 @@ def _restitution_sweep(n_colours, colour_batches, wide, lane_row, state, thresho
             if not bouncy:
                 continue
             ob = b * U64(2) * LANES_U
-            _gather_velocities(wide, o, lane_row, ob, state)
+            _gather_velocities(wide, o, lane_row, ob, state, False)
             for l in range(LANES_U):
                 nx = wide[o + NX + l]
                 ny = wide[o + NY + l]
                 _restitution_point(wide, o, l, U64(0), nx, ny, threshold)
                 _restitution_point(wide, o, l, POINT2, nx, ny, threshold)
-            _scatter(wide, o, lane_row, ob, state)
+            _scatter(wide, o, lane_row, ob, state, False)
 
 
 @wide_kernel

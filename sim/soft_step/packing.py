@@ -36,6 +36,7 @@ from .layout import (
     BASE1,
     BIAS_RATE,
     E,
+    FIXED_A,
     IA,
     IB,
     IMPULSE_SCALE,
@@ -43,6 +44,7 @@ from .layout import (
     LANES_U,
     LN1,
     MA,
+    MOVABLE,
     MASS_SCALE,
     MB,
     MU,
@@ -212,6 +214,8 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
             wide[o + BIAS_RATE + l] = bias_rate
             wide[o + MASS_SCALE + l] = mass_scale
             wide[o + IMPULSE_SCALE + l] = impulse_scale
+        if not kept:  # else the rows and masses are the step before's, and so is the kind
+            solver.batch_kind[b] = _kind(wide, o, solver.lane_row, U64(2 * b * LANES))
     n_batches = counters[N_BATCHES]
     # no contact can be hard without mixed masses (validation.mixed_masses)
     found = settings.mixed_masses and _mark_hard_rows(n_batches, wide, solver)
@@ -225,6 +229,24 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
     if counters[N_HARD] > 0:
         counters[N_IMPACT_BATCHES] -= _unflag_hard(n_batches, solver, solver.batch_impact)
         counters[N_DEEP_BATCHES] -= _unflag_hard(n_batches, solver, solver.batch_deep)
+
+
+@inline_kernel
+def _fixed(wide, o, lane_row, ob, mass, inertia):
+    """Is one side (its lane rows from ``ob``, its inverse mass and inertia fields ``mass``,
+    ``inertia``) of every lane of the batch at ``o`` immovable: the dummy row 0, zero mass and
+    inertia? (Padding lanes are.)"""
+    for lane in range(LANES):
+        l = U64(lane)
+        if lane_row[ob + l] != 0 or wide[o + mass + l] != 0.0 or wide[o + inertia + l] != 0.0:
+            return False
+    return True
+
+
+@inline_kernel
+def _kind(wide, o, lane_row, ob):
+    """The batch's kind (layout.MOVABLE, FIXED_A; see there)."""
+    return FIXED_A if _fixed(wide, o, lane_row, ob, MA, IA) else MOVABLE
 
 
 @inline_kernel

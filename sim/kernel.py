@@ -271,7 +271,7 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
         t = _lap(settings, solver, STAGE_SOLVE, t)
         integrate_positions(n_awake, solver.state, h)
         t = _lap(settings, solver, STAGE_INTEGRATE, t)
-        arms(n_batches, solver.wide, solver.lane_row, solver.state)
+        arms(n_batches, solver.wide, solver.lane_row, solver.state, solver.batch_kind)
         t = _lap(settings, solver, STAGE_ARMS, t)
         for _ in range(settings.relax_iterations):
             relax(

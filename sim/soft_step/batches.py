@@ -13,6 +13,7 @@ from .layout import (
     DPBY,
     E,
     FIXED_A,
+    G0,
     IA,
     IB,
     IMPULSE_SCALE,
@@ -63,15 +64,17 @@ from .layout import (
 from .parameters import MAX_CONDITION, RESTITUTION_SWEEPS
 
 
-#: FIXED SIDE. The sweeps take a compile-time flag ``fa``: body A of every lane of the batch
-#: cannot move (``layout.FIXED_A``: the floor, which is A of its pairs). Its velocity, inverse
-#: mass and inertia are exact zeros, so every term they enter is an exact zero, and leaving those
-#: terms out gives the same numbers (up to the sign of a zero result; ``test_fixed_sides`` checks
-#: each kernel to the bit): the batch's A fields (masses, lever arms, gathered velocities) are
-#: then never read or written. Each sweep is compiled twice over and LLVM removes the branches on
-#: the flag. Not done for B (a static body): there the shorter sums came out in another order
-#: under fused multiply-adds (the last bit of an impulse, in 1 of 8 lanes); nor in ``arms``,
-#: where a product shared by A's and B's arms is fused into B's once A's are left out.
+#: FIXED SIDE. The sweeps and the arms pass take a compile-time flag ``fa``: body A of every lane
+#: of the batch cannot move (``layout.FIXED_A``: the floor, which is A of its pairs). Its
+#: velocity, displacement, inverse mass and inertia are exact zeros and its rotation the
+#: identity, so every term they enter is an exact zero or leaves the other factor unchanged, and
+#: leaving those terms out gives the same numbers (up to the sign of a zero result;
+#: ``test_fixed_sides`` checks each kernel to the bit): the batch's A fields (masses, lever arms,
+#: gathered rows) are then never read or written. Each such kernel is compiled twice over and
+#: LLVM removes the branches on the flag. Not done for B (a static body): there the shorter sums
+#: came out in another order under fused multiply-adds (the last bit of an impulse, in 1 of 8
+#: lanes). The flagged sweeps and restitution keep the general rows on every batch (on a FIXED_A
+#: batch they read A's arms as ``prepare`` left them, finite, times A's zero masses).
 
 
 @wide_inline
@@ -90,15 +93,16 @@ def _gather_velocities(wide, o, lane_row, ob, state, fa):
 
 
 @wide_inline
-def _gather_poses(wide, o, lane_row, ob, state):
+def _gather_poses(wide, o, lane_row, ob, state, fa):
     """The batch's body displacements and rotations so far into its fields (``arms``)."""
     for l in range(LANES_U):
-        ra = lane_row[ob + l]
+        if not fa:
+            ra = lane_row[ob + l]
+            wide[o + DPAX + l] = state[ra, DPX]
+            wide[o + DPAY + l] = state[ra, DPY]
+            wide[o + QCA + l] = state[ra, DQC]
+            wide[o + QSA + l] = state[ra, DQS]
         rb = lane_row[ob + LANES_U + l]
-        wide[o + DPAX + l] = state[ra, DPX]
-        wide[o + DPAY + l] = state[ra, DPY]
-        wide[o + QCA + l] = state[ra, DQC]
-        wide[o + QSA + l] = state[ra, DQS]
         wide[o + DPBX + l] = state[rb, DPX]
         wide[o + DPBY + l] = state[rb, DPY]
         wide[o + QCB + l] = state[rb, DQC]
@@ -178,28 +182,37 @@ def _mass_term(wide, o, l, ra1, ra2, rb1, rb2, fa):
 
 
 @wide_inline
-def _moved_anchors(wide, o, l, p, nx, ny):
+def _moved_anchors(wide, o, l, p, nx, ny, fa):
     """Point p's anchors turned with their bodies, and where B's moved anchor lies from A's.
 
     Each anchor sits on its own body's surface (``contacts``) and has moved with its body this
     step (displacement dp, rotation dq): the separation is measured between the moved anchors.
     Returns (sax, say, sbx, sby, ox, oy, dx, dy): the turned anchors; B's moved anchor minus A's,
     minus their offset at the start (its projection on the normal, added to the start separation,
-    is the separation now); and B's moved anchor minus A's."""
+    is the separation now); and B's moved anchor minus A's. A fixed A (FIXED SIDE) has not
+    moved: its anchor is where it was (1 rax - 0 ray is rax), its displacement zero."""
     rax = wide[o + p + RAX1 + l]
     ray = wide[o + p + RAY1 + l]
     rbx = wide[o + p + RBX1 + l]
     rby = wide[o + p + RBY1 + l]
-    qca = wide[o + QCA + l]
-    qsa = wide[o + QSA + l]
     qcb = wide[o + QCB + l]
     qsb = wide[o + QSB + l]
-    sax = qca * rax - qsa * ray  # anchors turned with their bodies
-    say = qsa * rax + qca * ray
+    if fa:
+        sax = rax
+        say = ray
+    else:
+        qca = wide[o + QCA + l]
+        qsa = wide[o + QSA + l]
+        sax = qca * rax - qsa * ray  # anchors turned with their bodies
+        say = qsa * rax + qca * ray
     sbx = qcb * rbx - qsb * rby
     sby = qsb * rbx + qcb * rby
-    ox = (wide[o + DPBX + l] - wide[o + DPAX + l]) + sbx - sax
-    oy = (wide[o + DPBY + l] - wide[o + DPAY + l]) + sby - say
+    if fa:
+        ox = wide[o + DPBX + l] + sbx - sax
+        oy = wide[o + DPBY + l] + sby - say
+    else:
+        ox = (wide[o + DPBX + l] - wide[o + DPAX + l]) + sbx - sax
+        oy = (wide[o + DPBY + l] - wide[o + DPAY + l]) + sby - say
     # B's moved anchor minus A's: the start offset (the start separation along n) plus their
     # relative motion since
     s0 = wide[o + p + BASE1 + l] + (rbx - rax) * nx + (rby - ray) * ny
@@ -228,7 +241,7 @@ def line_arms(sax, say, sbx, sby, dx, dy, tx, ty):
 
 
 @wide_kernel
-def arms(n_batches, wide, lane_row, state):
+def arms(n_batches, wide, lane_row, state, batch_kind):
     """Every point's lever arms (crossed with the normal and the tangent) and separation, from
     the poses so far.
 
@@ -240,24 +253,44 @@ def arms(n_batches, wide, lane_row, state):
     step with the masses, the sweeps 0.163 against 0.152). Reading the poses straight from the
     state rows instead of gathering them first cost twice as much (0.11 ms: no packed code).
     Fused into the first relax sweep (each batch's arms just before it is solved), the pass
-    saved nothing in wall time: the relax sweep slowed by what the pass had cost."""
+    saved nothing in wall time: the relax sweep slowed by what the pass had cost.
+
+    A FIXED_A batch's A side has not moved and its arms are never read (FIXED SIDE): its poses
+    are not gathered and its arms not stored. They are still computed, and their sum kept in one
+    scratch field: dropped, the product that A's and B's arms share was fused into B's alone,
+    which changed B's arms in the last bit."""
     for b in range(U64(n_batches)):
-        o = b * STRIDE_U
-        ob = b * U64(2) * LANES_U
-        _gather_poses(wide, o, lane_row, ob, state)
-        for l in range(LANES_U):
-            nx = wide[o + NX + l]
-            ny = wide[o + NY + l]
-            for p in (U64(0), POINT2):
-                sax, say, sbx, sby, ox, oy, dx, dy = _moved_anchors(wide, o, l, p, nx, ny)
-                rna, rnb = line_arms(sax, say, sbx, sby, dx, dy, nx, ny)
-                rta, rtb = line_arms(sax, say, sbx, sby, dx, dy, ny, -nx)
+        if not _of_kind(batch_kind, b, True):
+            _arms_batch(wide, b, lane_row, state, False)
+    for b in range(U64(n_batches)):
+        if _of_kind(batch_kind, b, True):
+            _arms_batch(wide, b, lane_row, state, True)
+
+
+@wide_inline
+def _arms_batch(wide, b, lane_row, state, fa):
+    o = b * STRIDE_U
+    ob = b * U64(2) * LANES_U
+    _gather_poses(wide, o, lane_row, ob, state, fa)
+    for l in range(LANES_U):
+        nx = wide[o + NX + l]
+        ny = wide[o + NY + l]
+        unread = 0.0  # a fixed A's arms (see above)
+        for p in (U64(0), POINT2):
+            sax, say, sbx, sby, ox, oy, dx, dy = _moved_anchors(wide, o, l, p, nx, ny, fa)
+            rna, rnb = line_arms(sax, say, sbx, sby, dx, dy, nx, ny)
+            rta, rtb = line_arms(sax, say, sbx, sby, dx, dy, ny, -nx)
+            if fa:
+                unread = unread + rna + rta
+            else:
                 wide[o + p + RNA1 + l] = rna
-                wide[o + p + RNB1 + l] = rnb
                 wide[o + p + RTA1 + l] = rta
-                wide[o + p + RTB1 + l] = rtb
-                # the start separation plus how the anchors moved apart along n
-                wide[o + p + SEP1 + l] = wide[o + p + BASE1 + l] + ox * nx + oy * ny
+            wide[o + p + RNB1 + l] = rnb
+            wide[o + p + RTB1 + l] = rtb
+            # the start separation plus how the anchors moved apart along n
+            wide[o + p + SEP1 + l] = wide[o + p + BASE1 + l] + ox * nx + oy * ny
+        if fa:
+            wide[o + G0 + l] = unread
 
 
 #: TOTALS. The step's total impulse of a point (what the freeze policies read, N s) is what its

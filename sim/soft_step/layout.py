@@ -99,8 +99,9 @@ DPAX, DPAY, QCA, QSA, DPBX, DPBY, QCB, QSB = G0, G1, G2, G3, G4, G5, G6, G7
 #: A batch's kind (``Solver.batch_kind``, set by ``packing.prepare``): FIXED_A when body A of
 #: every lane is one the solver cannot move (its row is the dummy row 0, its inverse mass and
 #: inertia zero: the floor, which is A of its pairs, or a frozen body), else MOVABLE. The sweeps
-#: of a FIXED_A batch leave A's (zero) terms out and never touch its fields (``batches``, FIXED
-#: SIDE): the same numbers with fewer operations and fewer fields streamed through memory
+#: and the arms pass of a FIXED_A batch leave A's (zero) terms out and never touch its fields
+#: (``batches``, FIXED SIDE): the same numbers with fewer operations and fewer fields streamed
+#: through memory
 MOVABLE, FIXED_A = 0, 1
 
 #: offset of point 2's fields from point 1's, and the number of fields per point

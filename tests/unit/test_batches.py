@@ -198,7 +198,7 @@ def test_the_arms_pass_matches_a_slow_recomputation_from_world_positions():
                 L.RTB1: cross(fb, t),
                 L.SEP1: sep,
             }
-    soft_step.arms(1, wide, lane_row, state)
+    soft_step.arms(1, wide, lane_row, state, np.zeros(1, np.uint8))  # a MOVABLE batch
     for p, fields in expected.items():
         for field, value in fields.items():
             name = L.FIELD_NAMES[int(field) // LANES]

@@ -84,6 +84,7 @@ def run_kernels(batch, kind):
     flags = np.ones(1, bool)
     inv_h, push = 240.0, 3.0
     kernels = {
+        "arms": lambda c: soft_step.arms(1, *c),
         "warm_start": lambda c: soft_step.warm_start(1, colours, *c),
         "solve": lambda c: soft_step.solve(1, colours, *c, inv_h, push),
         "solve_impact": lambda c: soft_step.solve_impact(1, colours, *c[:3], inv_h, push, flags),

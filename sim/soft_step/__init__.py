@@ -45,15 +45,16 @@ The package, one stage per module (the order of a step):
   bodies       the solver's body rows: loaded, integrated, written back
   colouring    contacts into colours and batches (colour; capacity, mask_words size the buffers)
   packing      batches filled from the contacts (prepare), impulses stored back (store)
-  batches      the batch kernels (arms, warm_start, solve, solve_impact, relax, relax_hard,
+  arms         the lever arms and separations of the poses so far (arms)
+  batches      the batch kernels (warm_start, solve, solve_impact, relax, relax_hard,
                restitution)
   layout       the fields of a batch in ``SolverData.wide``
 
 ``sim.kernel.step`` calls them in that order; what other modules use is re-exported here.
 """
 
+from .arms import arms
 from .batches import (
-    arms,
     deepest_separation,
     relax,
     relax_hard,

@@ -14,7 +14,7 @@ LANES_U = U64(LANES)
 #: and B, its softness (packing.prepare); per point: the anchors (m), the separation at the start
 #: of the step (m), the normal mass at the start (kg), whether the point exists, the accumulated
 #: impulses (N s; warm start), the step's totals, the approach velocity (m/s) and the carried
-#: load, then what depends on the poses only (batches.arms, once per pose, not once per sweep):
+#: load, then what depends on the poses only (arms.arms, once per pose, not once per sweep):
 #: each body's lever arm crossed with the normal (RNA, RNB; m) and with the tangent (RTA, RTB; m)
 #: and the current separation (SEP; m); last, GATHER_FIELDS scratch fields for the two bodies'
 #: rows gathered from the state (see GATHERED)

@@ -30,7 +30,7 @@ from ..data import (
     WARM_TANGENT,
 )
 from ..jit import inline_kernel, lean_kernel
-from .batches import line_arms
+from .arms import line_arms
 from .bodies import row_of
 from .layout import (
     BASE1,
@@ -87,7 +87,7 @@ from .parameters import (
 def prepare(settings, counters, bodies, contacts, activity, solver):
     """Fill every lane of every batch from its contact: body rows, masses, anchors, softness,
     effective masses, the separation at the start of the step, the relative normal velocity
-    (restitution) and the warm-start impulses; and what ``batches.arms`` computes, for the start
+    (restitution) and the warm-start impulses; and what ``arms.arms`` computes, for the start
     poses, which are the contact's own: an arms pass of its own over the batches cost more than
     these few products here (pyramid(40): 0.012 ms a step, one pass of five). Empty lanes are all
     zero: no effect."""
@@ -175,7 +175,7 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
                     (rbx - rax) * nx + (rby - ray) * ny
                 )
                 # the arms pass of the start poses (nothing has moved: the anchors lie the start
-                # separation apart along n): what the first sweeps read (batches.arms). The
+                # separation apart along n): what the first sweeps read (arms.arms). The
                 # separation is summed as that pass sums it, not taken from the contact's: the two
                 # differ by rounding, and a box coming to rest on a ledge is sensitive to it at
                 # s = 0, where the contact switches from soft to speculative (with the contact's

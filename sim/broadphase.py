@@ -376,8 +376,9 @@ def find_new_pairs(settings, bodies, geometry, awake_grid, resting_grid, contact
     for k in range(counters[N_MOVED]):
         i = geometry.moved[k]
         if settings.has_floor and fat[i, MIN_Y] <= settings.floor_y:
-            if find(-1, i, n_dyn, contacts) < 0:
-                if create(-1, i, n_dyn, bodies.slop, bodies.speculative, contacts, counters) < 0:
+            floor = np.int64(-1)  # body A of a floor pair; not a literal (sim/jit, LITERALS)
+            if find(floor, i, n_dyn, contacts) < 0:
+                if create(floor, i, n_dyn, bodies.slop, bodies.speculative, contacts, counters) < 0:
                     return False
         if not _query(
             i, fat, awake_grid, settings.cell_size, n_dyn, bodies, contacts, counters, found

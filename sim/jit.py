@@ -47,6 +47,16 @@ inline_kernel = njit(cache=True, error_model="numpy", inline="always")
 #: tests/unit/test_jit.py lists the kernels that must stay lean.
 lean_kernel = njit(cache=True, error_model="numpy", _nrt=False)
 
+#: LITERALS. A kernel called from another with a constant argument (``f(x, 0)``, ``f(x, False)``,
+#: or a count started at ``n = 0`` and passed on) is compiled for that constant's literal type
+#: (``Literal[int](0)``) besides its ordinary one (``int64``): the callee is compiled twice, and so
+#: is every kernel it calls that is not inlined. Seven kernels compiled so twice cost 27 of the
+#: 205 s that the first step of a fresh clone spent compiling (the relax sweep alone 15 s, for the
+#: presolve's ``False``; measured with Numba's compile events, 2026-12-06). So a constant passed
+#: to a kernel is made a run-time value (``np.int64(0)``, ``np.bool_(False)``), the same number to
+#: the bit; ``tests/unit/test_jit.py`` checks that no compiled kernel has a literal in its
+#: signature.
+
 #: The only fast-math flag used anywhere: ``contract`` lets LLVM fuse a multiply and an add into
 #: one fused multiply-add (one rounding instead of two). It is used by the solver's batch kernels
 #: alone, where it saves ~20% of a sweep. Runs stay bit-identical on one machine (the same compiled

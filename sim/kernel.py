@@ -480,7 +480,7 @@ def presolve(
                 solver.state,
                 solver.batch_kind,
                 1.0 / h,
-                False,
+                np.bool_(False),  # not a literal (sim/jit, LITERALS)
             )
         done += 10
         change, largest = _impulse_change(n_batches, solver.wide, before)

@@ -160,11 +160,14 @@ def sweep_fast_bodies(
                     if not apart < -deep:
                         continue
                 else:
-                    _, apart = _sweep_pair(bodies, geometry, i, j, end, end, j_end, target, 1)
+                    # the iteration counts: not literals (sim/jit, LITERALS)
+                    _, apart = _sweep_pair(
+                        bodies, geometry, i, j, end, end, j_end, target, np.int64(1)
+                    )
                     if not (apart > target or apart < -deep):
                         continue
                 t, _ = _sweep_pair(
-                    bodies, geometry, i, j, start, end, j_end, target, MAX_ITERATIONS
+                    bodies, geometry, i, j, start, end, j_end, target, np.int64(MAX_ITERATIONS)
                 )
                 if 0.0 < t < first:
                     first = t

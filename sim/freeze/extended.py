@@ -210,7 +210,7 @@ def _impacts(settings, counters, bodies, contacts, activity, touched, queue):
                         wy - position[frozen_body, 1]
                     ) * px
                     body_real[frozen_body, PUSH_NORMAL] += p
-    n_queue = 0
+    n_queue = np.int64(0)  # not a literal 0 (sim/jit, LITERALS)
     for k in range(n_touched):
         i = touched[k]
         body_int[i, TOUCHED] = 0
@@ -248,7 +248,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
     # does not keep its neighbours awake: it pushes nothing, and if it starts to, the wake rules
     # see it as they see any awake body touching frozen ones
     candidates = np.empty(n_awake, np.int64)
-    n_candidates = 0
+    n_candidates = np.int64(0)  # not a literal 0 (sim/jit, LITERALS)
     for k in range(n_awake):
         if body_int[awake[k], MARK] == 1:
             candidates[n_candidates] = awake[k]
@@ -309,7 +309,7 @@ def _candidates(settings, counters, bodies, contacts, activity, touched, queue):
                 rx = wx - position[frozen_body, 0]
                 ry = wy - position[frozen_body, 1]
                 body_real[frozen_body, PUSH_M] += rx * py - ry * px
-    n_queue = 0
+    n_queue = np.int64(0)  # not a literal 0 (sim/jit, LITERALS)
     for k in range(n_touched):
         i = touched[k]
         body_int[i, TOUCHED] = 0

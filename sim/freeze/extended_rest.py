@@ -157,7 +157,7 @@ def _group_certified(
         members, n_members, awake_slot, settings, bodies, contacts, count
     ):
         return False
-    n_refused = 0
+    n_refused = np.int64(0)  # not a literal 0 (sim/jit, LITERALS)
     for m in range(n_members):
         i = members[m]
         saved[i] = awake_slot[i]
@@ -247,7 +247,7 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
     for r in range(n_candidates):
         if _root(parent, r) != r:
             continue
-        n_members = 0
+        n_members = np.int64(0)  # not a literal 0 (sim/jit, LITERALS)
         refused = False
         for k in range(n_candidates):
             if _root(parent, k) == r:

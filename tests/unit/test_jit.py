@@ -4,10 +4,18 @@ With reference counting, a kernel pays an atomic increment and decrement for eve
 World's state it is passed, and for every array an inlined helper is passed inside its loops: 54%
 of a one-body step, and 14 us of a 24-body step under ``sleep`` (its contact walk), before these
 kernels were made lean. Nothing in the results shows it (the answers are bit-identical either
-way), so this checks the compile options themselves."""
+way), so this checks the compile options themselves.
 
+A kernel called with a constant argument is compiled once more for the constant's literal type
+(sim/jit.py, LITERALS); the last test reads Numba's cache index for such signatures."""
+
+import pickle
+from pathlib import Path
+
+import numba
 import pytest
 
+import sim
 import sim.kernel
 from sim import activity, sweep
 from sim.freeze import certificate, extended, extended_rest, extended_wake, paper, sleep
@@ -41,4 +49,34 @@ def test_step_kernels_are_lean(name):
     assert LEAN[name].targetoptions.get("_nrt") is False, (
         f"{name} is compiled with reference counting: every array it is passed costs two atomic "
         f"operations per call (see sim/jit.py)"
+    )
+
+
+def _cached_signatures():
+    """{kernel file stem: [signature strings]} from Numba's on-disk cache index of this source
+    tree (``sim/__init__`` keys the folder by the sources). The index format is Numba's own
+    (``numba.core.caching.IndexDataCacheFile``; numba is pinned): a pickled version, then a
+    pickled (stamp, {(signature, target, ...): file}) pair."""
+    out = {}
+    for index in Path(numba.config.CACHE_DIR).rglob("*.nbi"):
+        with open(index, "rb") as f:
+            pickle.load(f)
+            _, overloads = pickle.loads(f.read())
+        out[index.stem] = [str(key[0]) for key in overloads]
+    return out
+
+
+def test_no_kernel_is_compiled_for_a_literal_argument():
+    # compile (or load) everything a step can run: the presolve, every policy's hooks (one
+    # ``run`` holds them all), the fast-body sweep
+    world = sim.World(sim.scenes.stack(3), freeze="extended")
+    world.step(2)
+    signatures = _cached_signatures()
+    relax = [k for k in signatures if k.startswith("batches.relax-")]
+    assert relax, f"no cache index of the relax sweep under {numba.config.CACHE_DIR}"
+    literal = {k: [s for s in v if "Literal[" in s] for k, v in signatures.items()}
+    literal = {k: v for k, v in literal.items() if v}
+    assert not literal, (
+        "kernels compiled a second time for a constant argument (pass np.int64(...) / "
+        f"np.bool_(...) instead; sim/jit.py, LITERALS): {sorted(literal)}"
     )

@@ -7,17 +7,22 @@ kernels were made lean. Nothing in the results shows it (the answers are bit-ide
 way), so this checks the compile options themselves.
 
 A kernel called with a constant argument is compiled once more for the constant's literal type
-(sim/jit.py, LITERALS); the last test reads Numba's cache index for such signatures."""
+(sim/jit.py, LITERALS); a test reads Numba's cache index for such signatures. And Numba's inliner
+is made to share its copies of a callee's scope (sim/numba_inlining.py): the same machine code in
+less than half the compile time, checked here on a kernel compiled both ways."""
 
 import pickle
+import re
 from pathlib import Path
 
 import numba
+import numpy as np
 import pytest
+from numba import njit
 
 import sim
 import sim.kernel
-from sim import activity, sweep
+from sim import activity, numba_inlining, sweep
 from sim.freeze import certificate, extended, extended_rest, extended_wake, paper, sleep
 
 #: every kernel the step loop calls each step, or each step a policy is active, that allocates
@@ -80,3 +85,46 @@ def test_no_kernel_is_compiled_for_a_literal_argument():
         "kernels compiled a second time for a constant argument (pass np.int64(...) / "
         f"np.bool_(...) instead; sim/jit.py, LITERALS): {sorted(literal)}"
     )
+
+
+def test_the_inliner_shares_scope_copies_on_the_pinned_numba():
+    # on another Numba the kernels compile as Numba does it (slower): look at numba_inlining again
+    assert numba.__version__ == numba_inlining.PINNED_NUMBA
+    assert numba_inlining.enabled()
+
+
+def _compiled_kernel():
+    """Machine code of a fresh kernel that inlines helpers (branches, a loop, a helper used
+    twice), with the symbols' names (which carry a per-compile number) left out."""
+
+    @njit(inline="always")
+    def clamp(x, lo, hi):
+        return lo if x < lo else (hi if x > hi else x)
+
+    @njit(inline="always")
+    def row(v, k, lo, hi):
+        total = 0.0
+        for i in range(v.shape[0]):
+            total += clamp(v[i] * k, lo, hi) if v[i] > 0.0 else -clamp(-v[i], lo, hi)
+        return total
+
+    @njit(cache=False)
+    def kernel(v, k):
+        return row(v, k, 0.0, 1.0) + row(v, -k, -1.0, 2.0)
+
+    v = np.linspace(-2.0, 2.0, 9)
+    value = kernel(v, 0.7)
+    asm = kernel.inspect_asm(kernel.signatures[0])
+    return value, re.sub(r"_ZN\S+", "NAME", asm)
+
+
+def test_shared_scope_copies_compile_to_the_same_code():
+    was = numba_inlining.set_enabled(False)
+    try:
+        numba_value, numba_code = _compiled_kernel()
+        numba_inlining.set_enabled(True)
+        shared_value, shared_code = _compiled_kernel()
+    finally:
+        numba_inlining.set_enabled(was)
+    assert shared_value == numba_value
+    assert shared_code == numba_code

@@ -540,7 +540,7 @@ def collide_polygons(
     return collide_polygon_rows(
         verts,
         normals,
-        0,
+        np.int64(0),  # not a literal (sim/jit, LITERALS)
         ka,
         ka,
         verts.shape[0],

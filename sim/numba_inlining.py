@@ -59,23 +59,37 @@ class _SharedScopeCopy:
 
 
 _COPIER = _SharedScopeCopy()
-_NUMBA_INLINE_IR = inline_closurecall.InlineWorker.inline_ir
+#: Numba's own method, also when this module is imported again (``importlib.reload``, IPython's
+#: autoreload) while an earlier copy of ``_inline_ir`` is installed: wrapping that one would call
+#: itself
+_NUMBA_INLINE_IR = getattr(
+    inline_closurecall.InlineWorker.inline_ir,
+    "numba_inline_ir",
+    inline_closurecall.InlineWorker.inline_ir,
+)
 
 
 def _inline_ir(self, *args, **kwargs):
     """Numba's ``InlineWorker.inline_ir``, with the shared scope copies of this call only: the
     callee's scope is mutated after its blocks are copied (its variables renamed), so a copy is
     never reused by a later call."""
-    _COPIER.fresh()
+    copier = inline_closurecall.copy  # the one installed (this import's, see the end)
+    copier.fresh()
     try:
         return _NUMBA_INLINE_IR(self, *args, **kwargs)
     finally:
-        _COPIER.fresh()
+        copier.fresh()
+
+
+_inline_ir.numba_inline_ir = _NUMBA_INLINE_IR
 
 
 def installable():
     """Is this the Numba whose inliner this module was written against?"""
-    return numba.__version__ == PINNED_NUMBA and inline_closurecall.copy in (copy, _COPIER)
+    installed = inline_closurecall.copy
+    # a stand-in of an earlier import of this module counts as Numba's own (it is replaced)
+    ours = installed is copy or type(installed).__name__ == _SharedScopeCopy.__name__
+    return numba.__version__ == PINNED_NUMBA and ours
 
 
 def set_enabled(on):
@@ -94,3 +108,8 @@ def set_enabled(on):
 def enabled():
     """Are the shared scope copies in use?"""
     return inline_closurecall.copy is _COPIER
+
+
+# imported again while an earlier import's stand-in is installed: put this import's in its place
+if type(inline_closurecall.copy).__name__ == _SharedScopeCopy.__name__:
+    set_enabled(True)

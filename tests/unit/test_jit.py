@@ -11,6 +11,7 @@ A kernel called with a constant argument is compiled once more for the constant'
 is made to share its copies of a callee's scope (sim/numba_inlining.py): the same machine code in
 less than half the compile time, checked here on a kernel compiled both ways."""
 
+import importlib
 import pickle
 import re
 from pathlib import Path
@@ -19,6 +20,7 @@ import numba
 import numpy as np
 import pytest
 from numba import njit
+from numba.core import inline_closurecall
 
 import sim
 import sim.kernel
@@ -128,3 +130,19 @@ def test_shared_scope_copies_compile_to_the_same_code():
         numba_inlining.set_enabled(was)
     assert shared_value == numba_value
     assert shared_code == numba_code
+
+
+def test_importing_the_inliner_patch_again_keeps_one_patch():
+    # importlib.reload (IPython's autoreload) runs the module again while its patch is in place:
+    # the new patch must wrap Numba's method, not the old patch (which would call itself)
+    try:
+        importlib.reload(numba_inlining)
+        importlib.reload(numba_inlining)
+        assert numba_inlining.enabled()  # the last import's stand-in is the one installed
+        patched = inline_closurecall.InlineWorker.inline_ir
+        assert not hasattr(patched.numba_inline_ir, "numba_inline_ir")  # wraps Numba's own
+        value, _ = _compiled_kernel()
+        numba_inlining.set_enabled(False)
+        assert value == _compiled_kernel()[0]
+    finally:
+        numba_inlining.set_enabled(True)

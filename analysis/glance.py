@@ -234,8 +234,8 @@ def extremes_line(ex):
         f"{s.removesuffix(np_['suffix'])} {c['failed']} failed / {c['degraded']} degraded"
         for s, c in np_["counts"].items()
     )
-    # why each of sim's failed cells failed (a count alone hides a rule's reading, e.g. a dropped
-    # column's landings counted as chattering)
+    # why each of sim's failed cells failed (a count alone hides which rule, and how it read the
+    # run: a wake counted as chattering, an outcome against the reference's)
     why = ex.get("sim_failures") or []
     sim_cells = f" sim's failed cells: {'; '.join(why)}." if why else ""
     return (

@@ -386,6 +386,24 @@ def nnls(G, t, iterations=500):
 
 
 # ------------------------------------------------------------------------------------------------
+# A lane's two contact rows (``sim.soft_step.batches.two_row_impulses``): the linear
+# complementarity problem z >= 0, w = q + K z >= 0, z w = 0, by projected Gauss-Seidel iterated to
+# convergence (each row in turn set to its own answer with the other held). Shares nothing with
+# the kernel's enumeration of the four cases.
+
+
+def complementary_impulses(K, q, sweeps=20000):
+    """z >= 0 with w = q + K z >= 0 and z_i w_i = 0 (K symmetric positive definite, (n, n))."""
+    K = np.asarray(K, dtype=np.float64)
+    q = np.asarray(q, dtype=np.float64)
+    z = np.zeros(len(q))
+    for _ in range(sweeps):
+        for i in range(len(q)):
+            z[i] = max(0.0, z[i] - (q[i] + K[i] @ z) / K[i, i])
+    return z
+
+
+# ------------------------------------------------------------------------------------------------
 # Lever arms of a contact point after its bodies moved (``sim.soft_step.arms``), from world
 # positions: A's anchor point and B's start ``separation`` apart along the normal, both carried
 # with their bodies, and each arm shifted to the line of action through both.

@@ -7,12 +7,13 @@ import numpy as np
 import pytest
 
 # tests/ is on sys.path (pytest's rootdir-relative imports)
-from naive import greedy_colours, moved_contact_arms
+from naive import complementary_impulses, greedy_colours, moved_contact_arms
 
 import sim
 from sim import soft_step
 from sim.data import DPX, DPY, DQC, DQS, STATE_COLUMNS
 from sim.soft_step import HARD_RATIO, LANES
+from sim.soft_step import batches
 from sim.soft_step import layout as L
 
 
@@ -203,3 +204,46 @@ def test_the_arms_pass_matches_a_slow_recomputation_from_world_positions():
         for field, value in fields.items():
             name = L.FIELD_NAMES[int(field) // LANES]
             assert wide[p + field] == pytest.approx(value, rel=1e-9, abs=1e-12), (p, name)
+
+
+# ---- a lane's two rows: one complementarity problem ------------------------------------------
+def _two_row_cases(seed, n):
+    """n random lanes: (a, r, K) with K symmetric positive definite (two points of random arms on
+    bodies of random masses) and impulses a >= 0."""
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        inv_mass = rng.uniform(0.0, 2.0, 2)
+        inv_inertia = rng.uniform(0.05, 12.0, 2)
+        arms = rng.uniform(-1.0, 1.0, (2, 2))  # (point, body): arm x normal
+        K = inv_mass.sum() + np.einsum("b,pb,qb->pq", inv_inertia, arms, arms)
+        yield rng.uniform(0.0, 1.0, 2) * rng.integers(0, 2, 2), rng.normal(0.0, 2.0, 2), K
+
+
+def test_two_rows_are_solved_as_one_complementarity_problem():
+    # Impulses new >= 0 whose residuals w = r + K (new - a) are >= 0, each zero where the other is
+    # not: every case (both points, one, neither) against a slow reference that shares nothing with
+    # the enumeration (tests/naive.py). The rule before 2026-12 (the block, else one point after
+    # the other) gets 130 of these 500 lanes wrong.
+    for a, r, K in _two_row_cases(0, 500):
+        new = np.array(
+            batches.two_row_impulses(a[0], a[1], r[0], r[1], K[0, 0], K[0, 1], K[1, 1], True)
+        )
+        expected = complementary_impulses(K, r - K @ a)
+        assert new == pytest.approx(expected, abs=1e-9 * (1.0 + np.abs(expected).max()))
+
+
+def test_a_one_point_lane_is_its_first_row_alone():
+    for a, r, K in _two_row_cases(1, 100):
+        new = batches.two_row_impulses(a[0], 0.0, r[0], 0.0, K[0, 0], K[0, 1], 0.0, False)
+        assert new == (pytest.approx(max(0.0, a[0] - r[0] / K[0, 0]), rel=1e-12, abs=1e-15), 0.0)
+
+
+@pytest.mark.parametrize("approach", [-1.0, 1.0])
+def test_two_coincident_points_carry_the_load_once(approach):
+    # Two points at one place (K singular: the block is refused): whichever carries it, the pair
+    # takes the impulse one row would, not twice that.
+    k = 3.0
+    a1, a2, r = 0.2, 0.1, approach
+    new = batches.two_row_impulses(a1, a2, r, r, k, k, k, True)
+    assert min(new) >= 0.0
+    assert sum(new) == pytest.approx(max(0.0, a1 + a2 - r / k), rel=1e-12)

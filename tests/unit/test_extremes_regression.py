@@ -296,15 +296,46 @@ def test_placed_column_stands_at_dt_one_fifteenth(policy):
 
 @pytest.mark.parametrize("policy", POLICIES)
 def test_dropped_column_stands_at_dt_one_thirtieth(policy):
-    # measured (5 s at dt 1/30 s, 4 substeps): stands; the farthest box ends 5 mm (off), 22 mm
-    # (sleep), 1 mm (paper), 21 mm (extended) from the stacked pose. Before solver v2 it collapsed
-    # under sim-off at dt 1/30 (10 iterations) while the fine reference, pymunk and pybullet kept
-    # it standing.
+    # measured (5 s at dt 1/30 s, 4 substeps): stands; the farthest box ends 1 mm (off), 13 mm
+    # (sleep), 0 mm (paper), 14 mm (extended) from the stacked pose, straight down (5, 22, 1 and
+    # 21 mm while the column rocked: test_dropped_column_lands_straight). Before solver v2 it
+    # collapsed under sim-off at dt 1/30 (10 iterations) while the fine reference, pymunk and
+    # pybullet kept it standing.
     scene = scenes.dropped_column(10)
     w = world(scene, policy, dt=1 / 30)
     start = start_of(w)
     run_checked(w, 150)
     assert_stands(w, start, rest=scene.params["rest_pose"])
+
+
+@pytest.mark.parametrize("policy", POLICIES)
+@pytest.mark.parametrize("rate", [30, 60, 480])
+def test_dropped_column_lands_straight(policy, rate):
+    # Nothing in the dropped column is asymmetric: every box lands flat and centred on the one
+    # below, so nothing turns or moves sideways. Measured (sim-off) while a lane's two points were
+    # solved one after the other whenever the block was refused (before 2026-12, now
+    # soft_step.batches.two_row_impulses): the column rocked, tilting up to 1.6e-3 rad, and ended
+    # 8.8 mm to one side at dt 1/480; exactly 0 since, under every policy.
+    w = world(scenes.dropped_column(10), policy, dt=1 / rate)
+    run_checked(w, 2 * rate)
+    assert np.abs(w.angles).max() < 1e-12
+    assert np.abs(w.positions[:, 0]).max() < 1e-12
+
+
+@pytest.mark.parametrize("policy", sorted(set(POLICIES) - {"off"}))
+def test_dropped_column_at_dt_one_480th_does_not_chatter(policy):
+    # table_extremes' dt axis at its finest step: no body is woken more than the rule allows
+    # (rules.MAX_WAKES). Measured before two_row_impulses: under extended the rocking column froze
+    # between landings and woke its bottom box 3 times (tipping: the rocking box above moved its
+    # centre of pressure past the corner), the one extremes cell sim-off did not fail either.
+    w = world(scenes.dropped_column(10), policy, dt=1 / 480)
+    wakes = np.zeros(w.n_bodies, int)
+    frozen = w.frozen
+    for _ in range(5 * 480):
+        w.step()
+        wakes += frozen & ~w.frozen
+        frozen = w.frozen
+    assert wakes.max() <= rules.MAX_WAKES
 
 
 # ---- impacts at the impulse threshold ----------------------------------------------------------

@@ -271,8 +271,12 @@ def two_row_impulses(a1, a2, r1, r2, k11, k12, k22, real2):
     # point 1's case wins a tie: with a near-singular K (the points nearly one) both cases can
     # hold, and taking both would apply the load twice
     only2 = real2 & (s2 >= 0.0) & (w1 >= 0.0) & (not only1)
-    new1 = x1 if block else (s1 if only1 else 0.0)
-    new2 = x2 if block else (s2 if only2 else 0.0)
+    # neither: 0, except that a NaN in the rows comes through (as _fmax carries it), for the
+    # World's check of the bodies to report where it began
+    none1 = 0.0 * _fmax(0.0, s1)
+    none2 = 0.0 * _fmax(0.0, s2)
+    new1 = x1 if block else (s1 if only1 else none1)
+    new2 = x2 if block else (s2 if only2 else none2)
     return new1, new2
 
 

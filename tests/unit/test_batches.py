@@ -247,3 +247,12 @@ def test_two_coincident_points_carry_the_load_once(approach):
     new = batches.two_row_impulses(a1, a2, r, r, k, k, k, True)
     assert min(new) >= 0.0
     assert sum(new) == pytest.approx(max(0.0, a1 + a2 - r / k), rel=1e-12)
+
+
+@pytest.mark.parametrize("where", ["a1", "r2", "k12"])
+def test_a_nan_in_the_rows_comes_through(where):
+    # Every case's test fails on a NaN, so without care the lane would answer "neither pushing"
+    # with clean zeros and hide it; the answer carries it instead (as _fmax does).
+    args = dict(a1=0.2, a2=0.1, r1=0.5, r2=-0.5, k11=3.0, k12=1.0, k22=3.0, real2=True)
+    args[where] = math.nan
+    assert np.isnan(batches.two_row_impulses(**args)).any()

@@ -242,12 +242,13 @@ def _bias(s, inv_h, push, use_bias, mass_scale, bias_rate, impulse_scale):
 def two_row_impulses(a1, a2, r1, r2, k11, k12, k22, real2):
     """The new impulses of a lane's two rows, >= 0, solved exactly as the 2x2 linear
     complementarity problem they are: with d = new - a, the residuals w = r + K d must be >= 0,
-    each zero where its impulse is not (a pushes, r the rows' residuals before this update, K
-    their mass matrix). Its four cases are all computed and one selected (branch-free): both
-    pushing (the block, accepted when K is well conditioned and both stay >= 0); one pushing with
-    the other released (its impulse taken away, and the row that is left seeing that through
-    K12), accepted when the released row is not pulled (w >= 0); neither. A one-point lane
-    (``real2`` False, its second row void) is its first point's row alone.
+    each zero where its impulse is not (a: the impulses the rows start from, N s; r: their
+    residuals before this update, m/s; K: their inverse mass matrix, 1/kg). Its four cases are
+    all computed and one selected (branch-free): both pushing (the block, accepted when K is well
+    conditioned and both stay >= 0); one pushing with the other released (its impulse taken
+    away, and the row that is left seeing that through K12), accepted when the released row is
+    not pulled (w >= 0); neither. A one-point lane (``real2`` False, its second row void) is its
+    first point's row alone.
 
     Solving the points one after the other instead (this module did until 2026-12) gives a
     symmetric landing unequal impulses: a column of boxes dropped onto each other rocked,

@@ -434,10 +434,11 @@ def relax_hard(
 
 @wide_inline
 def _restitution_lane(wide, o, l, threshold):
-    """Bounce: drive each point's normal velocity to -e times its approach speed at the start of
-    the step, for points that approached faster than ``threshold`` and carried an impulse; the
-    other point's impulse is left as it is. Two bouncing points are one 2x2 problem
-    (``two_row_impulses``), so a box landing flat bounces flat."""
+    """Bounce: drive each point's normal velocity to -e times its approach speed (RELV: where the
+    point closed, ``packing._closing_velocity``), for points that approached faster than
+    ``threshold`` and carried an impulse; the other point's impulse is left as it is. Two
+    bouncing points are one 2x2 problem (``two_row_impulses``), so a box landing flat bounces
+    flat."""
     nx = wide[o + NX + l]
     ny = wide[o + NY + l]
     e = wide[o + E + l]

@@ -250,9 +250,7 @@ POINT_FLOAT = 14
 # WARM_NORMAL, WARM_TANGENT: N s, the last substep's accumulated impulses, applied at the start
 #   of every substep of the next step (warm starting).
 # LOCAL_X/Y: the point in the incident body's frame, m (the manifold's point on that body).
-# NORMAL_VELOCITY: m/s, relative normal velocity at the start of the step; for a point with
-#   restitution, the one at which free flight under gravity closes it (the bounce's approach
-#   speed: soft_step.packing._closing_velocity).
+# NORMAL_VELOCITY: m/s, relative normal velocity at the start of the step (restitution).
 # CARRIED: N s per substep, the load the point has been carrying, followed slowly (soft_step).
 
 

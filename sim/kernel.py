@@ -304,6 +304,8 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
         solver.lane_row,
         solver.state,
         settings.restitution_threshold,
+        settings.gravity_x,
+        settings.gravity_y,
     )
     t = _lap(settings, solver, STAGE_RESTITUTION, t)
     store(counters, contacts, solver, settings.load_rate, IMPACT_SPEED)

@@ -155,10 +155,6 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
             vbx = velocity[bb, 0]
             vby = velocity[bb, 1]
             wb = angular_velocity[bb]
-            # m/s^2: gravity's share of the pair's relative normal acceleration (B's against A's),
-            # nonzero only when one of the two is movable: two falling bodies fall together
-            moves = (1.0 if mb > 0.0 else 0.0) - (1.0 if ma > 0.0 else 0.0)
-            closing = moves * (settings.gravity_x * nx + settings.gravity_y * ny)
             n_points = ci[s, POINT_COUNT]
             for j in range(2):
                 p = POINT2 * U64(j)
@@ -208,13 +204,7 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
                 wide[o + p + LN1 + l] = warm * pf[s, j, CARRIED]
                 dvx = vbx - wb * rby - vax + wa * ray
                 dvy = vby + wb * rbx - vay - wa * rax
-                relv = dvx * nx + dvy * ny
-                # a point that can bounce: the speed at which it will close, which restitution
-                # bounces with (the impact marks and the store read it then too; for every other
-                # point they read the step's start, as they were measured with)
-                if wide[o + E + l] > 0.0:
-                    relv = _closing_velocity(relv, pf[s, j, SEPARATION], closing)
-                wide[o + p + RELV1 + l] = relv
+                wide[o + p + RELV1 + l] = dvx * nx + dvy * ny
             if kept:
                 continue
             immovable = (ma == 0.0 and ia == 0.0) or (mb == 0.0 and ib == 0.0)
@@ -239,31 +229,6 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
     if counters[N_HARD] > 0:
         counters[N_IMPACT_BATCHES] -= _unflag_hard(n_batches, solver, solver.batch_impact)
         counters[N_DEEP_BATCHES] -= _unflag_hard(n_batches, solver, solver.batch_deep)
-
-
-@inline_kernel
-def _closing_velocity(relv, separation, acceleration):
-    """m/s: the relative normal velocity at which a point ``separation`` m apart at the start of
-    the step closes, when a constant ``acceleration`` (m/s^2, gravity's share of the pair's
-    relative normal acceleration) acts on its approach ``relv`` (m/s) until then; ``relv`` itself
-    for a point already touching, a pair that gravity does not move apart or together, and a
-    point that never closes.
-
-    Why: restitution drives a point's normal velocity to -e times its approach speed. Taken at
-    the start of the step, that speed misses what gravity does before the point closes, up to
-    g dt either way. Onto the floor the bounce fell short: a box dropped 0.5 m with e = 0.5
-    bounced 13% short of e^2 h (1 m: 10%, 2 m: 3%, depending on where in the step the contact
-    fell). Up against a ceiling it gained energy: thrown at it with e = 1, a box came back with up
-    to 6% more kinetic energy than it left with. The speed at which free flight closes the point
-    is the one the exact answer bounces with. Restitution acts only on points that pushed in the
-    step (which includes a speculative point closed by the step's last relax sweep, up to a
-    substep's travel short of touching: so no "closes within the step" test here)."""
-    if separation <= 0.0 or acceleration == 0.0:
-        return relv
-    square = relv * relv - 2.0 * acceleration * separation
-    if acceleration > 0.0 and (relv >= 0.0 or square <= 0.0):
-        return relv  # gravity parts them before the point closes: it does not push
-    return -np.sqrt(square)
 
 
 @inline_kernel

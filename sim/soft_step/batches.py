@@ -2,12 +2,9 @@
 sweeps, restitution, each over whole batches of LANES contacts: gather the batch's body rows,
 compute every lane at once (packed vector instructions), scatter the velocities back."""
 
-import numpy as np
-
 from ..data import VX, VY, W
 from ..jit import wide_inline, wide_kernel
 from .layout import (
-    BASE1,
     BIAS_RATE,
     E,
     FIXED_A,
@@ -31,11 +28,6 @@ from .layout import (
     PN2,
     POINT2,
     PT1,
-    RAX1,
-    RAY1,
-    RBX1,
-    RBY1,
-    RELV1,
     RNA1,
     RNA2,
     RNB1,
@@ -56,6 +48,7 @@ from .layout import (
     WA,
     WB,
 )
+from .bounce import approach, has_restitution, mark_held
 from .parameters import MAX_CONDITION, RESTITUTION_SWEEPS
 
 
@@ -439,59 +432,23 @@ def relax_hard(
 
 
 @wide_inline
-def _free_flight_approach(relv, start, now, acceleration):
-    """m/s: the relative normal velocity of a point at separation ``now`` (m) that was ``start``
-    apart moving at ``relv`` (m/s), under a constant relative normal ``acceleration`` (m/s^2):
-    v^2 = relv^2 + 2 a (now - start), approaching. ``relv`` itself when the point touched already
-    (start <= 0), did not close (now >= start), or never closes under that acceleration.
-
-    Why (restitution's approach speed): a point that closes during the step is accelerated by
-    gravity until then, so its speed at the start of the step is not the one it arrives with,
-    by up to g dt either way. Taken at the start, a box dropped onto the floor bounced 13% short
-    of e^2 h (0.5 m; 10% from 1 m, 5% from 3.7 m, as the contact fell in the step), and a box
-    thrown at a ceiling with e = 1 came back with up to 6% more energy. Taken at separation 0
-    (where free flight touches), a box the step's last relax sweep stopped short of the floor
-    (speculatively: up to a substep's travel, 1.7 mm at 0.5 m) bounced from there with the speed
-    of the floor and gained that height. At the point's separation now (0 if it overlaps), a
-    bounce with e = 1 gives back exactly the energy the fall had."""
-    if start <= 0.0 or now >= start or acceleration == 0.0:
-        return relv
-    square = relv * relv + 2.0 * acceleration * (now - start)
-    if square <= 0.0 or (acceleration > 0.0 and relv >= 0.0):
-        return relv  # gravity parts them before the point closes
-    return -np.sqrt(square)
-
-
-@wide_inline
-def _approach(wide, o, l, p, nx, ny, acceleration):
-    """m/s: point p's approach speed for the bounce (``_free_flight_approach``): from its velocity
-    and separation at the start of the step (RELV; BASE plus the start anchors' offset along n,
-    as ``packing.prepare`` sums it) to its separation now (SEP, after the last substep)."""
-    start = (
-        wide[o + p + BASE1 + l]
-        + (wide[o + p + RBX1 + l] - wide[o + p + RAX1 + l]) * nx
-        + (wide[o + p + RBY1 + l] - wide[o + p + RAY1 + l]) * ny
-    )
-    now = _fmax(0.0, wide[o + p + SEP1 + l])
-    return _free_flight_approach(wide[o + p + RELV1 + l], start, now, acceleration)
-
-
-@wide_inline
-def _restitution_lane(wide, o, l, threshold, gravity_x, gravity_y):
-    """Bounce: drive each point's normal velocity to -e times its approach speed (``_approach``:
-    where the point is now, reached in free flight under gravity when one of the pair is movable
-    and the other not; two falling bodies fall together, so between two movable bodies it is the
-    speed at the start of the step), for points that approached faster than ``threshold`` and
-    carried an impulse; the other point's impulse is left as it is. Two bouncing points are one
-    2x2 problem (``two_row_impulses``), so a box landing flat bounces flat."""
+def _restitution_lane(wide, o, l, threshold, gravity_x, gravity_y, held_a, held_b):
+    """Bounce: drive each point's normal velocity to -e times its approach speed
+    (``bounce.approach``: where the point is now, reached in free flight; gravity accelerates a
+    body that is movable and not held up by another contact (``bounce.mark_held``), so two
+    falling bodies fall together and a box falls onto a box resting on the floor as onto the
+    floor), for points that approached faster than ``threshold`` and carried an impulse; the
+    other point's impulse is left as it is. Two bouncing points are one 2x2 problem
+    (``two_row_impulses``), so a box landing flat bounces flat."""
     nx = wide[o + NX + l]
     ny = wide[o + NY + l]
     e = wide[o + E + l]
     # m/s^2: gravity's share of the pair's relative normal acceleration (B's against A's)
-    moves = (1.0 if wide[o + MB + l] > 0.0 else 0.0) - (1.0 if wide[o + MA + l] > 0.0 else 0.0)
-    acceleration = moves * (gravity_x * nx + gravity_y * ny)
-    relv1 = _approach(wide, o, l, U64(0), nx, ny, acceleration)
-    relv2 = _approach(wide, o, l, POINT2, nx, ny, acceleration)
+    falls_b = 1.0 if (wide[o + MB + l] > 0.0 and not held_b) else 0.0
+    falls_a = 1.0 if (wide[o + MA + l] > 0.0 and not held_a) else 0.0
+    acceleration = (falls_b - falls_a) * (gravity_x * nx + gravity_y * ny)
+    relv1 = approach(wide, o, l, U64(0), nx, ny, acceleration)
+    relv2 = approach(wide, o, l, POINT2, nx, ny, acceleration)
     # the step's totals so far (TOTALS)
     old1 = wide[o + PN1 + l]
     old2 = wide[o + PN2 + l]
@@ -520,33 +477,45 @@ def _restitution_lane(wide, o, l, threshold, gravity_x, gravity_y):
 
 
 @wide_kernel
-def restitution(n_colours, colour_batches, wide, lane_row, state, threshold, gravity_x, gravity_y):
+def restitution(
+    n_colours, colour_batches, wide, lane_row, state, threshold, gravity_x, gravity_y, touch, held
+):
     """Restitution after the substeps: RESTITUTION_SWEEPS sweeps, for bodies with several
     contacts (a lane's two points are solved together; solved one after the other, the first
     point's bounce turned the body before the second was solved). Batches with no restitution
-    are skipped."""
+    are skipped, and a step without any does nothing else. ``touch`` (m) and ``held`` (the
+    solver's (N+1,) bool row scratch, all False on entry and on return): see
+    ``bounce.mark_held``."""
+    n_batches = U64(colour_batches[n_colours])
+    bouncy = False
+    for b in range(n_batches):
+        bouncy = bouncy or has_restitution(wide, b * STRIDE_U)
+    if not bouncy:
+        return
+    mark_held(n_batches, wide, lane_row, gravity_x, gravity_y, touch, held)
     for _ in range(RESTITUTION_SWEEPS):
         _restitution_sweep(
-            n_colours, colour_batches, wide, lane_row, state, threshold, gravity_x, gravity_y
+            n_colours, colour_batches, wide, lane_row, state, threshold, gravity_x, gravity_y, held
         )
+    for k in range(n_batches * U64(2) * LANES_U):
+        held[lane_row[k]] = False  # every lane's rows: the scratch is all False again
 
 
 @wide_inline
 def _restitution_sweep(
-    n_colours, colour_batches, wide, lane_row, state, threshold, gravity_x, gravity_y
+    n_colours, colour_batches, wide, lane_row, state, threshold, gravity_x, gravity_y, held
 ):
     for c in range(n_colours):
         for b in range(U64(colour_batches[c]), U64(colour_batches[c + 1])):
             o = b * STRIDE_U
-            bouncy = False
-            for l in range(LANES_U):
-                bouncy = bouncy or wide[o + E + l] > 0.0
-            if not bouncy:
+            if not has_restitution(wide, o):
                 continue
             ob = b * U64(2) * LANES_U
             _gather_velocities(wide, o, lane_row, ob, state, False)
             for l in range(LANES_U):
-                _restitution_lane(wide, o, l, threshold, gravity_x, gravity_y)
+                held_a = held[lane_row[ob + l]]
+                held_b = held[lane_row[ob + l + LANES_U]]
+                _restitution_lane(wide, o, l, threshold, gravity_x, gravity_y, held_a, held_b)
             _scatter(wide, o, lane_row, ob, state, False)
 
 

@@ -90,7 +90,9 @@ def run_kernels(batch, kind):
         "solve_impact": lambda c: soft_step.solve_impact(1, colours, *c[:3], inv_h, push, flags),
         "relax": lambda c: soft_step.relax(1, colours, *c, inv_h, False),
         "relax_hard": lambda c: soft_step.relax_hard(1, colours, *c[:3], inv_h, False, flags),
-        "restitution": lambda c: soft_step.restitution(1, colours, *c[:3], 0.5, 0.0, -9.81),
+        "restitution": lambda c: soft_step.restitution(
+            1, colours, *c[:3], 0.5, 0.0, -9.81, 1.7e-4, np.zeros(len(c[2]), bool)
+        ),
     }
     out = {}
     for name, kernel in kernels.items():

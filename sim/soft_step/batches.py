@@ -5,6 +5,8 @@ compute every lane at once (packed vector instructions), scatter the velocities 
 from ..data import VX, VY, W
 from ..jit import wide_inline, wide_kernel
 from .layout import (
+    APPROACH1,
+    APPROACH2,
     BIAS_RATE,
     E,
     FIXED_A,
@@ -432,23 +434,43 @@ def relax_hard(
 
 
 @wide_inline
-def _restitution_lane(wide, o, l, threshold, gravity_x, gravity_y, held_a, held_b):
-    """Bounce: drive each point's normal velocity to -e times its approach speed
-    (``bounce.approach``: where the point is now, reached in free flight; gravity accelerates a
-    body that is movable and not held up by another contact (``bounce.mark_held``), so two
+def _approaches(n_batches, wide, lane_row, gravity_x, gravity_y, held):
+    """Each point's approach speed for the bounce into the batch's scratch fields APPROACH1 and
+    APPROACH2 (free while the sweeps hold velocities), once before the sweeps (they do not change
+    it): ``bounce.approach``, where the point is now, reached in free flight; gravity accelerates
+    a body that is movable and not held up by another contact (``bounce.mark_held``), so two
     falling bodies fall together and a box falls onto a box resting on the floor as onto the
-    floor), for points that approached faster than ``threshold`` and carried an impulse; the
-    other point's impulse is left as it is. Two bouncing points are one 2x2 problem
+    floor. On rest_row(5000) with every box bouncy the restitution stage takes 0.24 ms a step (0.18
+    before the approach was carried forward; 0.32 computed in every sweep instead)."""
+    for b in range(n_batches):
+        o = b * STRIDE_U
+        if not has_restitution(wide, o):
+            continue
+        ob = b * U64(2) * LANES_U
+        for l in range(LANES_U):
+            nx = wide[o + NX + l]
+            ny = wide[o + NY + l]
+            held_a = held[lane_row[ob + l]]
+            held_b = held[lane_row[ob + l + LANES_U]]
+            # m/s^2: gravity's share of the pair's relative normal acceleration (B's against A's)
+            falls_b = 1.0 if (wide[o + MB + l] > 0.0 and not held_b) else 0.0
+            falls_a = 1.0 if (wide[o + MA + l] > 0.0 and not held_a) else 0.0
+            acceleration = (falls_b - falls_a) * (gravity_x * nx + gravity_y * ny)
+            wide[o + APPROACH1 + l] = approach(wide, o, l, U64(0), nx, ny, acceleration)
+            wide[o + APPROACH2 + l] = approach(wide, o, l, POINT2, nx, ny, acceleration)
+
+
+@wide_inline
+def _restitution_lane(wide, o, l, threshold):
+    """Bounce: drive each point's normal velocity to -e times its approach speed (APPROACH1/2,
+    ``_approaches``), for points that approached faster than ``threshold`` and carried an
+    impulse; the other point's impulse is left as it is. Two bouncing points are one 2x2 problem
     (``two_row_impulses``), so a box landing flat bounces flat."""
     nx = wide[o + NX + l]
     ny = wide[o + NY + l]
     e = wide[o + E + l]
-    # m/s^2: gravity's share of the pair's relative normal acceleration (B's against A's)
-    falls_b = 1.0 if (wide[o + MB + l] > 0.0 and not held_b) else 0.0
-    falls_a = 1.0 if (wide[o + MA + l] > 0.0 and not held_a) else 0.0
-    acceleration = (falls_b - falls_a) * (gravity_x * nx + gravity_y * ny)
-    relv1 = approach(wide, o, l, U64(0), nx, ny, acceleration)
-    relv2 = approach(wide, o, l, POINT2, nx, ny, acceleration)
+    relv1 = wide[o + APPROACH1 + l]
+    relv2 = wide[o + APPROACH2 + l]
     # the step's totals so far (TOTALS)
     old1 = wide[o + PN1 + l]
     old2 = wide[o + PN2 + l]
@@ -493,18 +515,15 @@ def restitution(
     if not bouncy:
         return
     mark_held(n_batches, wide, lane_row, gravity_x, gravity_y, touch, held)
+    _approaches(n_batches, wide, lane_row, gravity_x, gravity_y, held)
     for _ in range(RESTITUTION_SWEEPS):
-        _restitution_sweep(
-            n_colours, colour_batches, wide, lane_row, state, threshold, gravity_x, gravity_y, held
-        )
+        _restitution_sweep(n_colours, colour_batches, wide, lane_row, state, threshold)
     for k in range(n_batches * U64(2) * LANES_U):
         held[lane_row[k]] = False  # every lane's rows: the scratch is all False again
 
 
 @wide_inline
-def _restitution_sweep(
-    n_colours, colour_batches, wide, lane_row, state, threshold, gravity_x, gravity_y, held
-):
+def _restitution_sweep(n_colours, colour_batches, wide, lane_row, state, threshold):
     for c in range(n_colours):
         for b in range(U64(colour_batches[c]), U64(colour_batches[c + 1])):
             o = b * STRIDE_U
@@ -513,9 +532,7 @@ def _restitution_sweep(
             ob = b * U64(2) * LANES_U
             _gather_velocities(wide, o, lane_row, ob, state, False)
             for l in range(LANES_U):
-                held_a = held[lane_row[ob + l]]
-                held_b = held[lane_row[ob + l + LANES_U]]
-                _restitution_lane(wide, o, l, threshold, gravity_x, gravity_y, held_a, held_b)
+                _restitution_lane(wide, o, l, threshold)
             _scatter(wide, o, lane_row, ob, state, False)
 
 

@@ -96,6 +96,9 @@ STRIDE = N_FIELDS * LANES
 GATHER_FIELDS = 8
 VAX, VAY, WA, VBX, VBY, WB = G0, G1, G2, G3, G4, G5
 DPAX, DPAY, QCA, QSA, DPBX, DPBY, QCB, QSB = G0, G1, G2, G3, G4, G5, G6, G7
+#: restitution's approach speed of each point (m/s, ``batches._approaches``), in the two gather
+#: fields the velocities leave free
+APPROACH1, APPROACH2 = G6, G7
 #: A batch's kind (``Solver.batch_kind``, set by ``packing.prepare``): FIXED_A when body A of
 #: every lane is one the solver cannot move (its row is the dummy row 0, its inverse mass and
 #: inertia zero: the floor, which is A of its pairs, or a frozen body), else MOVABLE. The sweeps

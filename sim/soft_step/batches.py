@@ -248,8 +248,9 @@ def two_row_impulses(a1, a2, r1, r2, k11, k12, k22, real2):
     all computed and one selected (branch-free): both pushing (the block, accepted when K is well
     conditioned and both stay >= 0); one pushing with the other released (its impulse taken
     away, and the row that is left seeing that through K12), accepted when the released row is
-    not pulled (w >= 0); neither. A one-point lane (``real2`` False, its second row void) is its
-    first point's row alone.
+    not pulled (w >= 0); both as one row, where K is too near singular for the block and neither
+    point alone holds (see there); neither. A one-point lane (``real2`` False, its second row
+    void) is its first point's row alone.
 
     Solving the points one after the other instead (this module did until 2026-12) gives a
     symmetric landing unequal impulses: a column of boxes dropped onto each other rocked,
@@ -268,17 +269,29 @@ def two_row_impulses(a1, a2, r1, r2, k11, k12, k22, real2):
     w2 = r2 - k12 * d1 - k22 * a2
     w1 = r1 - k12 * d2 - k11 * a1
     lone = not real2
-    block = real2 & (k11 * k11 < MAX_CONDITION * det) & (x1 >= 0.0) & (x2 >= 0.0)
+    conditioned = k11 * k11 < MAX_CONDITION * det
+    block = real2 & conditioned & (x1 >= 0.0) & (x2 >= 0.0)
     only1 = (s1 >= 0.0) & ((w2 >= 0.0) | lone)
     # point 1's case wins a tie: with a near-singular K (the points nearly one) both cases can
     # hold, and taking both would apply the load twice
     only2 = real2 & (s2 >= 0.0) & (w1 >= 0.0) & (not only1)
+    # Both rows as one, when K is too near singular for the block and neither point alone
+    # holds: the two rows are then nearly the same row (a plank on its end, two points of a
+    # many-sided polygon a few mm apart), so they share one impulse, half at each point, sized
+    # so that their mean residual is zero. Answering "neither" there instead, a 0.1 x 11 m plank
+    # standing on its end and a 300-sided polygon fell through the floor as if it were not
+    # there: both points need to push, and each alone leaves the other pulled by round-off.
+    merged = real2 & (not conditioned) & (not only1) & (not only2)
+    km = k11 + 2.0 * k12 + k22  # e K e for e = (1, 1): > 0 for any two real rows
+    # (km is not > 0 only when a row is NaN, which then comes through, as below)
+    total = 2.0 * ((k11 + k12) * a1 + (k12 + k22) * a2 - r1 - r2) / km if km > 0.0 else 0.0 * km
+    half = 0.5 * _fmax(0.0, total)
     # neither: 0, except that a NaN in the rows comes through (as _fmax carries it), for the
     # World's check of the bodies to report where it began
     none1 = 0.0 * _fmax(0.0, s1)
     none2 = 0.0 * _fmax(0.0, s2)
-    new1 = x1 if block else (s1 if only1 else none1)
-    new2 = x2 if block else (s2 if only2 else none2)
+    new1 = x1 if block else (s1 if only1 else (half if merged else none1))
+    new2 = x2 if block else (s2 if only2 else (half if merged else none2))
     return new1, new2
 
 

@@ -42,7 +42,8 @@ STIFFNESS_RATIO = 25.0
 #: the piles nothing beyond chaos (1 mm/s until step 493, extended 218 steps against sleep's 184).
 LOAD_TIME = 1.0 / 3.0
 #: A two-point manifold is solved as one 2x2 block unless K's condition number is worse than this
-#: (the points nearly coincide): then point by point.
+#: (the points nearly coincide, or stand close under a long arm: a plank on its end): then as one
+#: point alone, or, where neither alone holds, as one row shared by both (``two_row_impulses``).
 MAX_CONDITION = 1000.0
 #: A contact between movable bodies whose masses differ more than this is "hard": Gauss-Seidel
 #: converges on it at ~M/(M+m) per sweep (a heavy box on a light one sinks into it while the

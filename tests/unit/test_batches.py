@@ -249,6 +249,29 @@ def test_two_coincident_points_carry_the_load_once(approach):
     assert sum(new) == pytest.approx(max(0.0, a1 + a2 - r / k), rel=1e-12)
 
 
+@pytest.mark.parametrize("approach", [-1.0, -1e-3])
+@pytest.mark.parametrize("start", [(0.0, 0.0), (0.3, 0.1)])
+def test_two_nearly_equal_rows_that_both_push_share_one_impulse(approach, start):
+    # A plank 0.1 m wide standing on its end (arms +-0.05 m, 5.5 m below the centre of mass):
+    # K is too near singular for the block (condition > MAX_CONDITION), and neither point alone
+    # holds, since each alone leaves the other pulled. The pair is then solved as one row, the
+    # impulse split equally: both push, and their mean residual is zero. The answer "neither"
+    # (before 2026-12-06) let such a plank fall through the floor.
+    m, inertia = 1.0, (0.1**2 + 11.0**2) / 12.0
+    k11 = k22 = 1.0 / m + 0.05**2 / inertia
+    k12 = 1.0 / m - 0.05**2 / inertia
+    assert k11 * k11 >= soft_step.MAX_CONDITION * (k11 * k22 - k12 * k12)  # the block refused
+    a = np.array(start)
+    r = np.array([approach, approach])
+    new = np.array(batches.two_row_impulses(a[0], a[1], r[0], r[1], k11, k12, k22, True))
+    K = np.array([[k11, k12], [k12, k22]])
+    w = r + K @ (new - a)
+    assert new[0] == new[1] > 0.0
+    assert w.mean() == pytest.approx(0.0, abs=1e-12 * abs(approach))
+    # the rows differ only by the turn that equalising the split gives: (k11 - k12) (a1 - a2)
+    assert w[0] - w[1] == pytest.approx((k11 - k12) * (a[1] - a[0]), abs=1e-12)
+
+
 @pytest.mark.parametrize("where", ["a1", "r2", "k12"])
 def test_a_nan_in_the_rows_comes_through(where):
     # Every case's test fails on a NaN, so without care the lane would answer "neither pushing"

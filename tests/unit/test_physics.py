@@ -302,6 +302,42 @@ def test_boxes_meeting_corner_to_corner_do_not_interpenetrate(phase):
     np.testing.assert_allclose(world.velocities, [[-0.75, -0.75], [-0.75, -0.75]], atol=1e-3)
 
 
+@pytest.mark.parametrize("height", [11.0, 20.0, 100.0])
+@pytest.mark.parametrize("support", ["floor", "static box", "box"])
+def test_a_slender_plank_stands_on_its_end(support, height):
+    # A 0.1 m plank standing upright on its end carries its weight on two points 0.1 m apart,
+    # whose rows are nearly the same row (the 2x2 mass matrix is near singular from an aspect
+    # ratio of ~110 on). Both must push: before soft_step.batches.two_row_impulses solved such a
+    # pair as one row, neither did, and a plank of 11 m or more fell through the floor as if it
+    # were not there (exactly free fall: 4.9 m in the first second).
+    static, bodies = [], []
+    base = 0.0
+    if support != "floor":
+        box = sim.Body.box(2.0, 1.0, position=(0.0, 0.5))
+        (static if support == "static box" else bodies).append(box)
+        base = 1.0
+    bodies.append(sim.Body.box(0.1, height, position=(0.0, base + height / 2)))
+    world = sim.World(sim.Scene(bodies=bodies, static_bodies=static))
+    start = world.positions
+    world.step(120)
+    assert np.abs(world.positions - start).max() < 1e-6
+    assert np.abs(world.angles).max() < 1e-9
+
+
+@pytest.mark.parametrize("sides", [64, 300, 1024])
+def test_a_many_sided_polygon_rests_where_it_is_placed(sides):
+    # A regular polygon of many sides (the World takes up to 1024) placed on one of its edges:
+    # the edge is short, so its two points are close and their rows nearly one (see the plank).
+    # From 282 sides on, the polygon fell through the floor before the two were solved as one.
+    radius = 0.5
+    body = sim.Body.regular(sides, radius, position=(0.0, radius * math.cos(math.pi / sides)))
+    world = sim.World(sim.Scene(bodies=[body]))
+    start = world.positions
+    world.step(120)
+    assert np.abs(world.positions - start).max() < 1e-6
+    assert abs(world.angles[0]) < 1e-9
+
+
 @pytest.mark.parametrize("offset_deg,falls", [(-2.0, False), (2.0, True)])
 def test_tall_box_tips_past_critical_angle(offset_deg, falls):
     w, h = 0.5, 2.0

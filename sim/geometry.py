@@ -35,8 +35,8 @@ def validate_polygon(vertices, name="polygon"):
 
     Rejects: fewer than 3 vertices, more than ``MAX_VERTICES``, NaN/inf, repeated vertices, zero
     area, clockwise order, and any reflex vertex (non-convex). Collinear consecutive vertices are
-    allowed only within a relative tolerance of 1e-9 (they add a zero-angle corner, harmless to
-    SAT).
+    allowed only within a relative tolerance of 1e-9 (they add a zero-angle corner; the World
+    solves the polygon without them, ``polygons.drop_collinear``).
     """
     try:
         v = np.asarray(vertices, dtype=np.float64)

@@ -17,7 +17,13 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .polygons import edge_normals_many, extent_many, mass_properties_many, thinnest_width_many
+from .polygons import (
+    drop_collinear,
+    edge_normals_many,
+    extent_many,
+    mass_properties_many,
+    thinnest_width_many,
+)
 from .scene import BodyArrays
 
 
@@ -64,6 +70,9 @@ def pack(scene):
         mass, centroid, inertia = mass_properties_many(
             vertices, vert_start, np.concatenate([dynamic.density, static.density])
         )
+    # the solver's polygons without collinear vertices (the same shapes; see drop_collinear);
+    # the mass properties are the given polygons', as Body.mass and Body.inertia report them
+    vertices, vert_start = drop_collinear(vertices, vert_start)
     local = vertices - np.repeat(centroid, np.diff(vert_start), axis=0)
     normals = edge_normals_many(local, vert_start)
     angle = np.concatenate([dynamic.angle, static.angle])

@@ -506,7 +506,12 @@ class World:
         return -float((self.masses * (p[:, 0] * g[0] + p[:, 1] * g[1])).sum())
 
     def vertices(self, i):
-        """World vertices (K,2) of dynamic body ``i`` at the current pose, m."""
+        """World vertices (K,2) of dynamic body ``i`` (0 <= i < n_bodies) at the current pose, m:
+        the polygon the solver uses, which is the body's own less any collinear vertex
+        (``polygons.drop_collinear``)."""
+        n = self.n_bodies
+        why = f"its dynamic bodies are 0 to {n - 1}" if n else "the World has no dynamic body"
+        i = count(i, "body index", 0, n - 1, why)
         b = self._bodies
         local = b.local_verts[b.vert_start[i] : b.vert_start[i + 1]]
         return geometry.place(local, b.position[i], b.angle[i])

@@ -218,6 +218,21 @@ def test_observables_are_copies():
     assert world.states.dtype == np.int8 and world.states[0] == sim.State.FREE
 
 
+@pytest.mark.parametrize("i", [-1, 1, 5, True, 0.0, "0"])
+def test_vertices_take_only_a_dynamic_body_index(i):
+    # body 1 is the static one: World.vertices is of dynamic bodies (-1 gave an empty array, 1
+    # the static body's polygon, 5 numpy's IndexError)
+    world = sim.World(
+        sim.Scene(
+            bodies=[sim.Body.box(1, 1, position=(0.0, 0.5))],
+            static_bodies=[sim.Body.box(1, 1, position=(3.0, 0.5))],
+        )
+    )
+    assert world.vertices(np.int64(0)).shape == (4, 2)
+    with pytest.raises(ValueError, match="body index"):
+        world.vertices(i)
+
+
 def test_vertices_edited_in_place_are_caught_by_the_world():
     """A body passes its full check once and is then only fingerprinted; an in-place edit of its
     vertex array must still be noticed (here: the polygon turned clockwise)."""

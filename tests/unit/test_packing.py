@@ -196,6 +196,56 @@ def test_mass_properties_many_is_bit_for_bit_the_one_polygon_result():
         np.testing.assert_array_equal(centroid[i], c_ref)
 
 
+def test_collinear_vertices_are_dropped_and_nothing_else():
+    # a unit box with its bottom edge in four parts, a triangle with a vertex mid-edge, and a
+    # box whose corner is off by 1e-7 m (a real corner, kept)
+    split = [
+        (-0.5, -0.5),
+        (-0.25, -0.5),
+        (0, -0.5),
+        (0.25, -0.5),
+        (0.5, -0.5),
+        (0.5, 0.5),
+        (-0.5, 0.5),
+    ]
+    tri = [(0, 0), (1, 0), (2, 0), (0, 1)]
+    near = [(-0.5, -0.5), (0, -0.5 - 1e-7), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+    vertices = np.array(split + tri + near, float)
+    vert_start = np.array([0, 7, 11, 16])
+    out, start = polygons.drop_collinear(vertices, vert_start)
+    np.testing.assert_array_equal(start, [0, 4, 7, 12])
+    np.testing.assert_array_equal(out[0:4], [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)])
+    np.testing.assert_array_equal(out[4:7], [(0, 0), (2, 0), (0, 1)])
+    np.testing.assert_array_equal(out[7:], near)
+    # none to drop: the very arrays come back (the World's polygons stay as given, to the bit)
+    box = np.array(split[:1] + split[4:])
+    same = polygons.drop_collinear(box, np.array([0, 4]))
+    assert same[0] is box
+
+
+def test_the_world_solves_a_polygon_without_its_collinear_vertices():
+    split = [
+        (-0.5, -0.5),
+        (-0.25, -0.5),
+        (0, -0.5),
+        (0.25, -0.5),
+        (0.5, -0.5),
+        (0.5, 0.5),
+        (-0.5, 0.5),
+    ]
+    body = sim.Body(vertices=split, position=(1.0, 0.5), angle=0.3)
+    world = sim.World(sim.Scene(bodies=[body], floor_y=None, gravity=(0.0, 0.0)))
+    box = sim.World(
+        sim.Scene(
+            bodies=[sim.Body.box(1, 1, position=(1.0, 0.5), angle=0.3)],
+            floor_y=None,
+            gravity=(0.0, 0.0),
+        )
+    )
+    np.testing.assert_allclose(world.vertices(0), box.vertices(0), atol=1e-15)
+    assert body.mass == world.masses[0]  # the mass properties are the given polygon's
+
+
 def test_edge_normals_extent_and_width_of_many_polygons():
     polys = random_polygons(3)
     vertices, vert_start = packed(polys)

@@ -4,6 +4,7 @@ The rules for a body's fields live here once, in two forms that agree: ``check_f
 body (it raises the message) and ``failing_fields`` for arrays of many bodies (it finds which fail,
 so that ``Scene.from_arrays`` can ask ``check_fields`` for the first one's message)."""
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 import math
 import numbers
@@ -32,9 +33,12 @@ _REMEMBERED_VERTICES = 32
 def _validated_polygon(vertices, name):
     """``validate_polygon(vertices, name)``, skipping the check for a polygon seen to pass."""
     try:
-        v = np.asarray(vertices, dtype=np.float64)
+        given = np.asarray(vertices)
     except (TypeError, ValueError):
+        given = None
+    if given is None or given.dtype.kind not in "iuf":  # (geometry.numeric_array)
         return validate_polygon(vertices, name)  # raises the reference's message
+    v = np.asarray(given, dtype=np.float64)
     if v.size > 2 * _REMEMBERED_VERTICES:
         return validate_polygon(v, name)
     key = (v.shape, v.tobytes())
@@ -66,12 +70,26 @@ def _numeric(seq):
         return False
 
 
+#: what float() takes but is not a number here: text ("2" is a mistake, and "12" would unpack to
+#: the pair (1.0, 2.0)), switches (True is not 1 m) and complex numbers (float() of a numpy
+#: complex drops the imaginary part with only a warning)
+NOT_NUMBERS = (str, bytes, bool, np.bool_, complex, np.complexfloating)
+
+
+def real(value):
+    """``float(value)`` of a real number; TypeError for anything in NOT_NUMBERS."""
+    if isinstance(value, NOT_NUMBERS):
+        raise TypeError(f"not a number: {value!r}")
+    return float(value)
+
+
 def finite_pair(value, what, name):
-    """(x, y) as a tuple of finite floats, or ValueError naming ``name`` and ``what``."""
-    if isinstance(value, (str, bytes)):  # "12" would unpack to (1.0, 2.0)
+    """(x, y) as a tuple of finite floats, or ValueError naming ``name`` and ``what``. A pair is
+    a sequence or an array of two numbers (a dict or a set has no order to read it in)."""
+    if not isinstance(value, (Sequence, np.ndarray)) or isinstance(value, (str, bytes)):
         raise ValueError(f"{name}: {what} must be a pair of numbers, got {value!r}")
     try:
-        x, y = (float(c) for c in value)
+        x, y = (real(c) for c in value)
     except (TypeError, ValueError):
         raise ValueError(f"{name}: {what} must be a pair of numbers, got {value!r}") from None
     if not (math.isfinite(x) and math.isfinite(y)):
@@ -81,10 +99,8 @@ def finite_pair(value, what, name):
 
 def finite_number(value, what, name):
     """``value`` as a finite float, or ValueError naming ``name`` and ``what``."""
-    if isinstance(value, (str, bytes)):  # a number given as text is a mistake
-        raise ValueError(f"{name}: {what} must be a number, got {value!r}")
     try:
-        x = float(value)
+        x = real(value)
     except (TypeError, ValueError):
         raise ValueError(f"{name}: {what} must be a number, got {value!r}") from None
     if not math.isfinite(x):

@@ -30,6 +30,17 @@ class PolygonError(ValueError):
     """A polygon that the solver cannot use (non-convex, clockwise, degenerate, non-finite)."""
 
 
+def numeric_array(value):
+    """Is ``value`` (an array, or nested sequences) made of real numbers: integers or floats,
+    not text, switches (bools), complex numbers or other objects? float64 conversion takes all
+    of those ("2" becomes 2.0, True 1.0), so a check of types must come first."""
+    try:
+        kind = np.asarray(value).dtype.kind
+    except (TypeError, ValueError):
+        return False
+    return kind in "iuf"
+
+
 def validate_polygon(vertices, name="polygon"):
     """Return ``vertices`` as a (K, 2) float64 array, or raise ``PolygonError`` naming ``name``.
 
@@ -38,10 +49,23 @@ def validate_polygon(vertices, name="polygon"):
     allowed only within a relative tolerance of 1e-9 (they add a zero-angle corner; the World
     solves the polygon without them, ``polygons.drop_collinear``).
     """
+    # before the conversion, which takes text, switches and complex numbers (the last with only a
+    # warning)
+    numeric = numeric_array(vertices)
     try:
-        v = np.asarray(vertices, dtype=np.float64)
+        v = np.asarray(vertices, dtype=np.float64) if numeric else None
     except (TypeError, ValueError) as exc:
         raise PolygonError(f"{name}: vertices are not an array of (x, y) numbers ({exc})") from None
+    if v is None:
+        try:
+            got = f"{np.asarray(vertices).dtype} values"
+        except (TypeError, ValueError) as exc:  # ragged: no one array
+            raise PolygonError(
+                f"{name}: vertices are not an array of (x, y) numbers ({exc})"
+            ) from None
+        raise PolygonError(
+            f"{name}: vertices must be numbers, not text, switches or complex numbers (got {got})"
+        )
     if v.ndim != 2 or v.shape[1] != 2:
         raise PolygonError(f"{name}: vertices must have shape (K, 2), got {v.shape}")
     k = v.shape[0]

@@ -17,7 +17,7 @@ import tomli_w
 
 from .body import Body, check_fields, failing_fields, finite_number, finite_pair
 from .files import write_text_atomically
-from .geometry import validate_polygon
+from .geometry import numeric_array, validate_polygon
 from .polygons import check_packed, polygon_suspects
 
 
@@ -96,7 +96,14 @@ class Scene:
         scene's dynamic bodies were checked when it was built and their arrays are read-only, so
         for them this costs nothing."""
         if self.body_arrays is None:
-            if not isinstance(self.bodies, (list, tuple)) or len(self.bodies) == 0:
+            if not isinstance(self.bodies, (list, tuple)):
+                # a lone Body or a generator was reported as "no body"
+                hint = " (put it in a list)" if isinstance(self.bodies, Body) else ""
+                raise ValueError(
+                    f"scene: bodies must be a list of sim.Body, got "
+                    f"{type(self.bodies).__name__}{hint}"
+                )
+            if len(self.bodies) == 0:
                 raise ValueError("scene: needs at least one body in `bodies`")
             self.bodies = list(self.bodies)
             _check_bodies(self.bodies, "body")
@@ -365,9 +372,15 @@ def _check_bodies(bodies, kind):
 # ---- array-backed scenes: arguments to BodyArrays, BodyArrays to Body objects and dicts ---------
 def _floats(value, what):
     try:
-        return np.array(value, dtype=np.float64)
+        a = np.array(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"Scene.from_arrays: {what} must be numbers ({exc})") from None
+    if not numeric_array(value):  # float64 took text, switches or complex numbers
+        raise ValueError(
+            f"Scene.from_arrays: {what} must be numbers, not text, switches or complex numbers "
+            f"(got {np.asarray(value).dtype} values)"
+        )
+    return a
 
 
 def _per_body(value, n, what):

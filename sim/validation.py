@@ -10,6 +10,7 @@ that the peer runners share (a count, a switch, a number) are ``sim.arguments``.
 import numpy as np
 
 from . import soft_step
+from .body import MAX_COORDINATE
 
 #: Settings of the solver before soft step, refused with the reason.
 REMOVED = {
@@ -91,6 +92,23 @@ def check_mass_properties(packed, describe):
             f"{packed.mass[i]:.4g} kg, moment of inertia {packed.inertia[i]:.4g} kg m^2, extent "
             f"{packed.extent[i]:.4g} m; both must lie in [{lo:g}, {hi:g}]): its size or density "
             f"is too extreme; scale the scene"
+        )
+
+
+def check_range(packed, describe):
+    """ValueError naming the first body whose centre of mass lies beyond MAX_COORDINATE (m) of
+    the origin, where the solver stops a body as diverged. The body's position (its frame's
+    origin) and its vertices are each checked on the Body, but the centre of mass is their sum:
+    a box 9e11 m from its own origin, placed at 9e11 m, built a World and then "diverged" in its
+    first step, at rest. ``describe(i)`` names body i."""
+    far = ~(np.abs(packed.position) <= MAX_COORDINATE).all(axis=1)
+    if far.any():
+        i = int(np.flatnonzero(far)[0])
+        x, y = packed.position[i]
+        raise ValueError(
+            f"{describe(i)}: its centre of mass ({x:.4g}, {y:.4g}) m is beyond {MAX_COORDINATE:g} "
+            f"m of the origin, where the solver stops as diverged (its vertices lie far from its "
+            f"position); place the polygon about its position"
         )
 
 

@@ -8,6 +8,8 @@ arrays the step loop works in (their sizes, and their growth when a step outgrow
 ``sim.reports`` the read-only reports (``contacts()``, ``inspect()``), ``sim.calls`` the call into
 the compiled step loop (Ctrl-C deferred, Numba's type dispatch skipped)."""
 
+import difflib
+import inspect
 import time
 
 import numpy as np
@@ -23,7 +25,7 @@ from . import geometry
 from .buffers import grown, new_bodies, new_contacts, new_geometry, new_solver
 from .clock import ticks_per_second
 from .contacts import sort_awake
-from .freeze import POLICY_NAMES, resolve
+from .freeze import POLICY_NAMES, parameters_of, resolve
 from .freeze.extended_layout import WAIT_NAMES, WAIT_NONE, WAITING
 from .narrowphase import update_manifolds
 from .packing import pack
@@ -39,6 +41,7 @@ from .validation import (
     REMOVED,
     check_initial_overlap,
     check_mass_properties,
+    check_range,
     fast_path_names,
     mixed_masses,
 )
@@ -152,6 +155,7 @@ class World:
             raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
         for name in sorted(set(policy_parameters) & set(REMOVED)):
             raise ValueError(f"World does not take {name}: {REMOVED[name]}")
+        self._check_policy_arguments(freeze, policy_parameters)
         # A copy taken now (validated): the steps, the reports (potential_energy, the names in
         # messages) and ``world.scene`` all see the scene as it was when the World was built.
         # Holding the caller's object, a later edit was half-seen: potential_energy() used the
@@ -196,11 +200,14 @@ class World:
 
         packed = pack(scene)
         self.n_bodies = packed.n_dynamic
-        self.masses = packed.mass  # (N,) kg
-        self.inertias = packed.inertia  # (N,) kg m^2 about the COM
+        # read-only: the energies are computed from them (a -1 written into masses made
+        # kinetic_energy() negative)
+        self.masses = _read_only(packed.mass)  # (N,) kg
+        self.inertias = _read_only(packed.inertia)  # (N,) kg m^2 about the COM
         self.extents = packed.extent  # (M,) m, COM to farthest vertex
         self.sizes = packed.size  # (M,) m, thinnest width
         check_mass_properties(packed, self._describe)
+        check_range(packed, self._describe)
         g = float(np.hypot(*scene.gravity))
         check_step(packed.size[: self.n_bodies], self._describe, self.dt, self.substeps, g)
         self._build(scene, packed)
@@ -333,6 +340,28 @@ class World:
         """Refuse scenes whose bodies start interpenetrated beyond ``overlap_tolerance``: the
         contacts would launch them apart and the run would measure nothing real."""
         check_initial_overlap(self._points(), self._describe, self.overlap_tolerance)
+
+    @staticmethod
+    def _check_policy_arguments(freeze, policy_parameters):
+        """ValueError for a keyword that is neither a World setting nor a parameter of the freeze
+        policy, saying both (a misspelt setting, ``iteratons=3``, read as the policy's fault)."""
+        if not isinstance(freeze, str) or freeze not in POLICY_NAMES:
+            return  # resolve names the unknown policy
+        takes = parameters_of(freeze)
+        unknown = sorted(set(policy_parameters) - set(takes))
+        if unknown:
+            settings = [
+                p.name
+                for p in inspect.signature(World.__init__).parameters.values()
+                if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY) and p.name != "self"
+            ]
+            near = difflib.get_close_matches(unknown[0], settings + list(takes), n=1)
+            raise ValueError(
+                f"World got {', '.join(unknown)}: not a World setting "
+                f"({', '.join(s for s in settings if s != 'scene')}) nor a parameter of "
+                f"freeze={freeze!r} ({', '.join(takes) or 'it takes none'})"
+                + (f"; did you mean {near[0]}?" if near else "")
+            )
 
     def _describe(self, i):
         dynamic, static = self._names
@@ -548,3 +577,9 @@ class World:
             f"substeps={self.substeps}, iterations={self.iterations}, "
             f"freeze={self.freeze!r}, step={self.step_count})"
         )
+
+
+def _read_only(array):
+    """``array`` marked read-only (numpy then refuses writes into it), returned."""
+    array.setflags(write=False)
+    return array

@@ -14,6 +14,13 @@ POLICY_NAMES = ("off", "sleep", "paper", "extended")
 _IMPLEMENTED = {m.NAME: m for m in (off, sleep, paper, extended)}
 
 
+def parameters_of(name):
+    """The parameters (name -> default) of the implemented policy ``name``; {} for any other
+    name (``resolve`` says what is wrong with it)."""
+    policy = _IMPLEMENTED.get(name) if isinstance(name, str) else None
+    return dict(policy.PARAMETERS) if policy is not None else {}
+
+
 def resolve(name, params):
     """Return (policy module, parameters with defaults filled in), or raise.
 

@@ -140,8 +140,11 @@ PARAMETERS = {
     "tip_margin": 0.02,
 }
 INT_PARAMETERS = ("rest_steps",)
-#: parameters that must stay below a bound (exclusive): a friction cone shrunk by 100% is a line
-BELOW = {"friction_margin": 1.0}
+#: parameters that must stay below a bound (exclusive): a friction cone shrunk by 100% is a line;
+#: a tip margin of half the body's size or more already certifies nothing, and one of ~1e155 made
+#: the certificate's moments overflow to inf, after which every body passed it (a box frozen at
+#: once at tip_margin=1e300)
+BELOW = {"friction_margin": 1.0, "tip_margin": 1.0}
 #: the per-body state the World allocates for the policy (``activity.initial_activity``),
 #: in the columns ``extended_layout`` names
 REAL_COLUMNS = extended_layout.REAL_COLUMNS

@@ -28,6 +28,10 @@ def scene_with(body, **kwargs):
         ([(0, 0), (1, math.inf), (0, 1)], "NaN or inf"),
         ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], "shape"),
         ("not a polygon", "vertices"),
+        # float() takes these, so they were accepted (the README refuses text given as a number)
+        ([("0", "0"), ("1", "0"), ("0", "1")], "vertices must be numbers"),
+        (np.array([(0, 0), (1, 0), (0, 1)], complex), "vertices must be numbers"),
+        (np.array([(0, 0), (1, 0), (0, 1)], bool), "vertices must be numbers"),
     ],
 )
 def test_bad_polygon(vertices, problem):
@@ -49,6 +53,15 @@ def test_bad_polygon(vertices, problem):
         ("angle", math.nan, "angle is not finite"),
         ("angular_velocity", math.inf, "angular_velocity is not finite"),
         ("position", (1.0,), "position must be a pair"),
+        # numbers inside a pair, and pairs, that float() or unpacking took
+        ("position", ("1", "2"), "position must be a pair of numbers"),
+        ("velocity", (b"1", b"2"), "velocity must be a pair of numbers"),
+        ("position", {1: 2, 3: 4}, "position must be a pair of numbers"),
+        ("position", {1, 2}, "position must be a pair of numbers"),
+        ("position", (True, 0.0), "position must be a pair of numbers"),
+        ("density", True, "density must be a number"),
+        ("angle", True, "angle must be a number"),
+        ("angle", 1 + 0j, "angle must be a number"),
     ],
 )
 def test_bad_body_field(field, value, problem):
@@ -85,7 +98,12 @@ def test_unnamed_bodies_are_named_by_index():
         ({"slop": -0.001}, "slop"),
         ({"baumgarte": 1.5}, "baumgarte"),
         ({"freeze": "nap"}, "unknown freeze policy 'nap'"),
-        ({"freeze": "off", "impulse_threshold": 1.0}, "does not take impulse_threshold"),
+        ({"freeze": "off", "impulse_threshold": 1.0}, "World got impulse_threshold: not a World"),
+        # a misspelt setting was reported as the policy's ("freeze='off' does not take iteratons")
+        (
+            {"iteratons": 3},
+            "not a World setting .* nor a parameter of freeze='off'.* iterations\\?",
+        ),
     ],
 )
 def test_bad_world_settings(kwargs, problem):
@@ -130,6 +148,10 @@ def test_body_inside_a_static_wall_is_refused():
         ({"floor_friction": -1.0}, "floor_friction"),
         ({"floor_restitution": 2.0}, "floor_restitution"),
         ({"floor_y": math.inf}, "floor_y is not finite"),
+        ({"gravity": (True, False)}, "gravity must be a pair of numbers"),
+        # a lone Body was reported as "needs at least one body"
+        ({"bodies": sim.Body.box(1, 1, position=(0, 0.5))}, "a list of sim.Body, got Body \\(put"),
+        ({"bodies": (b for b in [])}, "a list of sim.Body, got generator"),
     ],
 )
 def test_bad_scene(kwargs, problem):
@@ -194,7 +216,11 @@ def test_step_count_must_be_a_non_negative_integer():
         ("extended", {"rest_steps": 1.5}, "rest_steps must be an integer >= 1"),
         ("extended", {"rest_speed": math.nan}, "rest_speed must be finite"),
         ("sleep", {"sleep_time": "long"}, "sleep_time must be a number"),
-        ("sleep", {"impulse_threshold": 1.0}, "freeze='sleep' does not take impulse_threshold"),
+        ("sleep", {"impulse_threshold": 1.0}, "nor a parameter of freeze='sleep' \\(sleep_speed"),
+        ("extended", {"tip_margn": 0.1}, "did you mean tip_margin\\?"),
+        # 1e155 and more overflowed the certificate's moments, and every body passed it
+        ("extended", {"tip_margin": 1e300}, "tip_margin must be below 1.0"),
+        ("extended", {"tip_margin": 1.0}, "tip_margin must be below 1.0"),
     ],
 )
 def test_bad_policy_parameters(freeze, kwargs, problem):
@@ -215,6 +241,11 @@ def test_observables_are_copies():
     world.positions[0, 0] = 99.0
     world.velocities[0, 0] = 99.0
     assert world.positions[0, 0] == 0.0 and world.velocities[0, 0] == 0.0
+    # masses and inertias are the World's own (the energies use them): read-only
+    for array in (world.masses, world.inertias):
+        with pytest.raises(ValueError, match="read-only"):
+            array[0] = -1.0
+    assert world.kinetic_energy() == 0.0
     assert world.states.dtype == np.int8 and world.states[0] == sim.State.FREE
 
 
@@ -231,6 +262,26 @@ def test_vertices_take_only_a_dynamic_body_index(i):
     assert world.vertices(np.int64(0)).shape == (4, 2)
     with pytest.raises(ValueError, match="body index"):
         world.vertices(i)
+
+
+@pytest.mark.parametrize("static", [False, True])
+def test_a_centre_of_mass_beyond_the_solvers_range_is_refused(static):
+    # the position and the vertices are each within 1e12 m, their sum is not: the World was
+    # built, and its first step stopped the resting box as "diverged"
+    v = np.array(BOX) + [9e11, 0.0]
+    far = sim.Body(vertices=v, position=(9e11, 0.5), name="far")
+    near = sim.Body.box(1, 1, position=(0.0, 0.5))
+    scene = sim.Scene(bodies=[near], static_bodies=[far]) if static else sim.Scene(bodies=[far])
+    with pytest.raises(ValueError, match="far.*centre of mass .* beyond 1e\\+12 m"):
+        sim.World(scene)
+
+
+def test_array_scenes_take_no_text_as_a_number():
+    tri = [(0, 0), (1, 0), (0, 1)]
+    with pytest.raises(ValueError, match="position must be numbers"):
+        sim.Scene.from_arrays(tri, [["1", "2"]])
+    with pytest.raises(ValueError, match="density must be numbers"):
+        sim.Scene.from_arrays(tri, [[1, 2]], density="2")
 
 
 def test_vertices_edited_in_place_are_caught_by_the_world():

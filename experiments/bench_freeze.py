@@ -81,7 +81,7 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from study.common import DT, SLOP, build, compile_kernels, label, n_awake
+from study.common import DT, SLOP, build, compile_kernels, data_folder, label, n_awake
 from study.metadata import collect, write_results
 from study.protocols import (
     FALL_HEIGHT,
@@ -558,10 +558,11 @@ def main(argv=None, data_dir=None):
         ),
         "system_settings": settings,
     }
+    folder = data_folder(args.quick, data_dir)
     metadata = collect(scenes_of(config, repeats), parameters, script=NAME, seed=SEED)
     metadata["fits"] = fits
     metadata["targets"] = targets
-    csv_path, _ = write_results(NAME, table, metadata, folder=data_dir)
+    csv_path, _ = write_results(NAME, table, metadata, folder=folder)
     print(summary(table, config, fits, targets, args.quick))
     print(f"wrote {csv_path}")
     return table

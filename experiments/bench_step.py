@@ -68,7 +68,7 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from study.common import DT, SLOP, build, label
+from study.common import DT, SLOP, build, data_folder, label
 from study.metadata import collect, write_results
 from study.peers import solver_summary
 from study.timing import timed
@@ -423,10 +423,11 @@ def main(argv=None, data_dir=None):
         "targets": targets(table),
         "stages": list(STAGES),
     }
+    folder = data_folder(args.quick, data_dir)
     metadata = collect(scenes, parameters, script=NAME, seed=DROP_SEED)
-    csv_path, _ = write_results(NAME, table, metadata, folder=data_dir)
+    csv_path, _ = write_results(NAME, table, metadata, folder=folder)
     profile_path, _ = write_results(
-        PROFILE_NAME, profile, {**metadata, "script": NAME, "table": PROFILE_NAME}, folder=data_dir
+        PROFILE_NAME, profile, {**metadata, "script": NAME, "table": PROFILE_NAME}, folder=folder
     )
     with pd.option_context("display.width", 250, "display.max_columns", 30):
         print(

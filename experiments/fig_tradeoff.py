@@ -402,7 +402,7 @@ def run(config, args):
                     }
                 )
                 keys.append((scene_tag(scene), engine, "setting", k))
-    store, header = sweep_store(NAME, args.quick, config)
+    store, header = sweep_store(NAME, args, config)
     key_of = {id(t): repr(k) for t, k in zip(tasks, keys)}
     results = dict(
         zip(

@@ -45,6 +45,7 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
+from study.common import data_folder
 from study.timing import timed
 from study.metadata import collect, write_results
 from study.peers import PybulletRunner, make_runner, solver_summary
@@ -428,8 +429,9 @@ def main(argv=None, data_dir=None):
         "pose_tolerance": POSE_TOLERANCE,
         "system_settings": settings,
     }
+    folder = data_folder(args.quick, data_dir)
     metadata = collect(scenes, parameters, script=NAME)
-    csv_path, _ = write_results(NAME, table, metadata, folder=data_dir)
+    csv_path, _ = write_results(NAME, table, metadata, folder=folder)
     with pd.option_context(
         "display.width", 200, "display.max_columns", 20, "display.max_rows", 500
     ):

@@ -230,7 +230,7 @@ def run(config, args):
     # untimed: the truth and every system's observed run, in parallel
     tasks = [(n, TRUTH_SYSTEM, truth_dt, config["truth_iterations"]) for n in names]
     tasks += [(n, s, DT, None) for n in names for s in SYSTEMS]
-    store, header = sweep_store(NAME, args.quick, config)
+    store, header = sweep_store(NAME, args, config)
     results = dict(
         zip(
             [(t[0], t[1] if t[2] == DT else "truth") for t in tasks],

@@ -12,6 +12,7 @@ import argparse
 import hashlib
 import math
 import os
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -103,12 +104,21 @@ def pose_error(positions, angles, ref_positions, ref_angles):
     return float(d.max()), float(a.max())
 
 
-def store_path(name, quick):
-    """The incremental store of experiment ``name``'s untimed sweep runs (see executor)."""
-    return paths.RESULTS / "partial" / f"{name}{'-quick' if quick else ''}.jsonl"
+def data_folder(quick, data_dir=None):
+    """Where an experiment writes ``<name>.csv`` + ``.json``: ``data_dir`` if given (tests), else
+    data/ in its results tree (``paths.results_tree``: a --quick run's own, never the full one)."""
+    return Path(data_dir) if data_dir is not None else paths.results_tree(quick) / "data"
 
 
-def sweep_store(name, quick, config):
+def store_path(name, args):
+    """The incremental store of experiment ``name``'s untimed sweep runs (see executor): in
+    partial/ beside the run's data folder (``args.data_dir``, set by ``entry``), so a quick run
+    and a full one never share a results tree's store."""
+    suffix = "-quick" if args.quick else ""
+    return Path(args.data_dir).parent / "partial" / f"{name}{suffix}.jsonl"
+
+
+def sweep_store(name, args, config):
     """(path, header) for ``executor.run_tasks(..., store=path, header=header)``: the header names
     the commit, the configuration and a hash of the solver's and the script's sources, so a store
     left by other code (uncommitted edits included) is never resumed."""
@@ -124,7 +134,7 @@ def sweep_store(name, quick, config):
         "config": jsonable(config),
         "source": digest.hexdigest()[:16],
     }
-    return store_path(name, quick), header
+    return store_path(name, args), header
 
 
 def entry(name, doc, full, quick, run, extra_args=None):
@@ -132,7 +142,8 @@ def entry(name, doc, full, quick, run, extra_args=None):
 
     run(config, args) -> (table DataFrame, scenes, parameters dict); the returned ``main(argv=None,
     data_dir=None)`` parses, runs, writes ``<data_dir>/<name>.csv`` + ``.json`` (data_dir defaults
-    to results/data) and prints the table. ``extra_args(parser)`` may add options."""
+    to results/data, results/quick/data for --quick: ``data_folder``; ``args.data_dir`` tells
+    ``run`` which) and prints the table. ``extra_args(parser)`` may add options."""
 
     def main(argv=None, data_dir=None):
         parser = argparse.ArgumentParser(
@@ -154,6 +165,7 @@ def entry(name, doc, full, quick, run, extra_args=None):
         if extra_args is not None:
             extra_args(parser)
         args = parser.parse_args(argv)
+        args.data_dir = data_folder(args.quick, data_dir)
         if args.scheduler:
             os.environ[executor.SCHEDULER_ENV] = args.scheduler
         config = quick if args.quick else full
@@ -167,9 +179,9 @@ def entry(name, doc, full, quick, run, extra_args=None):
             **parameters,
         }
         metadata = collect(scenes, parameters, script=name, seed=parameters.get("seed"))
-        csv_path, _ = write_results(name, table, metadata, folder=data_dir)
+        csv_path, _ = write_results(name, table, metadata, folder=args.data_dir)
         # the results are written: an incremental store has nothing left to resume
-        store_path(name, args.quick).unlink(missing_ok=True)
+        store_path(name, args).unlink(missing_ok=True)
         with pd.option_context(
             "display.width", 200, "display.max_columns", 30, "display.max_rows", 60
         ):

@@ -137,13 +137,24 @@ def sweep_store(name, args, config):
     return store_path(name, args), header
 
 
-def entry(name, doc, full, quick, run, extra_args=None):
+def subset_folder(args):
+    """Where a run of part of an experiment's table (``entry``'s ``subset``) writes it: only/
+    beside the data folder, which make and analysis never read, so that a part never replaces the
+    whole table."""
+    return Path(args.data_dir).parent / "only"
+
+
+def entry(name, doc, full, quick, run, extra_args=None, subset=None):
     """The standard command line of an experiment: ``python -m experiments.<name> [--quick]``.
 
     run(config, args) -> (table DataFrame, scenes, parameters dict); the returned ``main(argv=None,
     data_dir=None)`` parses, runs, writes ``<data_dir>/<name>.csv`` + ``.json`` (data_dir defaults
     to results/data, results/quick/data for --quick: ``data_folder``; ``args.data_dir`` tells
-    ``run`` which) and prints the table. ``extra_args(parser)`` may add options."""
+    ``run`` which) and prints the table. ``extra_args(parser)`` may add options.
+
+    ``subset(config, args)`` -> bool says whether the options leave part of the table out (e.g.
+    ``--only``): such a run writes into ``subset_folder`` instead and keeps the sweep's store,
+    whose other runs the whole table still needs."""
 
     def main(argv=None, data_dir=None):
         parser = argparse.ArgumentParser(
@@ -179,14 +190,19 @@ def entry(name, doc, full, quick, run, extra_args=None):
             **parameters,
         }
         metadata = collect(scenes, parameters, script=name, seed=parameters.get("seed"))
-        csv_path, _ = write_results(name, table, metadata, folder=args.data_dir)
-        # the results are written: an incremental store has nothing left to resume
-        store_path(name, args).unlink(missing_ok=True)
+        partial = subset is not None and subset(config, args)
+        folder = subset_folder(args) if partial else args.data_dir
+        csv_path, _ = write_results(name, table, metadata, folder=folder)
+        if not partial:
+            # the results are written: an incremental store has nothing left to resume
+            store_path(name, args).unlink(missing_ok=True)
         with pd.option_context(
             "display.width", 200, "display.max_columns", 30, "display.max_rows", 60
         ):
             print(table.to_string(index=False, float_format=lambda x: f"{x:.4g}"))
         print(f"wrote {csv_path}")
+        if partial:
+            print(f"(part of the table only: {args.data_dir / (name + '.csv')} is left as it was)")
         return table
 
     return main

@@ -1,11 +1,16 @@
 """What every results file records besides its numbers, and how results files are written.
 
 ``collect`` gathers the provenance of a run (scenes, parameters, seed, code version, packages,
-machine, date); ``write_results`` writes ``<name>.csv`` and ``<name>.json`` atomically.
+machine, date); ``write_results`` writes ``<name>.csv`` and ``<name>.json`` atomically, the .json
+recording the CSV's row count and SHA-256 (``csv``); ``read_results`` reads them back for analysis
+and refuses (``ResultsError``, one line naming the file and the experiment to rerun) a file that is
+missing, damaged, cut short or not the one its .json describes: each file is written whole, but
+the pair is two files, and a copy, an edit or a full disk can still break one of them.
 Nothing here may crash a finished experiment: anything unknowable is recorded as "unknown".
 """
 
 import datetime
+import hashlib
 import importlib.metadata
 import json
 import math
@@ -13,6 +18,8 @@ import os
 import platform
 import subprocess
 import sys
+
+import pandas as pd
 
 from sim.files import write_text_atomically
 
@@ -65,9 +72,74 @@ def write_results(name, dataframe, metadata, folder=None):
     folder = paths.ensure(paths.DATA if folder is None else folder)
     csv_path = folder / f"{name}.csv"
     json_path = folder / f"{name}.json"
-    write_text_atomically(csv_path, dataframe.to_csv(index=False))
+    text = dataframe.to_csv(index=False)
+    metadata = {**metadata, "csv": {"rows": len(dataframe), "sha256": _sha256(text.encode())}}
+    write_text_atomically(csv_path, text)
     write_text_atomically(json_path, json.dumps(jsonable(metadata), indent=2) + "\n")
     return csv_path, json_path
+
+
+class ResultsError(Exception):
+    """A results file that analysis must not read; the message is one line for the user."""
+
+
+def rerun_hint(script=None):
+    """What to do about a results file that cannot be read: rerun the experiment that wrote it."""
+    if script is None:
+        return "rerun the experiment that wrote it (`make reproduce` reruns every missing one)"
+    return f"rerun the experiment: `make {script}` or `python -m experiments.{script}`"
+
+
+def read_metadata(json_path, script=None):
+    """The metadata dict in ``json_path``, or ResultsError naming the file (missing, not JSON)."""
+    try:
+        meta = json.loads(json_path.read_text())
+    except FileNotFoundError:
+        raise ResultsError(f"{json_path} is missing: {rerun_hint(script)}") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ResultsError(f"{json_path} is damaged ({exc}): {rerun_hint(script)}") from None
+    if not isinstance(meta, dict):
+        raise ResultsError(f"{json_path} is not an experiment's metadata: {rerun_hint(script)}")
+    return meta
+
+
+def read_results(folder, name, script=None):
+    """(table, metadata) of ``<folder>/<name>.csv`` + ``.json``, made by experiment ``script``
+    (default ``name``). Refuses (ResultsError) a missing or damaged file, and a CSV whose row
+    count or SHA-256 is not what its .json recorded when both were written (a truncated copy, an
+    edit, a CSV from another run)."""
+    script = script or name
+    csv_path, json_path = folder / f"{name}.csv", folder / f"{name}.json"
+    meta = read_metadata(json_path, script)
+    try:
+        raw = csv_path.read_bytes()
+    except FileNotFoundError:
+        raise ResultsError(f"{csv_path} is missing: {rerun_hint(script)}") from None
+    record = meta.get("csv")
+    if not isinstance(record, dict) or not {"rows", "sha256"} <= set(record):
+        raise ResultsError(
+            f"{json_path} records no row count and checksum of {csv_path.name} (made by older "
+            f"code): {rerun_hint(script)}"
+        )
+    try:
+        table = pd.read_csv(csv_path)
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise ResultsError(f"{csv_path} is damaged ({exc}): {rerun_hint(script)}") from None
+    if len(table) != record["rows"]:
+        raise ResultsError(
+            f"{csv_path} has {len(table)} rows where its .json records {record['rows']} (cut "
+            f"short or changed since it was written): {rerun_hint(script)}"
+        )
+    if _sha256(raw) != record["sha256"]:
+        raise ResultsError(
+            f"{csv_path} is not the file its .json describes (its SHA-256 differs: changed "
+            f"since it was written): {rerun_hint(script)}"
+        )
+    return table, meta
+
+
+def _sha256(data):
+    return hashlib.sha256(data).hexdigest()
 
 
 # ---- pieces ------------------------------------------------------------------------------------

@@ -82,7 +82,7 @@ from tqdm import tqdm
 
 import sim
 from study.common import DT, SLOP, build, compile_kernels, data_folder, label, n_awake
-from study.metadata import collect, write_results
+from study.metadata import code_state, collect, write_results
 from study.protocols import (
     FALL_HEIGHT,
     FLY_PITCH,
@@ -527,6 +527,7 @@ def main(argv=None, data_dir=None):
         help="timed repeats (default 7, quick 3; part 4 uses 3x, quick 2x)",
     )
     args = parser.parse_args(argv)
+    started = code_state()  # the code that runs (collect says if it changes before the end)
     config = QUICK if args.quick else FULL
     repeats = args.repeats or config["repeats"]
     if repeats < 1:
@@ -559,7 +560,9 @@ def main(argv=None, data_dir=None):
         "system_settings": settings,
     }
     folder = data_folder(args.quick, data_dir)
-    metadata = collect(scenes_of(config, repeats), parameters, script=NAME, seed=SEED)
+    metadata = collect(
+        scenes_of(config, repeats), parameters, script=NAME, seed=SEED, started=started
+    )
     metadata["fits"] = fits
     metadata["targets"] = targets
     csv_path, _ = write_results(NAME, table, metadata, folder=folder)

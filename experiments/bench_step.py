@@ -69,7 +69,7 @@ from tqdm import tqdm
 
 import sim
 from study.common import DT, SLOP, build, data_folder, label
-from study.metadata import collect, write_results
+from study.metadata import code_state, collect, write_results
 from study.peers import solver_summary
 from study.timing import timed
 from sim.data import STAGES
@@ -395,6 +395,7 @@ def main(argv=None, data_dir=None):
         help="steps per repeat on resting scenes (default 50, quick 10)",
     )
     args = parser.parse_args(argv)
+    started = code_state()  # the code that runs (collect says if it changes before the end)
     config = QUICK if args.quick else FULL
     repeats = args.repeats or config["repeats"]
     steps = args.steps or config["steps"]
@@ -424,7 +425,7 @@ def main(argv=None, data_dir=None):
         "stages": list(STAGES),
     }
     folder = data_folder(args.quick, data_dir)
-    metadata = collect(scenes, parameters, script=NAME, seed=DROP_SEED)
+    metadata = collect(scenes, parameters, script=NAME, seed=DROP_SEED, started=started)
     csv_path, _ = write_results(NAME, table, metadata, folder=folder)
     profile_path, _ = write_results(
         PROFILE_NAME, profile, {**metadata, "script": NAME, "table": PROFILE_NAME}, folder=folder

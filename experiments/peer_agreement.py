@@ -47,7 +47,7 @@ from tqdm import tqdm
 import sim
 from study.common import data_folder
 from study.timing import timed
-from study.metadata import collect, write_results
+from study.metadata import code_state, collect, write_results
 from study.peers import PybulletRunner, make_runner, solver_summary
 from study.scenarios import world_vertices
 
@@ -400,6 +400,7 @@ def main(argv=None, data_dir=None):
         "--steps", type=int, default=None, help="steps per timed repeat (default 20, quick 5)"
     )
     args = parser.parse_args(argv)
+    started = code_state()  # the code that runs (collect says if it changes before the end)
     sizes = QUICK if args.quick else FULL
     repeats = args.repeats or sizes["repeats"]
     steps = args.steps or sizes["steps"]
@@ -430,7 +431,7 @@ def main(argv=None, data_dir=None):
         "system_settings": settings,
     }
     folder = data_folder(args.quick, data_dir)
-    metadata = collect(scenes, parameters, script=NAME)
+    metadata = collect(scenes, parameters, script=NAME, started=started)
     csv_path, _ = write_results(NAME, table, metadata, folder=folder)
     with pd.option_context(
         "display.width", 200, "display.max_columns", 20, "display.max_rows", 500

@@ -19,7 +19,7 @@ import pandas as pd
 
 import sim
 from study import executor, paths, systems
-from study.metadata import git_state, jsonable, collect, write_results
+from study.metadata import code_state, git_state, jsonable, collect, write_results
 from study.peers import engine_of, make_runner
 from study.timing import timed
 
@@ -176,6 +176,7 @@ def entry(name, doc, full, quick, run, extra_args=None, subset=None):
         if extra_args is not None:
             extra_args(parser)
         args = parser.parse_args(argv)
+        started = code_state()  # the code that runs (collect says if it changes before the end)
         args.data_dir = data_folder(args.quick, data_dir)
         if args.scheduler:
             os.environ[executor.SCHEDULER_ENV] = args.scheduler
@@ -189,7 +190,9 @@ def entry(name, doc, full, quick, run, extra_args=None, subset=None):
             "executor": os.environ.get(executor.SCHEDULER_ENV) or "local process pool",
             **parameters,
         }
-        metadata = collect(scenes, parameters, script=name, seed=parameters.get("seed"))
+        metadata = collect(
+            scenes, parameters, script=name, seed=parameters.get("seed"), started=started
+        )
         partial = subset is not None and subset(config, args)
         folder = subset_folder(args) if partial else args.data_dir
         csv_path, _ = write_results(name, table, metadata, folder=folder)

@@ -42,19 +42,26 @@ PACKAGES = (
 )
 
 
-def collect(scene_or_scenes, parameters, script, seed=None):
+def collect(scene_or_scenes, parameters, script, seed=None, started=None):
     """Provenance of one run as a JSON-ready dict.
 
     scene_or_scenes  a sim.Scene, a list of them, or None
     parameters       the run's settings (dt, iterations, sizes, ...) as given on the command line
     script           the experiment's name, e.g. "bench_step"
+    started          ``code_state()`` taken when the run started (default: now)
+
+    ``git`` is the code's state when the run started: the code that ran (read at the end, an edit
+    or a commit made during a long run was named as the results' code). If the commit or the
+    working tree changed before the end, the results may come from more than one version of the
+    code: ``code_changed_during_run`` says so, ``git.dirty`` is then true (no clean commit made
+    them) and ``git_at_end`` is the state at the end.
     """
     return {
         "script": script,
         "scenes": _describe_scenes(scene_or_scenes),
         "parameters": jsonable(dict(parameters)),
         "seed": seed,
-        "git": git_state(),
+        **code_provenance(started or code_state()),
         "packages": {name: _version(name) for name in PACKAGES},
         "python": sys.version.split()[0],
         "platform": platform.platform(),
@@ -153,20 +160,58 @@ def _describe_scenes(scene_or_scenes):
     ]
 
 
+def code_state():
+    """(git_state(), fingerprint of the working tree) now; ``collect`` compares the two taken at
+    a run's start and end."""
+    return git_state(), tree_fingerprint()
+
+
+def code_provenance(started):
+    """The metadata's ``git``, ``code_changed_during_run`` (true, false or "unknown" without git)
+    and, if it changed, ``git_at_end``, from ``code_state()`` at the start and now."""
+    (git_start, print_start), (git_end, print_end) = started, code_state()
+    if "unknown" in (print_start, print_end):
+        return {"git": git_start, "code_changed_during_run": "unknown"}
+    if print_start == print_end:
+        return {"git": git_start, "code_changed_during_run": False}
+    return {
+        "git": {**git_start, "dirty": True},
+        "code_changed_during_run": True,
+        "git_at_end": git_end,
+    }
+
+
+def tree_fingerprint():
+    """SHA-256 of the commit, the status (changed and untracked files) and the diff against the
+    commit: what differs if the code is edited or committed ("unknown" without git). Untracked
+    files count by name, not content."""
+    digest = hashlib.sha256()
+    try:
+        for args in (
+            ("rev-parse", "HEAD"),
+            ("status", "--porcelain", "--untracked-files=normal"),
+            ("diff", "HEAD", "--binary"),
+        ):
+            digest.update(_git(*args).encode())
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    return digest.hexdigest()
+
+
+def _git(*args):
+    return subprocess.run(
+        ["git", *args], cwd=paths.ROOT, capture_output=True, text=True, timeout=10, check=True
+    ).stdout.strip()
+
+
 def git_state():
     """Commit hash and whether tracked or untracked files differ from it ("unknown" without git)."""
-
-    def git(*args):
-        return subprocess.run(
-            ["git", *args], cwd=paths.ROOT, capture_output=True, text=True, timeout=10, check=True
-        ).stdout.strip()
-
     try:
-        commit = git("rev-parse", "HEAD")
+        commit = _git("rev-parse", "HEAD")
     except (OSError, subprocess.SubprocessError):
         return {"commit": "unknown", "dirty": "unknown"}
     try:
-        dirty = bool(git("status", "--porcelain", "--untracked-files=normal"))
+        dirty = bool(_git("status", "--porcelain", "--untracked-files=normal"))
     except (OSError, subprocess.SubprocessError):
         dirty = "unknown"
     return {"commit": commit, "dirty": dirty}

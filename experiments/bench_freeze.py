@@ -81,7 +81,17 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from study.common import DT, SLOP, build, compile_kernels, data_folder, label, n_awake
+from study.common import (
+    DT,
+    SLOP,
+    build,
+    compile_kernels,
+    data_folder,
+    label,
+    n_awake,
+    or_default,
+    positive_int,
+)
 from study.metadata import code_state, collect, write_results
 from study.protocols import (
     FALL_HEIGHT,
@@ -522,16 +532,14 @@ def main(argv=None, data_dir=None):
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
     parser.add_argument(
         "--repeats",
-        type=int,
+        type=positive_int,
         default=None,
         help="timed repeats (default 7, quick 3; part 4 uses 3x, quick 2x)",
     )
     args = parser.parse_args(argv)
     started = code_state()  # the code that runs (collect says if it changes before the end)
     config = QUICK if args.quick else FULL
-    repeats = args.repeats or config["repeats"]
-    if repeats < 1:
-        parser.error("--repeats must be >= 1")
+    repeats = or_default(args.repeats, config["repeats"])
 
     table, fits = run(config, repeats)
     targets = verdicts(table, config, fits)

@@ -68,7 +68,7 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from study.common import DT, SLOP, build, data_folder, label
+from study.common import DT, SLOP, build, data_folder, label, or_default, positive_int
 from study.metadata import code_state, collect, write_results
 from study.peers import solver_summary
 from study.timing import timed
@@ -386,21 +386,19 @@ def main(argv=None, data_dir=None):
     )
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
     parser.add_argument(
-        "--repeats", type=int, default=None, help="timed repeats (default 7, quick 3)"
+        "--repeats", type=positive_int, default=None, help="timed repeats (default 7, quick 3)"
     )
     parser.add_argument(
         "--steps",
-        type=int,
+        type=positive_int,
         default=None,
         help="steps per repeat on resting scenes (default 50, quick 10)",
     )
     args = parser.parse_args(argv)
     started = code_state()  # the code that runs (collect says if it changes before the end)
     config = QUICK if args.quick else FULL
-    repeats = args.repeats or config["repeats"]
-    steps = args.steps or config["steps"]
-    if repeats < 1 or steps < 1:
-        parser.error("--repeats and --steps must be >= 1")
+    repeats = or_default(args.repeats, config["repeats"])
+    steps = or_default(args.steps, config["steps"])
 
     table, profile, scenes = run(config, repeats, steps)
     settings = {}

@@ -45,7 +45,7 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from study.common import data_folder
+from study.common import data_folder, or_default, positive_int
 from study.timing import timed
 from study.metadata import code_state, collect, write_results
 from study.peers import PybulletRunner, make_runner, solver_summary
@@ -394,18 +394,19 @@ def main(argv=None, data_dir=None):
     )
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
     parser.add_argument(
-        "--repeats", type=int, default=None, help="timed repeats (default 7, quick 3)"
+        "--repeats", type=positive_int, default=None, help="timed repeats (default 7, quick 3)"
     )
     parser.add_argument(
-        "--steps", type=int, default=None, help="steps per timed repeat (default 20, quick 5)"
+        "--steps",
+        type=positive_int,
+        default=None,
+        help="steps per timed repeat (default 20, quick 5)",
     )
     args = parser.parse_args(argv)
     started = code_state()  # the code that runs (collect says if it changes before the end)
     sizes = QUICK if args.quick else FULL
-    repeats = args.repeats or sizes["repeats"]
-    steps = args.steps or sizes["steps"]
-    if repeats < 1 or steps < 1:
-        parser.error("--repeats and --steps must be >= 1")
+    repeats = or_default(args.repeats, sizes["repeats"])
+    steps = or_default(args.steps, sizes["steps"])
 
     table = run(sizes, repeats, steps)
     scenes = [scene for _, scene, _, _ in cases(sizes)] + [

@@ -218,9 +218,7 @@ def time_scenario(name, systems, repeats, target_s, progress):
 
 def run(config, args):
     names = tuple(s for s in config["scenarios"] if args.only is None or s in args.only)
-    repeats = args.repeats or config["repeats"]
-    if repeats < 1:
-        raise ValueError(f"--repeats must be >= 1, got {repeats}")
+    repeats = common.or_default(args.repeats, config["repeats"])
     truth_dt = DT / config["truth_divisor"]
     compile_kernels()
 
@@ -359,7 +357,10 @@ def is_subset(config, args):
 
 def _extra_args(parser):
     parser.add_argument(
-        "--repeats", type=int, default=None, help="timed repeats per system (default 7, quick 1)"
+        "--repeats",
+        type=common.positive_int,
+        default=None,
+        help="timed repeats per system (default 7, quick 1)",
     )
     parser.add_argument(
         "--only",

@@ -582,7 +582,7 @@ ITERATIONS_UNIT = {
 }
 
 
-main = common.entry(NAME, __doc__, FULL, QUICK, run)
+main = common.entry(NAME, __doc__, FULL, QUICK, run, sweep=True)
 
 if __name__ == "__main__":
     main()

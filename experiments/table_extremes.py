@@ -444,7 +444,7 @@ def run(config, args):
     return table, scenes, parameters
 
 
-main = common.entry(NAME, __doc__, FULL, QUICK, run)
+main = common.entry(NAME, __doc__, FULL, QUICK, run, sweep=True)
 
 if __name__ == "__main__":
     main()

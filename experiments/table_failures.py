@@ -374,7 +374,9 @@ def _extra_args(parser):
     )
 
 
-main = common.entry(NAME, __doc__, FULL, QUICK, run, extra_args=_extra_args, subset=is_subset)
+main = common.entry(
+    NAME, __doc__, FULL, QUICK, run, extra_args=_extra_args, subset=is_subset, sweep=True
+)
 
 if __name__ == "__main__":
     main()

@@ -162,7 +162,7 @@ def subset_folder(args):
     return Path(args.data_dir).parent / "only"
 
 
-def entry(name, doc, full, quick, run, extra_args=None, subset=None):
+def entry(name, doc, full, quick, run, extra_args=None, subset=None, sweep=False):
     """The standard command line of an experiment: ``python -m experiments.<name> [--quick]``.
 
     run(config, args) -> (table DataFrame, scenes, parameters dict); the returned ``main(argv=None,
@@ -172,7 +172,10 @@ def entry(name, doc, full, quick, run, extra_args=None, subset=None):
 
     ``subset(config, args)`` -> bool says whether the options leave part of the table out (e.g.
     ``--only``): such a run writes into ``subset_folder`` instead and keeps the sweep's store,
-    whose other runs the whole table still needs."""
+    whose other runs the whole table still needs.
+
+    ``sweep``: the experiment sends untimed runs through ``executor.run_tasks``; only then does it
+    offer --scheduler and record its executor (a script without a sweep never uses one)."""
 
     def main(argv=None, data_dir=None):
         parser = argparse.ArgumentParser(
@@ -183,31 +186,32 @@ def entry(name, doc, full, quick, run, extra_args=None, subset=None):
             action="store_true",
             help="the same code on small sizes (CI, `make reproduce QUICK=1`)",
         )
-        parser.add_argument(
-            "--scheduler",
-            default=None,
-            metavar="ADDRESS",
-            help="run the sweep's untimed runs on this Dask scheduler (default: "
-            f"${executor.SCHEDULER_ENV}, else a local process pool); timed "
-            "runs always stay serial on this machine",
-        )
+        if sweep:
+            parser.add_argument(
+                "--scheduler",
+                default=None,
+                metavar="ADDRESS",
+                help="run the sweep's untimed runs on this Dask scheduler (default: "
+                f"${executor.SCHEDULER_ENV}, else a local process pool); timed "
+                "runs always stay serial on this machine",
+            )
         if extra_args is not None:
             extra_args(parser)
         args = parser.parse_args(argv)
         started = code_state()  # the code that runs (collect says if it changes before the end)
         args.data_dir = data_folder(args.quick, data_dir)
-        if args.scheduler:
+        if getattr(args, "scheduler", None):
             os.environ[executor.SCHEDULER_ENV] = args.scheduler
         config = quick if args.quick else full
-        table, scenes, parameters = run(config, args)
+        try:
+            table, scenes, parameters = run(config, args)
+        except executor.SchedulerError as exc:  # the user's address, not a bug: one line
+            raise SystemExit(f"python -m experiments.{name}: {exc}") from None
         if not isinstance(table, pd.DataFrame) or table.empty:
             raise RuntimeError(f"{name}: the experiment produced no rows")
-        parameters = {
-            "quick": args.quick,
-            "config": config,
-            "executor": os.environ.get(executor.SCHEDULER_ENV) or "local process pool",
-            **parameters,
-        }
+        parameters = {"quick": args.quick, "config": config, **parameters}
+        if sweep:
+            parameters["executor"] = os.environ.get(executor.SCHEDULER_ENV) or "local process pool"
         metadata = collect(
             scenes, parameters, script=name, seed=parameters.get("seed"), started=started
         )

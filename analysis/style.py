@@ -11,6 +11,7 @@ and never runs a simulation (re-plotting is cheap; Make rules on files keep it s
 returns the dict of numbers written to ``<name>.json`` (always written: it is the Make target).
 """
 
+import argparse
 import json
 import math
 import sys
@@ -21,6 +22,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
 
 from study import paths, systems  # noqa: E402
+from study.cli import first_paragraph  # noqa: E402
 from study.metadata import ResultsError, jsonable, read_results  # noqa: E402
 from sim.files import write_text_atomically  # noqa: E402
 
@@ -115,10 +117,12 @@ def entry(name, draw):
     """The command line ``python -m analysis.<name>``: load, draw, write the numbers."""
 
     def main(argv=None):
-        if argv is None:
-            argv = sys.argv[1:]
-        if argv:
-            raise SystemExit(f"usage: python -m analysis.{name}   (reads results/data/{name}.csv)")
+        parser = argparse.ArgumentParser(
+            prog=f"python -m analysis.{name}",
+            description=first_paragraph(sys.modules[draw.__module__].__doc__ or name),
+            epilog=f"Reads results/data/{name}.csv (+ .json); takes no options.",
+        )
+        parser.parse_args(argv)
         try:
             table, meta = load(name)
             numbers = draw(table, meta) or {}

@@ -89,9 +89,8 @@ from study.common import (
     data_folder,
     label,
     n_awake,
-    or_default,
-    positive_int,
 )
+from study.cli import first_paragraph, or_default, positive_int
 from study.metadata import code_state, collect, write_results
 from study.protocols import (
     FALL_HEIGHT,
@@ -527,7 +526,7 @@ def scenes_of(config, repeats):
 def main(argv=None, data_dir=None):
     """Command line entry; ``data_dir`` overrides results/data (tests)."""
     parser = argparse.ArgumentParser(
-        prog=f"python -m experiments.{NAME}", description=__doc__.splitlines()[0]
+        prog=f"python -m experiments.{NAME}", description=first_paragraph(__doc__)
     )
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
     parser.add_argument(

@@ -68,7 +68,14 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from study.common import DT, SLOP, build, data_folder, label, or_default, positive_int
+from study.common import (
+    DT,
+    SLOP,
+    build,
+    data_folder,
+    label,
+)
+from study.cli import first_paragraph, or_default, positive_int
 from study.metadata import code_state, collect, write_results
 from study.peers import solver_summary
 from study.timing import timed
@@ -382,7 +389,7 @@ def targets(table):
 def main(argv=None, data_dir=None):
     """Command line entry; ``data_dir`` overrides results/data (tests)."""
     parser = argparse.ArgumentParser(
-        prog=f"python -m experiments.{NAME}", description=__doc__.splitlines()[0]
+        prog=f"python -m experiments.{NAME}", description=first_paragraph(__doc__)
     )
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
     parser.add_argument(

@@ -45,7 +45,8 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from study.common import data_folder, or_default, positive_int
+from study.cli import first_paragraph, or_default, positive_int
+from study.common import data_folder
 from study.timing import timed
 from study.metadata import code_state, collect, write_results
 from study.peers import PybulletRunner, make_runner, solver_summary
@@ -390,7 +391,7 @@ def run(sizes, repeats, steps):
 def main(argv=None, data_dir=None):
     """Command line entry; ``data_dir`` overrides results/data (tests)."""
     parser = argparse.ArgumentParser(
-        prog=f"python -m experiments.{NAME}", description=__doc__.splitlines()[0]
+        prog=f"python -m experiments.{NAME}", description=first_paragraph(__doc__)
     )
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
     parser.add_argument(

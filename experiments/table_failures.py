@@ -86,7 +86,7 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from study import common, scenarios
+from study import cli, common, scenarios
 from study.common import DT, REFERENCE, SYSTEMS, build, compile_kernels, pose_error, sweep_store
 from study.executor import run_tasks
 from study.timing import timed
@@ -218,7 +218,7 @@ def time_scenario(name, systems, repeats, target_s, progress):
 
 def run(config, args):
     names = tuple(s for s in config["scenarios"] if args.only is None or s in args.only)
-    repeats = common.or_default(args.repeats, config["repeats"])
+    repeats = cli.or_default(args.repeats, config["repeats"])
     truth_dt = DT / config["truth_divisor"]
     compile_kernels()
 
@@ -358,7 +358,7 @@ def is_subset(config, args):
 def _extra_args(parser):
     parser.add_argument(
         "--repeats",
-        type=common.positive_int,
+        type=cli.positive_int,
         default=None,
         help="timed repeats per system (default 7, quick 1)",
     )

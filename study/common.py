@@ -19,6 +19,7 @@ import pandas as pd
 
 import sim
 from study import executor, paths, systems
+from study.cli import first_paragraph
 from study.metadata import code_state, git_state, jsonable, collect, write_results
 from study.peers import engine_of, make_runner
 from study.timing import timed
@@ -104,24 +105,6 @@ def pose_error(positions, angles, ref_positions, ref_angles):
     return float(d.max()), float(a.max())
 
 
-def positive_int(text):
-    """The argparse type of a count (--repeats, --steps): an integer >= 1. A default is the
-    option left out (None), never 0, which ``args.x or default`` had silently taken for it."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be >= 1, got {value}")
-    return value
-
-
-def or_default(value, default):
-    """An option's value, or ``default`` when it was left out (None; 0 is refused by
-    ``positive_int``, never taken for the default)."""
-    return default if value is None else value
-
-
 def data_folder(quick, data_dir=None):
     """Where an experiment writes ``<name>.csv`` + ``.json``: ``data_dir`` if given (tests), else
     data/ in its results tree (``paths.results_tree``: a --quick run's own, never the full one)."""
@@ -179,7 +162,7 @@ def entry(name, doc, full, quick, run, extra_args=None, subset=None, sweep=False
 
     def main(argv=None, data_dir=None):
         parser = argparse.ArgumentParser(
-            prog=f"python -m experiments.{name}", description=doc.splitlines()[0]
+            prog=f"python -m experiments.{name}", description=first_paragraph(doc)
         )
         parser.add_argument(
             "--quick",

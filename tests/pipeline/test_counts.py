@@ -6,7 +6,7 @@ replaced by one that fails the test if called."""
 import pytest
 
 from experiments import bench_freeze, bench_setup, bench_step, peer_agreement, table_failures
-from study import common
+from study import cli
 
 
 def _never(*args, **kwargs):
@@ -39,6 +39,6 @@ def test_a_bad_count_is_a_usage_error(module, option, value, monkeypatch, capsys
 
 
 def test_a_count_left_out_is_the_default():
-    assert common.or_default(None, 7) == 7
-    assert common.or_default(3, 7) == 3
-    assert common.positive_int("1") == 1
+    assert cli.or_default(None, 7) == 7
+    assert cli.or_default(3, 7) == 3
+    assert cli.positive_int("1") == 1

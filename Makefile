@@ -5,7 +5,9 @@
 #   make reproduce QUICK=1    the same pipeline on small sizes, into results/quick/ (never mixes
 #                             with the full results)
 #   make <name>               rerun one experiment and redraw its figure (names: $(ALL))
-#   make figures              redraw every figure/table from existing data (never simulates)
+#   make figures              redraw every figure/table from existing data; simulates only to
+#                             remake data that is missing or older than the code it runs (an
+#                             edit to sim/ or a shared study/ module reruns every experiment)
 #   make trace SCENE=slope_creep SYSTEMS=sim-off,sim-extended,pymunk-sleep
 #   make trace CELL=table_extremes/dt/0.03333   one rerun recording of systems side by side;
 #                                               open with `rerun <file>` (`make trace-list`)

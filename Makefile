@@ -5,7 +5,9 @@
 #   make reproduce QUICK=1    the same pipeline on small sizes, into results/quick/ (never mixes
 #                             with the full results)
 #   make <name>               rerun one experiment and redraw its figure (names: $(ALL))
-#   make figures              redraw every figure/table from existing data (never simulates)
+#   make figures              redraw every figure/table from existing data; simulates only to
+#                             remake data that is missing or older than the code it runs (an
+#                             edit to sim/ or a shared study/ module reruns every experiment)
 #   make trace SCENE=slope_creep SYSTEMS=sim-off,sim-extended,pymunk-sleep
 #   make trace CELL=table_extremes/dt/0.03333   one rerun recording of systems side by side;
 #                                               open with `rerun <file>` (`make trace-list`)
@@ -35,7 +37,7 @@ RECS := $(RESULTS_DIR)/recordings
 # figure or table each), found here, so adding an experiment is adding its two scripts: no list to
 # edit. (experiments/bench_setup.py has no analysis: a standalone benchmark, not in the pipeline.)
 # In name order, so the benchmarks (bench_*) run first, on a machine not yet warmed by the sweeps.
-# (bench_step also writes $(DATA)/bench_step_profile.csv, read by analysis/bench_step.py;
+# (bench_step also writes $(DATA)/bench_step_profile.csv, read by analysis/bench_step.py: MORE_DATA;
 # bench_kernels reads the solver's compiled code: packed vector instructions, ns per contact.)
 script_names = $(basename $(notdir $(wildcard $(1)/*.py)))
 ALL := $(sort $(filter-out __init__,$(filter $(call script_names,analysis),$(call script_names,experiments))))
@@ -54,7 +56,7 @@ SYSTEMS ?=
 CELL ?=
 
 .PHONY: all venv lint test test-fast reproduce figures paper glance recordings trace trace-list lock \
-        clean distclean $(ALL)
+        clean distclean FORCE $(ALL)
 
 all: test
 
@@ -100,9 +102,20 @@ reproduce: paper recordings glance
 # intermediate files: make neither deletes one after drawing its figure nor, if one is missing,
 # calls the figure (outside results/) up to date. (They were marked `.SECONDARY:` for the first,
 # which made every target secondary and gave the second: `rm -rf results` reran nothing.)
+# Every file an experiment writes is needed (analysis refuses a .csv without its .json), but make
+# tracks one target per experiment, the .csv, so that one run makes all of them: when any of the
+# others is missing, the .csv is made again too (FORCE, through the second expansion, where $$*
+# is the experiment's name). An experiment that writes more tables names them in
+# MORE_DATA_<name>.
+MORE_DATA_bench_step := bench_step_profile
+outputs_of = $(1).json $(foreach t,$(MORE_DATA_$(1)),$(t).csv $(t).json)
+missing_output = $(if $(filter-out $(wildcard $(addprefix $(DATA)/,$(call outputs_of,$(1)))),\
+                   $(addprefix $(DATA)/,$(call outputs_of,$(1)))),FORCE)
 DATA_FILES := $(foreach n,$(ALL),$(DATA)/$(n).csv)
-$(DATA_FILES): $(DATA)/%.csv: experiments/%.py | $(STAMP)
+.SECONDEXPANSION:
+$(DATA_FILES): $(DATA)/%.csv: experiments/%.py $$(call missing_output,$$*) | $(STAMP)
 	$(PY) -m experiments.$* $(QUICKFLAG)
+FORCE:
 
 # Analysis: figures, tables and the numbers the paper quotes; never simulates.
 $(GEN)/%.json: $(DATA)/%.csv analysis/%.py | $(STAMP)

@@ -76,7 +76,7 @@ def draw(table, meta):
         NAME,
     )
 
-    profile, _ = style.load(PROFILE)
+    profile, _ = style.load(PROFILE, script=NAME)
     wide = profile.pivot_table(index="stage", columns="label", values="ms_per_step", sort=False)
     wide = wide[[c for c in out["label"] if c in wide.columns]]
     style.write_table(wide.round(4).reset_index(), PROFILE)

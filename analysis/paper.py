@@ -10,7 +10,6 @@ e.g. the quick pipeline), the source is copied there first, so that both resolve
 
 import argparse
 import inspect
-import json
 import math
 import shutil
 
@@ -22,6 +21,7 @@ from sim.freeze import paper as freeze_paper
 from study.peers import DEFAULT_ITERATIONS
 
 from analysis.style import write_numbers
+from study.metadata import ResultsError, read_metadata
 from study import paths
 
 SOURCES = ("paper.typ",)
@@ -67,16 +67,19 @@ def setup_numbers():
     """Machine, versions and provenance from the experiments' metadata."""
     quick, meta, metadata = set(), None, {}
     for path in sorted(paths.DATA.glob("*.json")):
-        m = json.loads(path.read_text())
+        m = read_metadata(path)
         metadata[path.stem] = m
         quick.add(bool(m.get("parameters", {}).get("quick", False)))
     for name in SETUP_FROM:
         path = paths.DATA / f"{name}.json"
         if path.exists():
-            meta = json.loads(path.read_text())
+            meta = read_metadata(path, name)
             break
     if meta is None:
-        raise FileNotFoundError(f"no experiment metadata in {paths.DATA}: run make reproduce")
+        raise ResultsError(
+            f"no experiment metadata in {paths.DATA} (none of {', '.join(SETUP_FROM)}): "
+            "run `make reproduce`"
+        )
     return meta, {
         "world": world_defaults(),
         "policies": policy_parameters(),
@@ -121,7 +124,10 @@ def main(argv=None):
     )
     parser.add_argument("--png", default=None, help="also render each page to DIR/page-N.png")
     args = parser.parse_args(argv)
-    return compile_paper(args.png)
+    try:
+        return compile_paper(args.png)
+    except ResultsError as exc:  # the user's data, not a bug: one line, no traceback
+        raise SystemExit(f"python -m analysis.paper: {exc}") from None
 
 
 if __name__ == "__main__":

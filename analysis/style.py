@@ -11,6 +11,7 @@ and never runs a simulation (re-plotting is cheap; Make rules on files keep it s
 returns the dict of numbers written to ``<name>.json`` (always written: it is the Make target).
 """
 
+import argparse
 import json
 import math
 import sys
@@ -19,10 +20,10 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
-import pandas as pd  # noqa: E402
 
 from study import paths, systems  # noqa: E402
-from study.metadata import jsonable  # noqa: E402
+from study.cli import first_paragraph  # noqa: E402
+from study.metadata import ResultsError, jsonable, read_results  # noqa: E402
 from sim.files import write_text_atomically  # noqa: E402
 
 #: one colour, marker and line per system, everywhere (the registry's: study.systems)
@@ -66,15 +67,11 @@ def system_style(system):
     return systems.style(system)
 
 
-def load(name):
-    """(table, metadata) of ``results/data/<name>.{csv,json}``; a clear error when missing."""
-    csv_path, json_path = paths.DATA / f"{name}.csv", paths.DATA / f"{name}.json"
-    if not csv_path.exists() or not json_path.exists():
-        raise FileNotFoundError(
-            f"{csv_path} (and .json) missing: run `make {name}` or "
-            f"`python -m experiments.{name}` first"
-        )
-    return pd.read_csv(csv_path), json.loads(json_path.read_text())
+def load(name, script=None):
+    """(table, metadata) of ``results/data/<name>.{csv,json}``, made by experiment ``script``
+    (default ``name``); ``metadata.ResultsError`` naming the file when one is missing, damaged or
+    not what the experiment wrote (``study.metadata.read_results``)."""
+    return read_results(paths.DATA, name, script)
 
 
 def save_figure(fig, name):
@@ -120,12 +117,17 @@ def entry(name, draw):
     """The command line ``python -m analysis.<name>``: load, draw, write the numbers."""
 
     def main(argv=None):
-        if argv is None:
-            argv = sys.argv[1:]
-        if argv:
-            raise SystemExit(f"usage: python -m analysis.{name}   (reads results/data/{name}.csv)")
-        table, meta = load(name)
-        numbers = draw(table, meta) or {}
+        parser = argparse.ArgumentParser(
+            prog=f"python -m analysis.{name}",
+            description=first_paragraph(sys.modules[draw.__module__].__doc__ or name),
+            epilog=f"Reads results/data/{name}.csv (+ .json); takes no options.",
+        )
+        parser.parse_args(argv)
+        try:
+            table, meta = load(name)
+            numbers = draw(table, meta) or {}
+        except ResultsError as exc:  # the user's data, not a bug: one line, no traceback
+            raise SystemExit(f"python -m analysis.{name}: {exc}") from None
         path = write_numbers(name, numbers, meta)
         print(f"wrote {path}")
         return numbers

@@ -29,6 +29,7 @@ import pandas as pd
 from matplotlib.patches import Patch
 
 from analysis import style
+from study.metadata import ResultsError, rerun_hint
 from study.common import REFERENCE, SYSTEMS
 from study.extremes.axes import (
     AXES,
@@ -380,7 +381,7 @@ def draw(table, meta):
     params = meta.get("parameters", {})
     axes_values = {a: v["values"] for a, v in params.get("axes", {}).items()}
     if not axes_values:
-        raise ValueError("table_extremes.json has no parameters.axes: rerun the experiment")
+        raise ResultsError(f"{NAME}.json has no parameters.axes: {rerun_hint(NAME)}")
     present = set(table["system"])
     systems = [s for s in SYSTEMS if s in present]
     variants = [s for s in NO_PRESOLVE_SYSTEMS if s in present]

@@ -81,8 +81,17 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from study.common import DT, SLOP, build, compile_kernels, label, n_awake
-from study.metadata import collect, write_results
+from study.common import (
+    DT,
+    SLOP,
+    build,
+    compile_kernels,
+    data_folder,
+    label,
+    n_awake,
+)
+from study.cli import first_paragraph, or_default, positive_int
+from study.metadata import code_state, collect, write_results
 from study.protocols import (
     FALL_HEIGHT,
     FLY_PITCH,
@@ -517,20 +526,19 @@ def scenes_of(config, repeats):
 def main(argv=None, data_dir=None):
     """Command line entry; ``data_dir`` overrides results/data (tests)."""
     parser = argparse.ArgumentParser(
-        prog=f"python -m experiments.{NAME}", description=__doc__.splitlines()[0]
+        prog=f"python -m experiments.{NAME}", description=first_paragraph(__doc__)
     )
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
     parser.add_argument(
         "--repeats",
-        type=int,
+        type=positive_int,
         default=None,
         help="timed repeats (default 7, quick 3; part 4 uses 3x, quick 2x)",
     )
     args = parser.parse_args(argv)
+    started = code_state()  # the code that runs (collect says if it changes before the end)
     config = QUICK if args.quick else FULL
-    repeats = args.repeats or config["repeats"]
-    if repeats < 1:
-        parser.error("--repeats must be >= 1")
+    repeats = or_default(args.repeats, config["repeats"])
 
     table, fits = run(config, repeats)
     targets = verdicts(table, config, fits)
@@ -558,10 +566,13 @@ def main(argv=None, data_dir=None):
         ),
         "system_settings": settings,
     }
-    metadata = collect(scenes_of(config, repeats), parameters, script=NAME, seed=SEED)
+    folder = data_folder(args.quick, data_dir)
+    metadata = collect(
+        scenes_of(config, repeats), parameters, script=NAME, seed=SEED, started=started
+    )
     metadata["fits"] = fits
     metadata["targets"] = targets
-    csv_path, _ = write_results(NAME, table, metadata, folder=data_dir)
+    csv_path, _ = write_results(NAME, table, metadata, folder=folder)
     print(summary(table, config, fits, targets, args.quick))
     print(f"wrote {csv_path}")
     return table

@@ -24,6 +24,7 @@ import numpy as np
 
 import sim
 from sim.packing import pack
+from study.cli import first_paragraph, positive_int
 
 ARRAY_SIZES = (10**4, 10**5, 10**6)
 LIST_SIZES = (10**3, 10**4, 10**5)
@@ -90,11 +91,11 @@ def measure(path, run, sizes, repeats):
     return rows
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=first_paragraph(__doc__))
     parser.add_argument("--quick", action="store_true", help="small sizes only")
-    parser.add_argument("--repeats", type=int, default=3)
-    args = parser.parse_args()
+    parser.add_argument("--repeats", type=positive_int, default=3, help="timed repeats (default 3)")
+    args = parser.parse_args(argv)
     arrays, lists = (
         (QUICK_ARRAY_SIZES, QUICK_LIST_SIZES) if args.quick else (ARRAY_SIZES, LIST_SIZES)
     )

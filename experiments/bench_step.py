@@ -68,8 +68,15 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
-from study.common import DT, SLOP, build, label
-from study.metadata import collect, write_results
+from study.common import (
+    DT,
+    SLOP,
+    build,
+    data_folder,
+    label,
+)
+from study.cli import first_paragraph, or_default, positive_int
+from study.metadata import code_state, collect, write_results
 from study.peers import solver_summary
 from study.timing import timed
 from sim.data import STAGES
@@ -382,24 +389,23 @@ def targets(table):
 def main(argv=None, data_dir=None):
     """Command line entry; ``data_dir`` overrides results/data (tests)."""
     parser = argparse.ArgumentParser(
-        prog=f"python -m experiments.{NAME}", description=__doc__.splitlines()[0]
+        prog=f"python -m experiments.{NAME}", description=first_paragraph(__doc__)
     )
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
     parser.add_argument(
-        "--repeats", type=int, default=None, help="timed repeats (default 7, quick 3)"
+        "--repeats", type=positive_int, default=None, help="timed repeats (default 7, quick 3)"
     )
     parser.add_argument(
         "--steps",
-        type=int,
+        type=positive_int,
         default=None,
         help="steps per repeat on resting scenes (default 50, quick 10)",
     )
     args = parser.parse_args(argv)
+    started = code_state()  # the code that runs (collect says if it changes before the end)
     config = QUICK if args.quick else FULL
-    repeats = args.repeats or config["repeats"]
-    steps = args.steps or config["steps"]
-    if repeats < 1 or steps < 1:
-        parser.error("--repeats and --steps must be >= 1")
+    repeats = or_default(args.repeats, config["repeats"])
+    steps = or_default(args.steps, config["steps"])
 
     table, profile, scenes = run(config, repeats, steps)
     settings = {}
@@ -423,10 +429,11 @@ def main(argv=None, data_dir=None):
         "targets": targets(table),
         "stages": list(STAGES),
     }
-    metadata = collect(scenes, parameters, script=NAME, seed=DROP_SEED)
-    csv_path, _ = write_results(NAME, table, metadata, folder=data_dir)
+    folder = data_folder(args.quick, data_dir)
+    metadata = collect(scenes, parameters, script=NAME, seed=DROP_SEED, started=started)
+    csv_path, _ = write_results(NAME, table, metadata, folder=folder)
     profile_path, _ = write_results(
-        PROFILE_NAME, profile, {**metadata, "script": NAME, "table": PROFILE_NAME}, folder=data_dir
+        PROFILE_NAME, profile, {**metadata, "script": NAME, "table": PROFILE_NAME}, folder=folder
     )
     with pd.option_context("display.width", 250, "display.max_columns", 30):
         print(

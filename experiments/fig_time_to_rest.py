@@ -241,7 +241,7 @@ def reference_motion(scene, cap_s, speeds=REFERENCE_SPEEDS):
     ]
 
 
-main = entry(NAME, __doc__, FULL, QUICK, run)
+main = entry(NAME, __doc__, FULL, QUICK, run, sweep=True)
 
 if __name__ == "__main__":
     main()

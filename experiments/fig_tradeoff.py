@@ -402,7 +402,7 @@ def run(config, args):
                     }
                 )
                 keys.append((scene_tag(scene), engine, "setting", k))
-    store, header = sweep_store(NAME, args.quick, config)
+    store, header = sweep_store(NAME, args, config)
     key_of = {id(t): repr(k) for t, k in zip(tasks, keys)}
     results = dict(
         zip(
@@ -582,7 +582,7 @@ ITERATIONS_UNIT = {
 }
 
 
-main = common.entry(NAME, __doc__, FULL, QUICK, run)
+main = common.entry(NAME, __doc__, FULL, QUICK, run, sweep=True)
 
 if __name__ == "__main__":
     main()

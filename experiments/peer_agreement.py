@@ -45,8 +45,10 @@ import pandas as pd
 from tqdm import tqdm
 
 import sim
+from study.cli import first_paragraph, or_default, positive_int
+from study.common import data_folder
 from study.timing import timed
-from study.metadata import collect, write_results
+from study.metadata import code_state, collect, write_results
 from study.peers import PybulletRunner, make_runner, solver_summary
 from study.scenarios import world_vertices
 
@@ -389,21 +391,23 @@ def run(sizes, repeats, steps):
 def main(argv=None, data_dir=None):
     """Command line entry; ``data_dir`` overrides results/data (tests)."""
     parser = argparse.ArgumentParser(
-        prog=f"python -m experiments.{NAME}", description=__doc__.splitlines()[0]
+        prog=f"python -m experiments.{NAME}", description=first_paragraph(__doc__)
     )
     parser.add_argument("--quick", action="store_true", help="small sizes, few repeats (CI)")
     parser.add_argument(
-        "--repeats", type=int, default=None, help="timed repeats (default 7, quick 3)"
+        "--repeats", type=positive_int, default=None, help="timed repeats (default 7, quick 3)"
     )
     parser.add_argument(
-        "--steps", type=int, default=None, help="steps per timed repeat (default 20, quick 5)"
+        "--steps",
+        type=positive_int,
+        default=None,
+        help="steps per timed repeat (default 20, quick 5)",
     )
     args = parser.parse_args(argv)
+    started = code_state()  # the code that runs (collect says if it changes before the end)
     sizes = QUICK if args.quick else FULL
-    repeats = args.repeats or sizes["repeats"]
-    steps = args.steps or sizes["steps"]
-    if repeats < 1 or steps < 1:
-        parser.error("--repeats and --steps must be >= 1")
+    repeats = or_default(args.repeats, sizes["repeats"])
+    steps = or_default(args.steps, sizes["steps"])
 
     table = run(sizes, repeats, steps)
     scenes = [scene for _, scene, _, _ in cases(sizes)] + [
@@ -428,8 +432,9 @@ def main(argv=None, data_dir=None):
         "pose_tolerance": POSE_TOLERANCE,
         "system_settings": settings,
     }
-    metadata = collect(scenes, parameters, script=NAME)
-    csv_path, _ = write_results(NAME, table, metadata, folder=data_dir)
+    folder = data_folder(args.quick, data_dir)
+    metadata = collect(scenes, parameters, script=NAME, started=started)
+    csv_path, _ = write_results(NAME, table, metadata, folder=folder)
     with pd.option_context(
         "display.width", 200, "display.max_columns", 20, "display.max_rows", 500
     ):

@@ -181,8 +181,8 @@ marks), ``threshold`` (the bisection of v*), ``runs`` (the tasks and one run), `
 run's Measurement and a table Row, whose fields are the columns). This script sweeps them.
 
 Every untimed run goes through study.executor.run_tasks with an incremental store
-(results/partial/table_extremes[-quick].jsonl): an interrupted sweep resumes where it stopped; the
-store is removed once the CSV is written.
+(results/partial/table_extremes.jsonl; --quick: results/quick/partial/table_extremes-quick.jsonl):
+an interrupted sweep resumes where it stopped; the store is removed once the CSV is written.
 
     python -m experiments.table_extremes [--quick]
 writes results/data/table_extremes.csv and table_extremes.json. --quick: one or two values per
@@ -361,8 +361,7 @@ def table_of(runs, not_run, results, config):
 
 def run(config, args):
     common.compile_kernels()
-    quick = bool(args.quick)
-    store, header = common.sweep_store(NAME, quick, config)  # entry removes it once written
+    store, header = common.sweep_store(NAME, args, config)  # entry removes it once written
 
     # 1. the impulse thresholds (two bisections, through the executor)
     thresholds = thresholds_of(config, store, header)
@@ -445,7 +444,7 @@ def run(config, args):
     return table, scenes, parameters
 
 
-main = common.entry(NAME, __doc__, FULL, QUICK, run)
+main = common.entry(NAME, __doc__, FULL, QUICK, run, sweep=True)
 
 if __name__ == "__main__":
     main()

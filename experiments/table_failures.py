@@ -74,9 +74,11 @@ asleep_at_event, wall_ms_median, wall_ms_min, ms_per_step, speedup, speedup_min,
 runs_per_repeat, timed_pose_diff_m.
 
     python -m experiments.table_failures [--quick] [--repeats R] [--only NAME[,NAME...]]
-writes results/data/table_failures.csv and table_failures.json.
+writes results/data/table_failures.csv and table_failures.json (with --only, results/only/: part
+of the catalogue never replaces the table).
 """
 
+import argparse
 import math
 import statistics
 
@@ -84,7 +86,7 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from study import common, scenarios
+from study import cli, common, scenarios
 from study.common import DT, REFERENCE, SYSTEMS, build, compile_kernels, pose_error, sweep_store
 from study.executor import run_tasks
 from study.timing import timed
@@ -215,22 +217,15 @@ def time_scenario(name, systems, repeats, target_s, progress):
 
 
 def run(config, args):
-    names = config["scenarios"]
-    if args.only:
-        wanted = [s.strip() for s in args.only.split(",") if s.strip()]
-        for s in wanted:
-            scenarios.get(s)  # a clear error for an unknown name
-        names = tuple(s for s in names if s in wanted)
-    repeats = args.repeats or config["repeats"]
-    if repeats < 1:
-        raise ValueError(f"--repeats must be >= 1, got {repeats}")
+    names = tuple(s for s in config["scenarios"] if args.only is None or s in args.only)
+    repeats = cli.or_default(args.repeats, config["repeats"])
     truth_dt = DT / config["truth_divisor"]
     compile_kernels()
 
     # untimed: the truth and every system's observed run, in parallel
     tasks = [(n, TRUTH_SYSTEM, truth_dt, config["truth_iterations"]) for n in names]
     tasks += [(n, s, DT, None) for n in names for s in SYSTEMS]
-    store, header = sweep_store(NAME, args.quick, config)
+    store, header = sweep_store(NAME, args, config)
     results = dict(
         zip(
             [(t[0], t[1] if t[2] == DT else "truth") for t in tasks],
@@ -342,16 +337,46 @@ def run(config, args):
     return table, scenes, parameters
 
 
+def scenario_names(text):
+    """The argparse type of --only: comma-separated scenario names, each one known."""
+    names = [s.strip() for s in text.split(",") if s.strip()]
+    if not names:
+        raise argparse.ArgumentTypeError(f"names no scenario: {text!r}")
+    for s in names:
+        try:
+            scenarios.get(s)
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+    return tuple(dict.fromkeys(names))
+
+
+def is_subset(config, args):
+    """Whether --only leaves some of the catalogue out: then the run is not the table."""
+    return args.only is not None and not set(config["scenarios"]) <= set(args.only)
+
+
 def _extra_args(parser):
     parser.add_argument(
-        "--repeats", type=int, default=None, help="timed repeats per system (default 7, quick 1)"
+        "--repeats",
+        type=cli.positive_int,
+        default=None,
+        help="timed repeats per system (default 7, quick 1)",
     )
     parser.add_argument(
-        "--only", default=None, help="comma-separated scenario names (default: all of them)"
+        "--only",
+        type=scenario_names,
+        default=None,
+        metavar="NAME[,NAME...]",
+        help="run only these scenarios (default: all of them). Part of the catalogue is not the "
+        "table: it is written to results/only/table_failures.csv (+ .json; --quick: "
+        "results/quick/only/), never over the table in results/data/, and the stored runs of "
+        "the other scenarios are kept for the whole table's next run",
     )
 
 
-main = common.entry(NAME, __doc__, FULL, QUICK, run, extra_args=_extra_args)
+main = common.entry(
+    NAME, __doc__, FULL, QUICK, run, extra_args=_extra_args, subset=is_subset, sweep=True
+)
 
 if __name__ == "__main__":
     main()

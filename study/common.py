@@ -12,13 +12,15 @@ import argparse
 import hashlib
 import math
 import os
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 import sim
 from study import executor, paths, systems
-from study.metadata import git_state, jsonable, collect, write_results
+from study.cli import first_paragraph
+from study.metadata import code_state, git_state, jsonable, collect, write_results
 from study.peers import engine_of, make_runner
 from study.timing import timed
 
@@ -103,12 +105,21 @@ def pose_error(positions, angles, ref_positions, ref_angles):
     return float(d.max()), float(a.max())
 
 
-def store_path(name, quick):
-    """The incremental store of experiment ``name``'s untimed sweep runs (see executor)."""
-    return paths.RESULTS / "partial" / f"{name}{'-quick' if quick else ''}.jsonl"
+def data_folder(quick, data_dir=None):
+    """Where an experiment writes ``<name>.csv`` + ``.json``: ``data_dir`` if given (tests), else
+    data/ in its results tree (``paths.results_tree``: a --quick run's own, never the full one)."""
+    return Path(data_dir) if data_dir is not None else paths.results_tree(quick) / "data"
 
 
-def sweep_store(name, quick, config):
+def store_path(name, args):
+    """The incremental store of experiment ``name``'s untimed sweep runs (see executor): in
+    partial/ beside the run's data folder (``args.data_dir``, set by ``entry``), so a quick run
+    and a full one never share a results tree's store."""
+    suffix = "-quick" if args.quick else ""
+    return Path(args.data_dir).parent / "partial" / f"{name}{suffix}.jsonl"
+
+
+def sweep_store(name, args, config):
     """(path, header) for ``executor.run_tasks(..., store=path, header=header)``: the header names
     the commit, the configuration and a hash of the solver's and the script's sources, so a store
     left by other code (uncommitted edits included) is never resumed."""
@@ -124,57 +135,82 @@ def sweep_store(name, quick, config):
         "config": jsonable(config),
         "source": digest.hexdigest()[:16],
     }
-    return store_path(name, quick), header
+    return store_path(name, args), header
 
 
-def entry(name, doc, full, quick, run, extra_args=None):
+def subset_folder(args):
+    """Where a run of part of an experiment's table (``entry``'s ``subset``) writes it: only/
+    beside the data folder, which make and analysis never read, so that a part never replaces the
+    whole table."""
+    return Path(args.data_dir).parent / "only"
+
+
+def entry(name, doc, full, quick, run, extra_args=None, subset=None, sweep=False):
     """The standard command line of an experiment: ``python -m experiments.<name> [--quick]``.
 
     run(config, args) -> (table DataFrame, scenes, parameters dict); the returned ``main(argv=None,
     data_dir=None)`` parses, runs, writes ``<data_dir>/<name>.csv`` + ``.json`` (data_dir defaults
-    to results/data) and prints the table. ``extra_args(parser)`` may add options."""
+    to results/data, results/quick/data for --quick: ``data_folder``; ``args.data_dir`` tells
+    ``run`` which) and prints the table. ``extra_args(parser)`` may add options.
+
+    ``subset(config, args)`` -> bool says whether the options leave part of the table out (e.g.
+    ``--only``): such a run writes into ``subset_folder`` instead and keeps the sweep's store,
+    whose other runs the whole table still needs.
+
+    ``sweep``: the experiment sends untimed runs through ``executor.run_tasks``; only then does it
+    offer --scheduler and record its executor (a script without a sweep never uses one)."""
 
     def main(argv=None, data_dir=None):
         parser = argparse.ArgumentParser(
-            prog=f"python -m experiments.{name}", description=doc.splitlines()[0]
+            prog=f"python -m experiments.{name}", description=first_paragraph(doc)
         )
         parser.add_argument(
             "--quick",
             action="store_true",
             help="the same code on small sizes (CI, `make reproduce QUICK=1`)",
         )
-        parser.add_argument(
-            "--scheduler",
-            default=None,
-            metavar="ADDRESS",
-            help="run the sweep's untimed runs on this Dask scheduler (default: "
-            f"${executor.SCHEDULER_ENV}, else a local process pool); timed "
-            "runs always stay serial on this machine",
-        )
+        if sweep:
+            parser.add_argument(
+                "--scheduler",
+                default=None,
+                metavar="ADDRESS",
+                help="run the sweep's untimed runs on this Dask scheduler (default: "
+                f"${executor.SCHEDULER_ENV}, else a local process pool); timed "
+                "runs always stay serial on this machine",
+            )
         if extra_args is not None:
             extra_args(parser)
         args = parser.parse_args(argv)
-        if args.scheduler:
+        started = code_state()  # the code that runs (collect says if it changes before the end)
+        args.data_dir = data_folder(args.quick, data_dir)
+        if getattr(args, "scheduler", None):
             os.environ[executor.SCHEDULER_ENV] = args.scheduler
         config = quick if args.quick else full
-        table, scenes, parameters = run(config, args)
+        try:
+            table, scenes, parameters = run(config, args)
+        except executor.SchedulerError as exc:  # the user's address, not a bug: one line
+            raise SystemExit(f"python -m experiments.{name}: {exc}") from None
         if not isinstance(table, pd.DataFrame) or table.empty:
             raise RuntimeError(f"{name}: the experiment produced no rows")
-        parameters = {
-            "quick": args.quick,
-            "config": config,
-            "executor": os.environ.get(executor.SCHEDULER_ENV) or "local process pool",
-            **parameters,
-        }
-        metadata = collect(scenes, parameters, script=name, seed=parameters.get("seed"))
-        csv_path, _ = write_results(name, table, metadata, folder=data_dir)
-        # the results are written: an incremental store has nothing left to resume
-        store_path(name, args.quick).unlink(missing_ok=True)
+        parameters = {"quick": args.quick, "config": config, **parameters}
+        if sweep:
+            parameters["executor"] = os.environ.get(executor.SCHEDULER_ENV) or "local process pool"
+        metadata = collect(
+            scenes, parameters, script=name, seed=parameters.get("seed"), started=started
+        )
+        partial = subset is not None and subset(config, args)
+        folder = subset_folder(args) if partial else args.data_dir
+        csv_path, _ = write_results(name, table, metadata, folder=folder)
+        if not partial:
+            # the results are written: an incremental store has nothing left to resume
+            store_path(name, args).unlink(missing_ok=True)
         with pd.option_context(
             "display.width", 200, "display.max_columns", 30, "display.max_rows", 60
         ):
             print(table.to_string(index=False, float_format=lambda x: f"{x:.4g}"))
         print(f"wrote {csv_path}")
+        if partial:
+            print(f"(part of the table only: {args.data_dir / (name + '.csv')} is left as it was)")
         return table
 
     return main

@@ -50,6 +50,10 @@ SCHEDULER_ENV = "FREEZE2D_SCHEDULER"
 WATCH_S = 0.2
 
 
+class SchedulerError(Exception):
+    """The Dask scheduler given cannot be used (unreachable, not an address); one line."""
+
+
 def default_workers():
     return max(1, os.cpu_count() or 1)
 
@@ -236,7 +240,11 @@ def _run_dask(fn, tasks, todo, address, finish):
         from distributed import Client, as_completed as dask_completed
     except ImportError as exc:  # pinned, so only a broken environment gets here
         raise RuntimeError("a Dask scheduler was given but `distributed` is not installed") from exc
-    with Client(address) as client:
+    try:
+        client = Client(address)
+    except (OSError, ValueError, TypeError) as exc:  # unreachable, refused, not an address
+        raise SchedulerError(f"cannot use the Dask scheduler {address!r}: {exc}") from None
+    with client:
         futures = {}
         for i in todo:
             futures[client.submit(_call, fn, tasks[i], pure=False)] = i

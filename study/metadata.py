@@ -1,11 +1,16 @@
 """What every results file records besides its numbers, and how results files are written.
 
 ``collect`` gathers the provenance of a run (scenes, parameters, seed, code version, packages,
-machine, date); ``write_results`` writes ``<name>.csv`` and ``<name>.json`` atomically.
+machine, date); ``write_results`` writes ``<name>.csv`` and ``<name>.json`` atomically, the .json
+recording the CSV's row count and SHA-256 (``csv``); ``read_results`` reads them back for analysis
+and refuses (``ResultsError``, one line naming the file and the experiment to rerun) a file that is
+missing, damaged, cut short or not the one its .json describes: each file is written whole, but
+the pair is two files, and a copy, an edit or a full disk can still break one of them.
 Nothing here may crash a finished experiment: anything unknowable is recorded as "unknown".
 """
 
 import datetime
+import hashlib
 import importlib.metadata
 import json
 import math
@@ -13,6 +18,8 @@ import os
 import platform
 import subprocess
 import sys
+
+import pandas as pd
 
 from sim.files import write_text_atomically
 
@@ -35,19 +42,26 @@ PACKAGES = (
 )
 
 
-def collect(scene_or_scenes, parameters, script, seed=None):
+def collect(scene_or_scenes, parameters, script, seed=None, started=None):
     """Provenance of one run as a JSON-ready dict.
 
     scene_or_scenes  a sim.Scene, a list of them, or None
     parameters       the run's settings (dt, iterations, sizes, ...) as given on the command line
     script           the experiment's name, e.g. "bench_step"
+    started          ``code_state()`` taken when the run started (default: now)
+
+    ``git`` is the code's state when the run started: the code that ran (read at the end, an edit
+    or a commit made during a long run was named as the results' code). If the commit or the
+    working tree changed before the end, the results may come from more than one version of the
+    code: ``code_changed_during_run`` says so, ``git.dirty`` is then true (no clean commit made
+    them) and ``git_at_end`` is the state at the end.
     """
     return {
         "script": script,
         "scenes": _describe_scenes(scene_or_scenes),
         "parameters": jsonable(dict(parameters)),
         "seed": seed,
-        "git": git_state(),
+        **code_provenance(started or code_state()),
         "packages": {name: _version(name) for name in PACKAGES},
         "python": sys.version.split()[0],
         "platform": platform.platform(),
@@ -65,9 +79,74 @@ def write_results(name, dataframe, metadata, folder=None):
     folder = paths.ensure(paths.DATA if folder is None else folder)
     csv_path = folder / f"{name}.csv"
     json_path = folder / f"{name}.json"
-    write_text_atomically(csv_path, dataframe.to_csv(index=False))
+    text = dataframe.to_csv(index=False)
+    metadata = {**metadata, "csv": {"rows": len(dataframe), "sha256": _sha256(text.encode())}}
+    write_text_atomically(csv_path, text)
     write_text_atomically(json_path, json.dumps(jsonable(metadata), indent=2) + "\n")
     return csv_path, json_path
+
+
+class ResultsError(Exception):
+    """A results file that analysis must not read; the message is one line for the user."""
+
+
+def rerun_hint(script=None):
+    """What to do about a results file that cannot be read: rerun the experiment that wrote it."""
+    if script is None:
+        return "rerun the experiment that wrote it (`make reproduce` reruns every missing one)"
+    return f"rerun the experiment: `make {script}` or `python -m experiments.{script}`"
+
+
+def read_metadata(json_path, script=None):
+    """The metadata dict in ``json_path``, or ResultsError naming the file (missing, not JSON)."""
+    try:
+        meta = json.loads(json_path.read_text())
+    except FileNotFoundError:
+        raise ResultsError(f"{json_path} is missing: {rerun_hint(script)}") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ResultsError(f"{json_path} is damaged ({exc}): {rerun_hint(script)}") from None
+    if not isinstance(meta, dict):
+        raise ResultsError(f"{json_path} is not an experiment's metadata: {rerun_hint(script)}")
+    return meta
+
+
+def read_results(folder, name, script=None):
+    """(table, metadata) of ``<folder>/<name>.csv`` + ``.json``, made by experiment ``script``
+    (default ``name``). Refuses (ResultsError) a missing or damaged file, and a CSV whose row
+    count or SHA-256 is not what its .json recorded when both were written (a truncated copy, an
+    edit, a CSV from another run)."""
+    script = script or name
+    csv_path, json_path = folder / f"{name}.csv", folder / f"{name}.json"
+    meta = read_metadata(json_path, script)
+    try:
+        raw = csv_path.read_bytes()
+    except FileNotFoundError:
+        raise ResultsError(f"{csv_path} is missing: {rerun_hint(script)}") from None
+    record = meta.get("csv")
+    if not isinstance(record, dict) or not {"rows", "sha256"} <= set(record):
+        raise ResultsError(
+            f"{json_path} records no row count and checksum of {csv_path.name} (made by older "
+            f"code): {rerun_hint(script)}"
+        )
+    try:
+        table = pd.read_csv(csv_path)
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise ResultsError(f"{csv_path} is damaged ({exc}): {rerun_hint(script)}") from None
+    if len(table) != record["rows"]:
+        raise ResultsError(
+            f"{csv_path} has {len(table)} rows where its .json records {record['rows']} (cut "
+            f"short or changed since it was written): {rerun_hint(script)}"
+        )
+    if _sha256(raw) != record["sha256"]:
+        raise ResultsError(
+            f"{csv_path} is not the file its .json describes (its SHA-256 differs: changed "
+            f"since it was written): {rerun_hint(script)}"
+        )
+    return table, meta
+
+
+def _sha256(data):
+    return hashlib.sha256(data).hexdigest()
 
 
 # ---- pieces ------------------------------------------------------------------------------------
@@ -81,20 +160,58 @@ def _describe_scenes(scene_or_scenes):
     ]
 
 
+def code_state():
+    """(git_state(), fingerprint of the working tree) now; ``collect`` compares the two taken at
+    a run's start and end."""
+    return git_state(), tree_fingerprint()
+
+
+def code_provenance(started):
+    """The metadata's ``git``, ``code_changed_during_run`` (true, false or "unknown" without git)
+    and, if it changed, ``git_at_end``, from ``code_state()`` at the start and now."""
+    (git_start, print_start), (git_end, print_end) = started, code_state()
+    if "unknown" in (print_start, print_end):
+        return {"git": git_start, "code_changed_during_run": "unknown"}
+    if print_start == print_end:
+        return {"git": git_start, "code_changed_during_run": False}
+    return {
+        "git": {**git_start, "dirty": True},
+        "code_changed_during_run": True,
+        "git_at_end": git_end,
+    }
+
+
+def tree_fingerprint():
+    """SHA-256 of the commit, the status (changed and untracked files) and the diff against the
+    commit: what differs if the code is edited or committed ("unknown" without git). Untracked
+    files count by name, not content."""
+    digest = hashlib.sha256()
+    try:
+        for args in (
+            ("rev-parse", "HEAD"),
+            ("status", "--porcelain", "--untracked-files=normal"),
+            ("diff", "HEAD", "--binary"),
+        ):
+            digest.update(_git(*args).encode())
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    return digest.hexdigest()
+
+
+def _git(*args):
+    return subprocess.run(
+        ["git", *args], cwd=paths.ROOT, capture_output=True, text=True, timeout=10, check=True
+    ).stdout.strip()
+
+
 def git_state():
     """Commit hash and whether tracked or untracked files differ from it ("unknown" without git)."""
-
-    def git(*args):
-        return subprocess.run(
-            ["git", *args], cwd=paths.ROOT, capture_output=True, text=True, timeout=10, check=True
-        ).stdout.strip()
-
     try:
-        commit = git("rev-parse", "HEAD")
+        commit = _git("rev-parse", "HEAD")
     except (OSError, subprocess.SubprocessError):
         return {"commit": "unknown", "dirty": "unknown"}
     try:
-        dirty = bool(git("status", "--porcelain", "--untracked-files=normal"))
+        dirty = bool(_git("status", "--porcelain", "--untracked-files=normal"))
     except (OSError, subprocess.SubprocessError):
         dirty = "unknown"
     return {"commit": commit, "dirty": dirty}

@@ -4,7 +4,9 @@ Two environment variables move the outputs, read once, at import (the Makefile s
 ``make reproduce QUICK=1`` so that quick results never overwrite full ones; tests point them into
 temporary folders):
 
-    FREEZE2D_RESULTS    the results tree: data/, recordings/         (default <root>/results)
+    FREEZE2D_RESULTS    the results tree: data/, partial/, recordings/   (default <root>/results;
+                        an experiment run with --quick and without it writes into
+                        <root>/results/quick instead: ``results_tree``)
     FREEZE2D_PAPER_OUT  what analysis writes for the paper: figures/, generated/, paper.pdf
                         (default <root>/paper, beside paper.typ)
 """
@@ -13,6 +15,8 @@ import os
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+#: whether FREEZE2D_RESULTS names the results tree (then every run, quick or full, writes there)
+RESULTS_GIVEN = bool(os.environ.get("FREEZE2D_RESULTS"))
 RESULTS = Path(os.environ.get("FREEZE2D_RESULTS") or ROOT / "results").resolve()
 DATA = RESULTS / "data"  # experiments -> <name>.csv + <name>.json
 RECORDINGS = RESULTS / "recordings"  # <scene>__<policy>.rrd
@@ -22,6 +26,15 @@ PAPER_OUT = Path(os.environ.get("FREEZE2D_PAPER_OUT") or PAPER).resolve()
 FIGURES = PAPER_OUT / "figures"  # analysis -> <name>.svg
 GENERATED = PAPER_OUT / "generated"  # analysis -> <name>.csv tables, <name>.json numbers
 PDF = PAPER_OUT / "paper.pdf"
+
+
+def results_tree(quick):
+    """The results tree a run writes into (data/, partial/). A ``--quick`` run started by hand
+    (``python -m experiments.<name> --quick``) gets its own RESULTS/quick, the tree `make
+    reproduce QUICK=1` uses, so that it never replaces a full result in RESULTS/data, where make
+    would take it for one; when FREEZE2D_RESULTS names the tree (the Makefile always does), that
+    tree is used as it is."""
+    return RESULTS / "quick" if quick and not RESULTS_GIVEN else RESULTS
 
 
 def ensure(folder):

@@ -45,12 +45,14 @@ def built_tree(tmp_path_factory):
     paper = tmp_path_factory.mktemp("paper")
     names = _make_list("ALL")
     later = time.time() + 3600
-    for i, (folder, suffix) in enumerate(
-        ((results / "data", ".csv"), (paper / "generated", ".json"))
+    # every file an experiment writes: <name>.csv + .json, and bench_step's profile
+    data = [f"{n}{s}" for n in names + ["bench_step_profile"] for s in (".csv", ".json")]
+    for i, (folder, files) in enumerate(
+        ((results / "data", data), (paper / "generated", [f"{n}.json" for n in names]))
     ):
         folder.mkdir(parents=True, exist_ok=True)
-        for name in names:
-            target = folder / f"{name}{suffix}"
+        for file in files:
+            target = folder / file
             target.write_text("")
             os.utime(target, (later + 60 * i, later + 60 * i))  # figures after their data
     return results, paper, names
@@ -108,6 +110,37 @@ def test_a_missing_data_file_is_rerun(built_tree):
     finally:
         data.write_text("")
         os.utime(data, (stamp, stamp))
+
+
+@pytest.mark.parametrize(
+    "lost, rerun",
+    [
+        ("fig_states.json", "fig_states"),  # analysis refuses a .csv without its .json
+        ("bench_step_profile.csv", "bench_step"),  # bench_step writes it too
+        ("bench_step_profile.json", "bench_step"),
+    ],
+)
+def test_any_missing_data_file_reruns_the_experiment_that_writes_it(built_tree, lost, rerun):
+    # make tracked only <name>.csv: a lost .json, or a lost second table, was never made again
+    # ("Nothing to be done for 'figures'") and the analysis then failed
+    results, _, _ = built_tree
+    data = results / "data" / lost
+    stamp = data.stat().st_mtime
+    data.unlink()
+    try:
+        assert _rebuilt(built_tree, "README.md") == ({rerun}, {rerun})
+    finally:
+        data.write_text("")
+        os.utime(data, (stamp, stamp))
+
+
+def test_the_makefile_header_says_what_make_figures_does(built_tree):
+    # it said "never simulates", yet after an edit to a shared library module make figures reruns
+    # every experiment (its data is older than the code it runs)
+    header = (ROOT / "Makefile").read_text().split("\n\n")[0]
+    figures = header[header.index("make figures") :].split("#   make ")[0]
+    assert _rebuilt(built_tree, "study/metadata.py")[0] == set(built_tree[2])
+    assert "never simulates" not in figures and "older than the code" in figures
 
 
 def test_an_edit_to_the_solver_reruns_every_experiment(built_tree):

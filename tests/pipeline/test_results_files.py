@@ -1,0 +1,100 @@
+"""Analysis reads only whole results files: the .json records its CSV's row count and SHA-256
+when both are written, and a CSV cut short, edited or missing, or a damaged .json, is refused with
+one line naming the file and the experiment to rerun (exit status 1, no traceback), never drawn
+from in part."""
+
+import json
+
+import pandas as pd
+import pytest
+
+from analysis import bench_step as a_bench_step
+from analysis import paper, style
+from study import metadata, paths
+
+TABLE = pd.DataFrame({"scenario": [f"s{i}" for i in range(200)], "value": range(200)})
+
+
+def _draw(table, meta):
+    return {"rows": len(table)}
+
+
+FAKE = style.entry("fake", _draw)
+
+
+@pytest.fixture
+def data(tmp_path, monkeypatch):
+    monkeypatch.setattr(paths, "DATA", tmp_path / "data")
+    monkeypatch.setattr(paths, "FIGURES", tmp_path / "figures")
+    monkeypatch.setattr(paths, "GENERATED", tmp_path / "generated")
+    metadata.write_results("fake", TABLE, {"script": "fake", "parameters": {}})
+    return tmp_path / "data"
+
+
+def _refused(main, argv=()):
+    with pytest.raises(SystemExit) as stop:
+        main(list(argv))
+    message = str(stop.value.code)
+    assert "\n" not in message  # one line (SystemExit with a message exits with status 1)
+    return message
+
+
+def test_a_whole_file_is_read(data):
+    assert FAKE([]) == {"rows": 200}
+    meta = json.loads((data / "fake.json").read_text())
+    assert meta["csv"]["rows"] == 200 and len(meta["csv"]["sha256"]) == 64
+
+
+def test_a_csv_cut_mid_line_is_refused(data):
+    csv = data / "fake.csv"
+    csv.write_bytes(csv.read_bytes()[:1000])
+    message = _refused(FAKE)
+    assert str(csv) in message and "rows" in message and "python -m experiments.fake" in message
+
+
+def test_a_csv_cut_at_a_line_end_is_refused(data):
+    csv = data / "fake.csv"
+    csv.write_text("".join(csv.read_text().splitlines(keepends=True)[:61]))
+    assert "60 rows where its .json records 200" in _refused(FAKE)
+
+
+def test_an_edited_csv_is_refused(data):
+    csv = data / "fake.csv"
+    csv.write_text(csv.read_text().replace("s17,", "s71,"))
+    assert "SHA-256" in _refused(FAKE)
+
+
+def test_a_damaged_json_is_refused_by_name(data):
+    (data / "fake.json").write_text('{"script": "fake", "csv": {')
+    message = _refused(FAKE)
+    assert str(data / "fake.json") in message and "damaged" in message
+
+
+def test_missing_data_is_refused_by_name(data):
+    (data / "fake.csv").unlink()
+    assert f"{data / 'fake.csv'} is missing" in _refused(FAKE)
+    (data / "fake.json").unlink()
+    assert f"{data / 'fake.json'} is missing" in _refused(FAKE)
+
+
+def test_metadata_without_a_checksum_is_refused(data):
+    meta = json.loads((data / "fake.json").read_text())
+    del meta["csv"]
+    (data / "fake.json").write_text(json.dumps(meta))
+    assert "older code" in _refused(FAKE)
+
+
+def test_the_profile_names_its_own_file_and_experiment(data):
+    """bench_step writes bench_step_profile.csv as well; the analysis names the missing one and
+    the experiment that writes it (there is no make bench_step_profile)."""
+    with pytest.raises(metadata.ResultsError) as refused:
+        style.load(a_bench_step.PROFILE, script=a_bench_step.NAME)
+    message = str(refused.value)
+    assert "bench_step_profile.json is missing" in message
+    assert "`make bench_step`" in message and "`python -m experiments.bench_step`" in message
+
+
+def test_the_paper_refuses_damaged_metadata_by_name(data):
+    (data / "fake.json").write_text("not json")
+    message = _refused(paper.main)
+    assert str(data / "fake.json") in message

@@ -52,3 +52,14 @@ def flag(value, what):
     if not isinstance(value, (bool, np.bool_)):
         raise ValueError(f"{what} must be True or False, got {value!r}")
     return bool(value)
+
+
+def numeric_array(value):
+    """Is ``value`` (an array, or nested sequences) made of real numbers: integers or floats,
+    not text, switches (bools), complex numbers or other objects? float64 conversion takes all
+    of those ("2" becomes 2.0, True 1.0), so a check of types must come first."""
+    try:
+        kind = np.asarray(value).dtype.kind
+    except (TypeError, ValueError):
+        return False
+    return kind in "iuf"

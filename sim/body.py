@@ -36,7 +36,7 @@ def _validated_polygon(vertices, name):
         given = np.asarray(vertices)
     except (TypeError, ValueError):
         given = None
-    if given is None or given.dtype.kind not in "iuf":  # (geometry.numeric_array)
+    if given is None or given.dtype.kind not in "iuf":  # (arguments.numeric_array)
         return validate_polygon(vertices, name)  # raises the reference's message
     v = np.asarray(given, dtype=np.float64)
     if v.size > 2 * _REMEMBERED_VERTICES:

@@ -12,6 +12,8 @@ Conventions
 import math
 
 import numpy as np
+
+from .arguments import numeric_array
 from .jit import inline_kernel, kernel, lean_kernel
 
 #: Largest vertex count a polygon may have: feature ids pack vertex indices into 10 bits.
@@ -28,17 +30,6 @@ MAX_SPEED = 1e12
 
 class PolygonError(ValueError):
     """A polygon that the solver cannot use (non-convex, clockwise, degenerate, non-finite)."""
-
-
-def numeric_array(value):
-    """Is ``value`` (an array, or nested sequences) made of real numbers: integers or floats,
-    not text, switches (bools), complex numbers or other objects? float64 conversion takes all
-    of those ("2" becomes 2.0, True 1.0), so a check of types must come first."""
-    try:
-        kind = np.asarray(value).dtype.kind
-    except (TypeError, ValueError):
-        return False
-    return kind in "iuf"
 
 
 def validate_polygon(vertices, name="polygon"):

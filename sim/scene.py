@@ -17,7 +17,8 @@ import tomli_w
 
 from .body import Body, check_fields, failing_fields, finite_number, finite_pair
 from .files import write_text_atomically
-from .geometry import numeric_array, validate_polygon
+from .arguments import numeric_array
+from .geometry import validate_polygon
 from .polygons import check_packed, polygon_suspects
 
 

@@ -15,6 +15,9 @@ settings.register_profile("explore", derandomize=False, deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 
 G = 9.81
+#: a unit box about its centre whose bottom edge is given in four parts (three collinear vertices)
+SPLIT_BOX = [(-0.5, -0.5), (-0.25, -0.5), (0, -0.5), (0.25, -0.5), (0.5, -0.5)]
+SPLIT_BOX += [(0.5, 0.5), (-0.5, 0.5)]
 
 
 def tilted_box(width, height, angle, friction=0.6):

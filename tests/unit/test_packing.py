@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import sim
+from conftest import SPLIT_BOX
 from sim import geometry, polygons, scenes
 from sim.body import MAX_COORDINATE
 from sim.packing import Packed, pack
@@ -199,15 +200,7 @@ def test_mass_properties_many_is_bit_for_bit_the_one_polygon_result():
 def test_collinear_vertices_are_dropped_and_nothing_else():
     # a unit box with its bottom edge in four parts, a triangle with a vertex mid-edge, and a
     # box whose corner is off by 1e-7 m (a real corner, kept)
-    split = [
-        (-0.5, -0.5),
-        (-0.25, -0.5),
-        (0, -0.5),
-        (0.25, -0.5),
-        (0.5, -0.5),
-        (0.5, 0.5),
-        (-0.5, 0.5),
-    ]
+    split = SPLIT_BOX
     tri = [(0, 0), (1, 0), (2, 0), (0, 1)]
     near = [(-0.5, -0.5), (0, -0.5 - 1e-7), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
     vertices = np.array(split + tri + near, float)
@@ -224,15 +217,7 @@ def test_collinear_vertices_are_dropped_and_nothing_else():
 
 
 def test_the_world_solves_a_polygon_without_its_collinear_vertices():
-    split = [
-        (-0.5, -0.5),
-        (-0.25, -0.5),
-        (0, -0.5),
-        (0.25, -0.5),
-        (0.5, -0.5),
-        (0.5, 0.5),
-        (-0.5, 0.5),
-    ]
+    split = SPLIT_BOX
     body = sim.Body(vertices=split, position=(1.0, 0.5), angle=0.3)
     world = sim.World(sim.Scene(bodies=[body], floor_y=None, gravity=(0.0, 0.0)))
     box = sim.World(

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import sim
-from conftest import G, run_until, tilted_box
+from conftest import G, SPLIT_BOX, run_until, tilted_box
 import naive
 
 
@@ -330,15 +330,7 @@ def test_a_face_given_in_parts_supports_as_one_face(on):
     # still one face. A box whose bottom was given in four parts rested on the first quarter
     # only, tipped over and sank 0.53 m into the floor; a box on a static box whose top was
     # given in parts fell off it (polygons.drop_collinear).
-    split = [
-        (-0.5, -0.5),
-        (-0.25, -0.5),
-        (0, -0.5),
-        (0.25, -0.5),
-        (0.5, -0.5),
-        (0.5, 0.5),
-        (-0.5, 0.5),
-    ]
+    split = SPLIT_BOX
     if on == "floor":
         scene = sim.Scene(bodies=[sim.Body(vertices=split, position=(0.0, 0.5))])
     else:

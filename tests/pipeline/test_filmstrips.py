@@ -75,7 +75,8 @@ def test_fig_overhang_falls_off_the_edge(out):
 
 
 def test_analysis_needs_the_data_first(out):
-    with pytest.raises(FileNotFoundError, match="make fig_states"):
+    # one line naming the file and the command, no traceback (study.metadata.read_results)
+    with pytest.raises(SystemExit, match="fig_states.json is missing.*make fig_states"):
         a_states.main([])
 
 

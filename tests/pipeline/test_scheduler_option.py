@@ -55,7 +55,9 @@ def _table(config, args):
 
 
 def test_only_a_sweep_records_its_executor(tmp_path, monkeypatch):
-    monkeypatch.delenv(executor.SCHEDULER_ENV, raising=False)
+    # set through monkeypatch (empty: no scheduler), so that the address main() writes into
+    # os.environ is taken back after the test: left there, every later sweep used it
+    monkeypatch.setenv(executor.SCHEDULER_ENV, "")
     common.entry("plain", "No sweep.", {}, {}, _table)([], data_dir=tmp_path)
     assert "executor" not in json.loads((tmp_path / "plain.json").read_text())["parameters"]
     common.entry("swept", "A sweep.", {}, {}, _table, sweep=True)([], data_dir=tmp_path)
@@ -70,7 +72,9 @@ def test_an_unusable_scheduler_is_one_line(tmp_path, monkeypatch):
         raise OSError(f"Timed out trying to connect to {address} after 30 s")
 
     monkeypatch.setattr(distributed, "Client", refused)
-    monkeypatch.delenv(executor.SCHEDULER_ENV, raising=False)
+    # set through monkeypatch (empty: no scheduler), so that the address main() writes into
+    # os.environ is taken back after the test: left there, every later sweep used it
+    monkeypatch.setenv(executor.SCHEDULER_ENV, "")
 
     def run(config, args):
         executor.run_tasks(abs, [1, 2])

@@ -13,6 +13,8 @@ def write_text_atomically(path, text):
     over it (a rename within one folder is atomic). On any failure the old file is untouched
     and the temporary one removed."""
     path = Path(path)
+    if not path.parent.is_dir():  # else mkstemp's error names the hidden temporary file
+        raise FileNotFoundError(f"cannot write {path}: the folder {path.parent} does not exist")
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "w", newline="") as f:

@@ -193,7 +193,11 @@ class Scene:
         scene.floor_y, scene.gravity = floor_y, gravity
         scene.floor_friction, scene.floor_restitution = floor_friction, floor_restitution
         scene.static_bodies, scene.name = static_bodies, name
-        scene.params = {} if params is None else dict(params)
+        # a copy of a dict; anything else as given, for validate() to refuse in the Scene's own
+        # words (dict(5) was a TypeError)
+        scene.params = dict(params) if isinstance(params, dict) else params
+        if params is None:
+            scene.params = {}
         scene._arrays = arrays
         scene.validate()
         return scene

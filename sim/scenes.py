@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 
+from .arguments import count, positive
 from .body import Body
 from .scene import Scene
 
@@ -17,8 +18,22 @@ def _scene(name, bodies, params, **kwargs):
     return Scene(bodies=bodies, name=name, params=params, **kwargs)
 
 
+def _counts(builder, minimum=1, **values):
+    """Check the builder's counts (integers >= ``minimum``), naming the builder: a float count
+    (pyramid(2.5)) or text met Python's TypeError deep inside, and drop(-1) a math domain error."""
+    for name, value in values.items():
+        count(value, f"{builder}: {name}", minimum)
+
+
+def _lengths(builder, allow_zero=False, **values):
+    """Check the builder's lengths (finite numbers > 0, or >= 0 with ``allow_zero``)."""
+    for name, value in values.items():
+        positive(value, f"{builder}: {name}", allow_zero)
+
+
 def single_box(size=1.0, friction=0.6, density=1.0):
     """One square box resting on the floor."""
+    _lengths("single_box", size=size)
     return _scene(
         "single_box",
         [Body.box(size, size, position=(0.0, size / 2), friction=friction, density=density)],
@@ -28,6 +43,9 @@ def single_box(size=1.0, friction=0.6, density=1.0):
 
 def rest_row(n=10, size=1.0, gap=0.5, friction=0.6):
     """``n`` square boxes resting on the floor in a row, ``gap`` apart (no box touches another)."""
+    _counts("rest_row", n=n)
+    _lengths("rest_row", size=size)
+    _lengths("rest_row", allow_zero=True, gap=gap)
     pitch = size + gap
     bodies = [
         Body.box(size, size, position=(i * pitch, size / 2), friction=friction) for i in range(n)
@@ -37,6 +55,8 @@ def rest_row(n=10, size=1.0, gap=0.5, friction=0.6):
 
 def stack(height=5, size=1.0, friction=0.6):
     """A column of ``height`` square boxes on the floor."""
+    _counts("stack", height=height)
+    _lengths("stack", size=size)
     bodies = [
         Body.box(size, size, position=(0.0, size / 2 + i * size), friction=friction)
         for i in range(height)
@@ -49,6 +69,9 @@ def pyramid(base=10, size=1.0, gap=0.125, friction=0.6):
     centred over the gap between the two below; ``gap`` (m) separates neighbours in a row, as in
     Box2D's pyramid benchmark, so every box is carried only by the two below it.
     base*(base+1)/2 bodies."""
+    _counts("pyramid", base=base)
+    _lengths("pyramid", size=size)
+    _lengths("pyramid", allow_zero=True, gap=gap)
     bodies = []
     pitch = size + gap
     for row in range(base):
@@ -79,6 +102,11 @@ def drop(n=30, seed=0, radius=0.4, width=None, friction=0.6):
 
     Walls are static polygons. Bodies start 1.2*2*radius apart in a grid ``width`` wide (default
     about sqrt(n) columns), with small random angles and no velocity."""
+    _counts("drop", n=n)
+    _counts("drop", minimum=0, seed=seed)
+    _lengths("drop", radius=radius)
+    if width is not None:
+        _lengths("drop", width=width)
     rng = np.random.default_rng(seed)
     cols = (
         max(1, int(math.ceil(math.sqrt(n))))
@@ -122,6 +150,13 @@ def arch(n_blocks=9, radius=2.0, thickness=0.6, friction=0.8):
     mu ~0.6 against the floor (mixed sqrt(0.8 * 0.6) = 0.69 with the default floor): at 0.6 the arch
     stands right at its friction limit. Contact faces are radial,
     so most contacts are neither horizontal nor vertical."""
+    _counts("arch", minimum=2, n_blocks=n_blocks)  # one block would span a straight angle
+    _lengths("arch", radius=radius, thickness=thickness)
+    if not thickness < 2.0 * radius:
+        raise ValueError(
+            f"arch: thickness must be below twice the radius (the inner radius is radius - "
+            f"thickness/2), got thickness {thickness} and radius {radius}"
+        )
     r_in = radius - thickness / 2
     r_out = radius + thickness / 2
     bodies = []

@@ -62,6 +62,7 @@ def check_step(sizes, names, dt, substeps, gravity):
     ``soft_step``) and no stiffer than DYNAMIC_CAP of the substep rate. ``names(i)`` names body
     i; the message says which substeps (or dt) would resolve it."""
     from .soft_step import DYNAMIC_CAP, STIFFNESS_RATIO
+    from .validation import MAX_SUBSTEPS
 
     if len(sizes) == 0 or gravity == 0.0:
         return
@@ -70,13 +71,18 @@ def check_step(sizes, names, dt, substeps, gravity):
     rate = substeps / dt  # Hz
     if need > DYNAMIC_CAP * rate:
         substeps_needed = need / DYNAMIC_CAP * dt
-        fix = (
-            f"Use substeps >= {math.ceil(substeps_needed)} (or dt <= "
-            f"{substeps * DYNAMIC_CAP / need:.3g} s), or larger bodies"
-            if math.isfinite(substeps_needed)
-            # gravity near float64's limit
-            else f"No step can: gravity {gravity:.3g} m/s^2 is beyond what float64 can resolve"
-        )
+        if not math.isfinite(substeps_needed):  # gravity near float64's limit
+            fix = f"No step can: gravity {gravity:.3g} m/s^2 is beyond what float64 can resolve"
+        elif substeps_needed > MAX_SUBSTEPS:  # an 80-digit count helped no one
+            fix = (
+                f"No substep count up to {MAX_SUBSTEPS} can (it would take {substeps_needed:.3g}): "
+                f"use dt <= {substeps * DYNAMIC_CAP / need:.3g} s, or larger bodies"
+            )
+        else:
+            fix = (
+                f"Use substeps >= {math.ceil(substeps_needed)} (or dt <= "
+                f"{substeps * DYNAMIC_CAP / need:.3g} s), or larger bodies"
+            )
         raise ValueError(
             f"{names(i)} is {sizes[i]:.3g} m thick: its contacts would need {need:.3g} Hz "
             f"of stiffness to hold it up without rocking, and at dt={dt:.4g} s with {substeps} "

@@ -341,6 +341,15 @@ class World:
         contacts would launch them apart and the run would measure nothing real."""
         check_initial_overlap(self._points(), self._describe, self.overlap_tolerance)
 
+    def __reduce_ex__(self, protocol):
+        # copy.copy shared the World's arrays (stepping the copy moved the original) and
+        # pickle/deepcopy failed on a module inside it ("cannot pickle 'module' object")
+        raise TypeError(
+            "a sim.World cannot be copied or pickled: build another from world.scene (the scene it "
+            "was built from), or from its state (positions, angles, velocities, "
+            "angular_velocities) put into a new sim.Scene"
+        )
+
     @staticmethod
     def _check_policy_arguments(freeze, policy_parameters):
         """ValueError for a keyword that is neither a World setting nor a parameter of the freeze

@@ -262,6 +262,11 @@ def _holds_into(
                 break
         if too_many:
             continue  # not certified: stays awake
+        if n_points + n_brace == 0:
+            # held by nothing: not at rest on anything. Under gravity its weight is then never
+            # balanced; without gravity zero forces "balance" it, and a box drifting freely at
+            # 1.5 cm/s (slow, steady) was frozen where it was, though nothing would stop it
+            continue
         n_all = min(n_points + n_brace, MAX_SUPPORT_POINTS)
         for e in range(2 * (n_all - n_points)):  # (element by element: a slice copy needs
             for q in range(3):  # reference counting, which this kernel runs without)
@@ -370,6 +375,8 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
                 return False  # too many to try: not certified (stays awake)
             _edges(cone, n_points, nx, ny, rx, ry, mu, length)
             n_points += 1
+    if n_points == 0:
+        return False  # held by nothing outside it (see holds): a group floating free
     if not _margin(
         cone,
         n_points,

@@ -16,9 +16,11 @@ step it passes, with no timer (``rest_steps`` = 1):
      equilibrium with margin: its supports' forces inside their friction cones shrunk by
      ``friction_margin``, and still holding with an extra moment of ``tip_margin`` times its size
      times its load either way (the centre of pressure inside the support by that margin). A
-     body on a single point (a corner, an apex) is never certified; a box on a ramp its friction
-     cannot hold is not, however slowly it creeps; a plank whose centre of mass overhangs its
-     support is not. A body refused alone may still be certified with the candidates it touches,
+     body held by nothing (floating free without gravity) is never certified: nothing stops its
+     drift. A body on a single point (a corner, an apex) is never certified; a box on a ramp its
+     friction cannot hold is not, however slowly it creeps; a plank whose centre of mass
+     overhangs its support is not. A body refused alone may still be certified with the
+     candidates it touches,
      as one rigid body held by what lies outside it, each refused member held with the others
      taken as immovable (``extended_rest.wedges``): two bodies that each lean on the other are
      refused one by one, since each one's support may move;

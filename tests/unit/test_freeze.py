@@ -340,6 +340,21 @@ def test_every_policy_is_deterministic(policy):
     assert runs[0].events == runs[1].events
 
 
+@pytest.mark.parametrize("bodies", [1, 2])
+def test_extended_does_not_freeze_a_body_drifting_free(bodies):
+    # Without gravity a body touching nothing drifts on for ever: slow and steady is not rest.
+    # Zero forces "balanced" it, and a box drifting at 1.5 cm/s (under rest_speed) was frozen
+    # where it was; two boxes drifting together in contact were frozen as a group.
+    boxes = [
+        sim.Body.box(1, 1, position=(1.0 * k, 0.0), velocity=(0.015, 0.0)) for k in range(bodies)
+    ]
+    world = sim.World(sim.Scene(bodies=boxes, floor_y=None, gravity=(0.0, 0.0)), freeze="extended")
+    world.step(600)
+    assert world.n_awake == bodies
+    assert set(world.why_awake()) == {"uncertified"}
+    np.testing.assert_allclose(world.positions[:, 0], np.arange(bodies) + 0.15, atol=1e-9)
+
+
 def test_extended_never_freezes_a_body_that_a_moving_body_touches():
     # B slides across the top of A for ~0.8 s; A, slow and held by the floor, must wait for B
     a = sim.Body.box(3.0, 0.5, position=(0.0, 0.25), friction=0.2)

@@ -429,6 +429,27 @@ def test_a_regular_polygon_needs_three_vertices_and_no_more_than_the_solver_take
             lambda: sim.World(sim.scenes.single_box(), freeze="paper", impulse_threshold="0.1"),
             "impulse_threshold must be a number, got '0.1'",
         ),
+        # the scene builders name themselves and the argument (were Python's TypeError deep
+        # inside, a math domain error, numpy's SeedSequence error, or "body: degenerate polygon")
+        (lambda: sim.scenes.pyramid(2.5), "pyramid: base must be an integer >= 1, got 2.5"),
+        (lambda: sim.scenes.stack(2.5), "stack: height must be an integer"),
+        (lambda: sim.scenes.single_box("1"), "single_box: size must be a number, got '1'"),
+        (lambda: sim.scenes.drop(-1), "drop: n must be an integer >= 1, got -1"),
+        (lambda: sim.scenes.drop(3, seed="a"), "drop: seed must be an integer >= 0"),
+        (lambda: sim.scenes.drop(3, radius=0), "drop: radius must be > 0"),
+        (lambda: sim.scenes.arch(1), "arch: n_blocks must be an integer >= 2, got 1"),
+        (lambda: sim.scenes.arch(thickness=4.0), "arch: thickness must be below twice the radius"),
+        (lambda: sim.scenes.rest_row(3, gap=-1.0), "rest_row: gap must be >= 0"),
+        # from_arrays' params: "TypeError: 'int' object is not iterable"
+        (
+            lambda: sim.Scene.from_arrays([(0, 0), (1, 0), (0, 1)], [[0, 0]], params=5),
+            "params must be a dict, got 5",
+        ),
+        # gravity far beyond the solver: an 80-digit substep count was suggested
+        (
+            lambda: sim.World(sim.scenes.single_box(), dt=1e9),
+            "No substep count up to 1000 can .* use dt <= ",
+        ),
     ],
 )
 def test_bad_values_raise_a_value_error_that_names_them(build, match):
@@ -520,3 +541,23 @@ def test_a_scene_snapshot_is_equal_and_independent():
     scene.bodies[0].position = (9.0, 9.0)
     scene.params["seed"] = 99
     assert copy != scene and copy.params["seed"] == 2
+
+
+def test_a_world_cannot_be_copied_or_pickled_and_says_what_to_do():
+    # copy.copy shared the World's arrays (stepping the copy moved the original); pickle and
+    # deepcopy failed with "cannot pickle 'module' object"
+    import copy
+    import pickle
+
+    world = sim.World(sim.scenes.single_box())
+    for attempt in (copy.copy, copy.deepcopy, pickle.dumps):
+        with pytest.raises(TypeError, match="cannot be copied or pickled: build another"):
+            attempt(world)
+
+
+def test_a_scene_file_into_a_missing_folder_names_the_folder(tmp_path):
+    # the error named a hidden temporary file (".y.toml.xxxx.tmp")
+    path = tmp_path / "no such folder" / "y.toml"
+    with pytest.raises(FileNotFoundError, match="the folder .*no such folder does not exist"):
+        sim.scenes.single_box().to_file(path)
+    assert not path.parent.exists()

@@ -19,8 +19,6 @@ Columns are named in ``sim.data`` (BODY_A, NORMAL_X, NORMAL_IMPULSE...). A pair 
 a = -1 is the floor; the normal points from A to B.
 """
 
-import numpy as np
-
 from .data import (
     ALIVE,
     AWAKE_INDEX,
@@ -175,6 +173,31 @@ def _key(s, contact_int, stride):
     return (contact_int[s, BODY_A] + 1) * stride + contact_int[s, BODY_B]
 
 
+#: key * capacity + slot must stay below this (int64): a key is below stride^2
+_PACKED_LIMIT = 2.0**62
+
+
+@inline_kernel
+def _swap(keys, slots, i, j):
+    keys[i], keys[j] = keys[j], keys[i]
+    slots[i], slots[j] = slots[j], slots[i]
+
+
+@inline_kernel
+def _sift_down(keys, slots, root, end):
+    """Restore the max-heap below ``root`` within keys[:end] (slots moved alongside)."""
+    while True:
+        child = 2 * root + 1
+        if child >= end:
+            return
+        if child + 1 < end and keys[child + 1] > keys[child]:
+            child += 1
+        if keys[root] >= keys[child]:
+            return
+        _swap(keys, slots, root, child)
+        root = child
+
+
 @kernel
 def sort_awake(n_bodies, contacts, counters):
     """Put the awake contacts back in pair order, if any was added or removed since the last sort.
@@ -183,7 +206,7 @@ def sort_awake(n_bodies, contacts, counters):
     that order must not depend on history: a stack frozen and woken by an impact must be solved
     exactly as the same stack that never froze, or a freezing policy would differ from ``off`` by
     solver noise, not by freezing. A few new contacts go in by insertion; many (a new World, a
-    large wake) by a full sort."""
+    large wake, a landing) by a sort in place."""
     if counters[AWAKE_UNSORTED] == 0:
         return
     ci = contacts.contact_int
@@ -191,13 +214,29 @@ def sort_awake(n_bodies, contacts, counters):
     n = counters[N_AWAKE_CONTACTS]
     stride = n_bodies + 1
     if counters[AWAKE_UNSORTED] > 32:
-        keys = np.empty(n, np.int64)
-        for k in range(n):
-            keys[k] = _key(awake[k], ci, stride)
-        order = np.argsort(keys, kind="mergesort")
-        tmp = awake[:n].copy()
-        for k in range(n):
-            awake[k] = tmp[order[k]]
+        # In place, in arrays the store already has: np.argsort and a copy made three new
+        # arrays whenever a landing added many contacts (no array is allocated in the step
+        # loop now), and took 17 us for 821 contacts of drop(200), now 9-11 us. The keys go into
+        # ``active``, which update_manifolds, the one thing every caller runs next, rebuilds from
+        # scratch; each pair's key is unique, so any correct sort gives the one order.
+        keys = contacts.active
+        capacity = len(awake)
+        if float(stride) * float(stride) * float(capacity) < _PACKED_LIMIT:  # (floats: no wrap)
+            # each key with its slot in one int64 (key * capacity + slot), sorted in place as
+            # plain integers: three times as fast as the heapsort below (30 us)
+            for k in range(n):
+                keys[k] = _key(awake[k], ci, stride) * capacity + awake[k]
+            keys[:n].sort()
+            for k in range(n):
+                awake[k] = keys[k] % capacity
+        else:  # beyond int64 (~10^6 bodies): keys and slots side by side
+            for k in range(n):
+                keys[k] = _key(awake[k], ci, stride)
+            for root in range(n // 2 - 1, -1, -1):
+                _sift_down(keys, awake, root, n)
+            for end in range(n - 1, 0, -1):
+                _swap(keys, awake, 0, end)
+                _sift_down(keys, awake, 0, end)
     else:
         for k in range(1, n):  # insertion sort: nearly sorted already
             s = awake[k]

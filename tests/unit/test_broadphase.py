@@ -100,3 +100,41 @@ def test_a_body_flung_absurdly_fast_is_simulated(speed):
     w.step(3)
     assert np.isfinite(w.positions).all()
     assert w.positions[:, 0].max() > 3 * speed / 60 / 2  # it flew (the other box was hit)
+
+
+@pytest.mark.parametrize("n_bodies", [300, 2**31])
+@pytest.mark.parametrize("n_changed", [5, 500])
+def test_the_awake_contacts_are_put_in_pair_order(n_bodies, n_changed):
+    # sort_awake's three ways (insertion for a few changes; for many, keys packed with their
+    # slots and sorted in place, or, when key * capacity would overflow int64 (2**31 bodies),
+    # a heapsort of keys and slots side by side) all give the order of (body A, body B)
+    from sim.buffers import new_contacts
+    from sim.contacts import sort_awake
+    from sim.data import AWAKE_INDEX, AWAKE_UNSORTED, BODY_A, BODY_B, N_AWAKE_CONTACTS, N_COUNTERS
+
+    rng = np.random.default_rng(n_changed)
+    capacity = 1000
+    contacts = new_contacts(capacity, 300)
+    pairs = set()
+    while len(pairs) < 600:
+        a, b = sorted(rng.integers(-1, 300, 2).tolist())
+        if a != b:
+            pairs.add((a, b))
+    pairs = sorted(pairs)
+    slots = rng.permutation(capacity)[: len(pairs)]
+    for (a, b), s in zip(pairs, slots):
+        contacts.contact_int[s, BODY_A] = a
+        contacts.contact_int[s, BODY_B] = b
+    order = list(slots)  # in pair order, then n_changed of them moved
+    for _ in range(n_changed):
+        i, j = rng.integers(0, len(order), 2)
+        order[i], order[j] = order[j], order[i]
+    contacts.awake[: len(order)] = order
+    counters = np.zeros(N_COUNTERS, np.int64)
+    counters[N_AWAKE_CONTACTS] = len(order)
+    counters[AWAKE_UNSORTED] = n_changed
+    sort_awake(n_bodies, contacts, counters)
+    got = contacts.awake[: len(order)]
+    np.testing.assert_array_equal(got, slots)
+    np.testing.assert_array_equal(contacts.contact_int[got, AWAKE_INDEX], np.arange(len(order)))
+    assert counters[AWAKE_UNSORTED] == 0

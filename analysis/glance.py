@@ -11,6 +11,7 @@ from pathlib import Path
 
 from analysis.style import fmt
 from study import paths
+from study.cli import first_paragraph
 
 START, END = "<!-- glance:start -->", "<!-- glance:end -->"
 FIGURES = (
@@ -266,7 +267,7 @@ def write(readme=None):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(
-        prog="python -m analysis.glance", description=__doc__.splitlines()[0]
+        prog="python -m analysis.glance", description=first_paragraph(__doc__)
     )
     parser.add_argument("--readme", default=None, help="also fill this README's glance block")
     args = parser.parse_args(argv)

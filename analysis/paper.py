@@ -23,6 +23,7 @@ from study.peers import DEFAULT_ITERATIONS
 from analysis.style import write_numbers
 from study.metadata import ResultsError, read_metadata
 from study import paths
+from study.cli import first_paragraph
 
 SOURCES = ("paper.typ",)
 #: the experiments whose metadata describes the set-up (the first one present is used)
@@ -120,7 +121,7 @@ def compile_paper(png_dir=None):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(
-        prog="python -m analysis.paper", description=__doc__.splitlines()[0]
+        prog="python -m analysis.paper", description=first_paragraph(__doc__)
     )
     parser.add_argument("--png", default=None, help="also render each page to DIR/page-N.png")
     args = parser.parse_args(argv)

@@ -61,6 +61,7 @@ from study.metadata import git_state, jsonable
 from study.paths import RECORDINGS, ensure
 from study.peers import sim_world
 from sim.files import write_text_atomically
+from study.cli import first_paragraph
 
 #: state -> RGB (FREE, VERTICAL_STABLE, ROTATION_STABLE, SLEEPING): the figures' colours
 STATE_COLORS = np.array(STATE_RGB, np.uint8)
@@ -410,7 +411,7 @@ def _record_table(args):
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="python -m analysis.trace",
-        description=__doc__.splitlines()[0],
+        description=first_paragraph(__doc__),
         epilog=targets.available(),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -18,6 +18,7 @@ import os
 import platform
 import subprocess
 import sys
+from pathlib import Path
 
 import pandas as pd
 
@@ -90,23 +91,30 @@ class ResultsError(Exception):
     """A results file that analysis must not read; the message is one line for the user."""
 
 
-def rerun_hint(script=None):
-    """What to do about a results file that cannot be read: rerun the experiment that wrote it."""
+def rerun_hint(script=None, folder=None):
+    """What to do about a results file that cannot be read: rerun the experiment that wrote it,
+    at quick sizes when the file lies in a quick tree (``folder``: its data folder; the hint
+    named the full-size command for quick data)."""
+    quick = folder is not None and Path(folder).parent.name == "quick"
+    make, flag = (" QUICK=1", " --quick") if quick else ("", "")
     if script is None:
-        return "rerun the experiment that wrote it (`make reproduce` reruns every missing one)"
-    return f"rerun the experiment: `make {script}` or `python -m experiments.{script}`"
+        return (
+            f"rerun the experiment that wrote it (`make reproduce{make}` reruns every missing one)"
+        )
+    return f"rerun the experiment: `make {script}{make}` or `python -m experiments.{script}{flag}`"
 
 
 def read_metadata(json_path, script=None):
     """The metadata dict in ``json_path``, or ResultsError naming the file (missing, not JSON)."""
+    hint = rerun_hint(script, json_path.parent)
     try:
         meta = json.loads(json_path.read_text())
     except FileNotFoundError:
-        raise ResultsError(f"{json_path} is missing: {rerun_hint(script)}") from None
+        raise ResultsError(f"{json_path} is missing: {hint}") from None
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ResultsError(f"{json_path} is damaged ({exc}): {rerun_hint(script)}") from None
+        raise ResultsError(f"{json_path} is damaged ({exc}): {hint}") from None
     if not isinstance(meta, dict):
-        raise ResultsError(f"{json_path} is not an experiment's metadata: {rerun_hint(script)}")
+        raise ResultsError(f"{json_path} is not an experiment's metadata: {hint}")
     return meta
 
 
@@ -118,29 +126,30 @@ def read_results(folder, name, script=None):
     script = script or name
     csv_path, json_path = folder / f"{name}.csv", folder / f"{name}.json"
     meta = read_metadata(json_path, script)
+    hint = rerun_hint(script, folder)
     try:
         raw = csv_path.read_bytes()
     except FileNotFoundError:
-        raise ResultsError(f"{csv_path} is missing: {rerun_hint(script)}") from None
+        raise ResultsError(f"{csv_path} is missing: {hint}") from None
     record = meta.get("csv")
     if not isinstance(record, dict) or not {"rows", "sha256"} <= set(record):
         raise ResultsError(
             f"{json_path} records no row count and checksum of {csv_path.name} (made by older "
-            f"code): {rerun_hint(script)}"
+            f"code): {hint}"
         )
     try:
         table = pd.read_csv(csv_path)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise ResultsError(f"{csv_path} is damaged ({exc}): {rerun_hint(script)}") from None
+        raise ResultsError(f"{csv_path} is damaged ({exc}): {hint}") from None
     if len(table) != record["rows"]:
         raise ResultsError(
             f"{csv_path} has {len(table)} rows where its .json records {record['rows']} (cut "
-            f"short or changed since it was written): {rerun_hint(script)}"
+            f"short or changed since it was written): {hint}"
         )
     if _sha256(raw) != record["sha256"]:
         raise ResultsError(
             f"{csv_path} is not the file its .json describes (its SHA-256 differs: changed "
-            f"since it was written): {rerun_hint(script)}"
+            f"since it was written): {hint}"
         )
     return table, meta
 

@@ -44,3 +44,9 @@ def test_an_analysis_refuses_an_option_as_usage(capsys):
     with pytest.raises(SystemExit) as stop:
         module.main(["--bogus"])
     assert stop.value.code == 2 and "--bogus" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", ["glance", "paper", "trace"])
+def test_the_pipelines_own_tools_have_their_first_paragraph_as_help(name, capsys):
+    module = importlib.import_module(f"analysis.{name}")
+    assert _words(module.__doc__.strip().split("\n\n")[0]) in _help(module, capsys)

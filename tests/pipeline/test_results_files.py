@@ -98,3 +98,19 @@ def test_the_paper_refuses_damaged_metadata_by_name(data):
     (data / "fake.json").write_text("not json")
     message = _refused(paper.main)
     assert str(data / "fake.json") in message
+
+
+def test_the_rerun_hint_for_quick_data_names_the_quick_run(tmp_path):
+    # the hint named `make <name>` (full size) for a file of results/quick/data
+    quick = tmp_path / "quick" / "data"
+    quick.mkdir(parents=True)
+    with pytest.raises(metadata.ResultsError) as err:
+        metadata.read_results(quick, "fig_states")
+    assert "`make fig_states QUICK=1` or `python -m experiments.fig_states --quick`" in str(
+        err.value
+    )
+    full = tmp_path / "data"
+    full.mkdir()
+    with pytest.raises(metadata.ResultsError) as err:
+        metadata.read_results(full, "fig_states")
+    assert "`make fig_states` or `python -m experiments.fig_states`" in str(err.value)

@@ -406,17 +406,19 @@ def complementary_impulses(K, q, sweeps=20000):
 # ------------------------------------------------------------------------------------------------
 # Lever arms of a contact point after its bodies moved (``sim.soft_step.arms``), from world
 # positions: A's anchor point and B's start ``separation`` apart along the normal, both carried
-# with their bodies, and each arm shifted to the line of action through both.
+# with their bodies, and the arms shifted to one line of action between them.
 
 
-def moved_contact_arms(centre_a, anchor_a, normal, separation, centre_b, motion_a, motion_b, t):
+def moved_contact_arms(
+    centre_a, anchor_a, normal, separation, centre_b, motion_a, motion_b, t, toward
+):
     """(arm A, arm B, separation now) of a point after the bodies moved, for an impulse along t.
 
     centre_a, centre_b: the bodies' centres at the start (m); anchor_a: A's anchor relative to
     its centre (m); the B anchor starts ``separation`` m from A's along ``normal``. motion_a,
     motion_b: (dx, dy, angle) of each body since the start. The arms reach the line along t
-    that passes half way between the moved anchors (across t): an impulse and its reaction on
-    one line."""
+    that divides the moved anchors' offset across t at ``toward`` (0: through A's anchor, 1:
+    through B's): an impulse and its reaction on one line."""
     n = np.asarray(normal, dtype=np.float64)
     t = np.asarray(t, dtype=np.float64)
     ca = np.asarray(centre_a, dtype=np.float64)
@@ -429,8 +431,10 @@ def moved_contact_arms(centre_a, anchor_a, normal, separation, centre_b, motion_
     pb = cb_now + rotation(motion_b[2]) @ rb
     d = pb - pa
     across = np.array([t[1], -t[0]])
-    mid_shift = 0.5 * float(d @ across) * across
-    return pa + mid_shift - ca_now, pb - mid_shift - cb_now, float(d @ n), rb
+    line = pa + toward * d  # a point of the line of action
+    arm_a = pa + float((line - pa) @ across) * across - ca_now
+    arm_b = pb + float((line - pb) @ across) * across - cb_now
+    return arm_a, arm_b, float(d @ n), rb
 
 
 def greedy_colours(pairs, movable):

@@ -29,6 +29,7 @@ from .layout import (
     RTB1,
     SEP1,
     STRIDE_U,
+    TOWARD,
     U64,
 )
 
@@ -91,21 +92,30 @@ def _moved_anchors(wide, o, l, p, nx, ny, fa):
 
 
 @wide_inline
-def line_arms(sax, say, sbx, sby, dx, dy, tx, ty):
+def line_arms(sax, say, sbx, sby, dx, dy, tx, ty, toward):
     """The cross products with (tx, ty) of the lever arms of an impulse along it, at anchors
     (sax, say), (sbx, sby) that lie (dx, dy) apart: (r_A x t, r_B x t), with r x t = rx ty - ry tx.
 
     An impulse and its reaction change no angular momentum when they act along one line: the
-    arms are the moved anchors, each shifted towards the other by half their offset *across* the
-    impulse (the offset along it, a gap or a penetration, turns nothing). Box2D keeps the arms of
+    arms are the moved anchors, shifted across the impulse onto one line (the offset along it,
+    a gap or a penetration, turns nothing), A's by the share ``toward`` of their offset across
+    it and B's by the rest. Any share conserves momentum; none gives the point's velocity along
+    the impulse exactly: a shifted arm reads its body's velocity at a point off its anchor, wrong
+    by the body's turning rate times the shift. So the shift goes to the body that turns less
+    (``packing._toward``): its error is the smaller, and a body turning fast alone, or against a
+    fixed one, keeps its own anchor, whose velocity is the rate at which the separation (``arms``)
+    changes. Half way each (until 2026-12), a plank spinning at 100 rad/s near a wall it never
+    reached was pushed away: its corner swung up to 1.7 m across the contact in a step, and the
+    arm half way read the velocity of a point of the plank in the air. Box2D keeps the arms of
     the start of the step, which does not conserve angular momentum (1.9% lost in a test
     collision). Only the cross products enter the rows (the torque of an impulse, and the
     velocity of the point along it), so only they are kept."""
-    across = 0.5 * (dx * ty - dy * tx)
+    across = dx * ty - dy * tx
     hx = across * ty
     hy = -across * tx
-    rca = (sax + hx) * ty - (say + hy) * tx
-    rcb = (sbx - hx) * ty - (sby - hy) * tx
+    rest = 1.0 - toward
+    rca = (sax + toward * hx) * ty - (say + toward * hy) * tx
+    rcb = (sbx - rest * hx) * ty - (sby - rest * hy) * tx
     return rca, rcb
 
 
@@ -144,11 +154,13 @@ def _arms_batch(wide, b, lane_row, state, fa):
     for l in range(LANES_U):
         nx = wide[o + NX + l]
         ny = wide[o + NY + l]
+        toward = wide[o + TOWARD + l]
         unread = 0.0  # a fixed A's arms (see above)
         for p in (U64(0), POINT2):
             sax, say, sbx, sby, ox, oy, dx, dy = _moved_anchors(wide, o, l, p, nx, ny, fa)
-            rna, rnb = line_arms(sax, say, sbx, sby, dx, dy, nx, ny)
-            rta, rtb = line_arms(sax, say, sbx, sby, dx, dy, ny, -nx)
+            rna, rnb = line_arms(sax, say, sbx, sby, dx, dy, nx, ny, toward)
+            # friction's offset across its line is the gap or overlap: it acts half way
+            rta, rtb = line_arms(sax, say, sbx, sby, dx, dy, ny, -nx, 0.5)
             if fa:
                 unread = unread + rna + rta
             else:

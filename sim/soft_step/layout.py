@@ -11,7 +11,8 @@ LANES = 8
 U64 = np.uint64
 LANES_U = U64(LANES)
 #: a contact's fields: its normal, friction and restitution, the inverse masses and inertias of A
-#: and B, its softness (packing.prepare); per point: the anchors (m), the separation at the start
+#: and B, its softness (packing.prepare), the share of the normal's line shift that is A's
+#: (TOWARD, arms.line_arms); per point: the anchors (m), the separation at the start
 #: of the step (m), the normal mass at the start (kg), whether the point exists, the accumulated
 #: impulses (N s; warm start), the step's totals, the approach velocity (m/s) and the carried
 #: load, then what depends on the poses only (arms.arms, once per pose, not once per sweep):
@@ -19,7 +20,7 @@ LANES_U = U64(LANES)
 #: and the current separation (SEP; m); last, GATHER_FIELDS scratch fields for the two bodies'
 #: rows gathered from the state (see GATHERED)
 FIELD_NAMES = (
-    "NX NY MU E MA IA MB IB BIAS_RATE MASS_SCALE IMPULSE_SCALE "
+    "NX NY MU E MA IA MB IB BIAS_RATE MASS_SCALE IMPULSE_SCALE TOWARD "
     "RAX1 RAY1 RBX1 RBY1 BASE1 NMASS1 ON1 PN1 PT1 TN1 TT1 RELV1 LN1 "
     "RNA1 RNB1 RTA1 RTB1 SEP1 "
     "RAX2 RAY2 RBX2 RBY2 BASE2 NMASS2 ON2 PN2 PT2 TN2 TT2 RELV2 LN2 "
@@ -41,6 +42,7 @@ STRIDE = N_FIELDS * LANES
     BIAS_RATE,
     MASS_SCALE,
     IMPULSE_SCALE,
+    TOWARD,
     RAX1,
     RAY1,
     RBX1,

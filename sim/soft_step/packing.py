@@ -68,6 +68,7 @@ from .layout import (
     RTA1,
     RTB1,
     SEP1,
+    TOWARD,
     STRIDE_U,
     TN1,
     TT1,
@@ -155,6 +156,8 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
             vbx = velocity[bb, 0]
             vby = velocity[bb, 1]
             wb = angular_velocity[bb]
+            toward = _toward(wa, wb, ia, ib)
+            wide[o + TOWARD + l] = toward
             n_points = ci[s, POINT_COUNT]
             for j in range(2):
                 p = POINT2 * U64(j)
@@ -181,8 +184,8 @@ def prepare(settings, counters, bodies, contacts, activity, solver):
                 # s = 0, where the contact switches from soft to speculative (with the contact's
                 # value it hovered 0.4 nm above the ledge after 3 s, still sinking at 1e-7 m/s)
                 sep = wide[o + p + BASE1 + l] + (rbx - rax) * nx + (rby - ray) * ny
-                rna, rnb = line_arms(rax, ray, rbx, rby, sep * nx, sep * ny, nx, ny)
-                rta, rtb = line_arms(rax, ray, rbx, rby, sep * nx, sep * ny, ny, -nx)
+                rna, rnb = line_arms(rax, ray, rbx, rby, sep * nx, sep * ny, nx, ny, toward)
+                rta, rtb = line_arms(rax, ray, rbx, rby, sep * nx, sep * ny, ny, -nx, 0.5)
                 wide[o + p + RNA1 + l] = rna
                 wide[o + p + RNB1 + l] = rnb
                 wide[o + p + RTA1 + l] = rta
@@ -241,6 +244,24 @@ def _fixed(wide, o, lane_row, ob, mass, inertia):
         if lane_row[ob + l] != 0 or wide[o + mass + l] != 0.0 or wide[o + inertia + l] != 0.0:
             return False
     return True
+
+
+#: rad/s: below this, two bodies share a contact's line shift about equally (``_toward``)
+SPIN_SCALE = 1.0
+
+
+@inline_kernel
+def _toward(wa, wb, ia, ib):
+    """How far A's lever arms move across an impulse towards B's anchor (``arms.line_arms``; B's
+    move the rest of the way): B's share of the turning, (|wB| + w0) / (|wA| + |wB| + 2 w0), by
+    the angular velocities at the start of the step (rad/s; a body the solver cannot turn counts
+    as still). So a body turning fast alone keeps its own anchor, and a fixed body does not shift
+    a fast-turning one's. Bodies turning slower than w0 = SPIN_SCALE share it about half and
+    half, as resting ones always did: their shifts are small and their arms' errors too, and a
+    share set by the noise in two nearly zero rates would change from step to step."""
+    spin_a = abs(wa) if ia > 0.0 else 0.0
+    spin_b = abs(wb) if ib > 0.0 else 0.0
+    return (spin_b + SPIN_SCALE) / (spin_a + spin_b + 2.0 * SPIN_SCALE)
 
 
 @inline_kernel

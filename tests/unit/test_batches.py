@@ -159,8 +159,9 @@ def cross(r, d):
 def test_the_arms_pass_matches_a_slow_recomputation_from_world_positions():
     """``soft_step.arms`` (once per pose; the sweeps read what it leaves) against
     ``naive.moved_contact_arms``: random anchors, normals, start separations and motions, lane 7
-    against the dummy row (the floor: it never moves). For both points of every lane: the arms
-    crossed with the normal and with the tangent, and the separation now."""
+    against the dummy row (the floor: it never moves); the normal's line of action anywhere from
+    A's anchor to B's (lanes 0 and 1 at the ends), friction's half way. For both points of every
+    lane: the arms crossed with the normal and with the tangent, and the separation now."""
     rng = np.random.default_rng(5)
     wide = np.zeros(L.STRIDE)
     state = np.zeros((2 * LANES + 1, STATE_COLUMNS))
@@ -175,6 +176,8 @@ def test_the_arms_pass_matches_a_slow_recomputation_from_world_positions():
         n = np.array([np.cos(angle), np.sin(angle)])
         t = np.array([n[1], -n[0]])
         wide[L.NX + lane], wide[L.NY + lane] = n
+        toward = (0.0, 1.0)[lane] if lane < 2 else rng.uniform()
+        wide[L.TOWARD + lane] = toward
         ca, cb = rng.normal(size=2), rng.normal(size=2)
         motions = {}
         for row in (ra_row, rb_row):
@@ -187,8 +190,8 @@ def test_the_arms_pass_matches_a_slow_recomputation_from_world_positions():
             anchor_a = rng.normal(scale=0.5, size=2)
             separation = rng.uniform(-0.02, 0.02)
             moved = (ca, anchor_a, n, separation, cb, motions[ra_row], motions[rb_row])
-            na, nb, sep, rb = moved_contact_arms(*moved, n)
-            fa, fb, _, _ = moved_contact_arms(*moved, t)
+            na, nb, sep, rb = moved_contact_arms(*moved, n, toward)
+            fa, fb, _, _ = moved_contact_arms(*moved, t, 0.5)
             wide[p + L.RAX1], wide[p + L.RAY1] = anchor_a
             wide[p + L.RBX1], wide[p + L.RBY1] = rb
             wide[p + L.BASE1] = separation - float((rb - anchor_a) @ n)

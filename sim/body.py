@@ -11,6 +11,7 @@ import numbers
 
 import numpy as np
 
+from .polygons import thinnest_width_many
 from .geometry import (
     MAX_COORDINATE,
     MAX_SPEED,
@@ -367,6 +368,13 @@ class Body:
     def centroid(self):
         """Centre of mass in the body frame, m (2,)."""
         return mass_properties(self.vertices, self.density)[1]
+
+    @property
+    def size(self):
+        """Its thinnest width, m: the length its contact tolerances scale with
+        (``sim.tolerances``; a plank's thickness, not its length)."""
+        vertices = np.asarray(self.vertices, dtype=np.float64)
+        return float(thinnest_width_many(vertices, np.array([0, len(vertices)]))[0])
 
     def to_dict(self):
         return {

@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 import sim
+from sim.tolerances import body_slop
 from study import executor, paths, systems
 from study.cli import first_paragraph
 from study.metadata import code_state, git_state, jsonable, collect, write_results
@@ -25,7 +26,7 @@ from study.peers import engine_of, make_runner
 from study.timing import timed
 
 DT = 1 / 60  # s, every system's step unless an experiment sweeps it
-SLOP = 0.005  # m, sim's slop and pymunk's collision_slop
+SLOP = 0.005  # m, sim's slop (a cap: see comparable_slop) and pymunk's collision_slop at 1 m
 #: settings that make the systems comparable (iterations: each engine's default, see peers)
 #: (Box2D's slop, b2_linearSlop, is compiled in: 0.005 m, the same; its runner records it)
 SYSTEM_SETTINGS = {
@@ -49,9 +50,24 @@ def compile_kernels():
 
 
 def build(system, scene, dt=DT, **settings):
-    """The runner of ``system`` on ``scene`` with the comparable settings (SYSTEM_SETTINGS),
-    overridden by ``settings``."""
-    return make_runner(system, scene, dt=dt, **{**SYSTEM_SETTINGS[engine_of(system)], **settings})
+    """The runner of ``system`` on ``scene`` with the comparable settings (SYSTEM_SETTINGS;
+    pymunk's slop that of ``scene``'s smallest body, ``comparable_slop``), overridden by
+    ``settings``."""
+    comparable = dict(SYSTEM_SETTINGS[engine_of(system)])
+    if "collision_slop" in comparable:
+        comparable["collision_slop"] = comparable_slop(scene)
+    return make_runner(system, scene, dt=dt, **{**comparable, **settings})
+
+
+def comparable_slop(scene):
+    """m: pymunk's ``collision_slop`` matched to sim's on ``scene``. sim's slop (SLOP) is a cap:
+    each pair's is SLOP_FRACTION of its smaller body's size below 1 m (``sim.tolerances``), while
+    pymunk's is one length for the whole space. So pymunk gets the slop of the scene's smallest
+    body: a 1 cm box sank 2.7 mm (27% of its size) into the floor under the flat 5 mm, where sim's
+    sank nothing, and the extremes table marked pymunk's 1 cm stack as tunnelling. Where sizes
+    differ, pymunk's larger bodies then get a smaller slop than sim's (stiffer, never softer)."""
+    sizes = [body.size for body in (*scene.bodies, *scene.static_bodies)]
+    return float(body_slop(min(sizes), SLOP)) if sizes else SLOP
 
 
 def label(scene):

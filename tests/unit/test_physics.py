@@ -247,6 +247,50 @@ def test_momentum_conserved_in_gravity_free_collision():
     assert world.kinetic_energy() <= ke0 * (1 + 1e-9)  # never gains energy
 
 
+def _spinning_plank_beside(wall, spin, gap):
+    """A 2 m plank, upright, spinning at ``spin`` rad/s about its centre, in zero gravity, its
+    reach ``gap`` m short of a 5 cm wide, 10 m tall wall ('static', or a dynamic wall of density
+    'light' 1 or 'heavy' 1000)."""
+    plank = sim.Body.box(
+        2.0, 0.05, position=(-0.025 - gap - 1.0, 2.0), angle=np.pi / 2, angular_velocity=spin
+    )
+    free = dict(gravity=(0.0, 0.0), floor_y=None)
+    if wall == "static":
+        post = sim.Body.box(0.05, 10.0, position=(0.0, 5.0))
+        return sim.World(sim.Scene(bodies=[plank], static_bodies=[post], **free))
+    density = 1.0 if wall == "light" else 1000.0
+    post = sim.Body.box(0.05, 10.0, position=(0.0, 5.0), density=density)
+    return sim.World(sim.Scene(bodies=[plank, post], **free))
+
+
+@pytest.mark.parametrize("wall", ["static", "light", "heavy"])
+@pytest.mark.parametrize("spin", [60.0, 100.0, 140.0])
+def test_a_spinning_plank_is_not_pushed_by_a_wall_it_never_reaches(wall, spin):
+    # Its corners pass 0.175 m from the wall, turning up to 0.58 rad a substep (140 rad/s, 4
+    # substeps): the speculative contact made ahead of them must never push. Before the arms
+    # kept the turning body's own anchor (soft_step.arms.line_arms), they read the velocity half
+    # way to the wall's anchor: from ~80 rad/s the plank was pushed 5-20 m away in 2 s and lost
+    # up to 20% of its spin.
+    world = _spinning_plank_beside(wall, spin, gap=0.175)
+    start = world.positions.copy()
+    world.step(120)
+    assert np.abs(world.positions - start).max() < 1e-9
+    assert world.angular_velocities[0] == pytest.approx(spin, rel=1e-12)
+
+
+def test_a_spinning_plank_striking_a_free_box_conserves_momentum():
+    # The same plank at 30 rad/s with its reach 5 cm into a light box: it strikes it. However
+    # the contact's line of action is shared between a fast-turning and a still body (the
+    # turning one keeps its anchor), impulse and reaction act on one line.
+    world = _spinning_plank_beside("light", 30.0, gap=-0.05)
+    p0, l0 = _momenta(world)
+    world.step(60)
+    p1, l1 = _momenta(world)
+    assert np.linalg.norm(world.velocities[1]) > 0.5  # it was struck
+    np.testing.assert_allclose(p1, p0, rtol=1e-10, atol=1e-10)
+    assert l1 == pytest.approx(l0, rel=1e-9, abs=1e-9)
+
+
 @pytest.mark.parametrize("e", [0.0, 0.5, 1.0])
 @pytest.mark.parametrize("mass_ratio", [1.0, 3.0])
 def test_head_on_collision_gives_the_one_dimensional_answer(e, mass_ratio):
@@ -691,3 +735,17 @@ def test_most_dropped_piles_come_to_rest():
         world.step(60)
         at_rest += np.hypot(*(world.positions - start).T).max() < 1e-4
     assert at_rest >= 18
+
+
+@pytest.mark.parametrize(
+    ("body", "size"),
+    [
+        (sim.Body.box(2.0, 0.05), 0.05),
+        (sim.Body.regular(6, 1.0), math.sqrt(3.0)),
+        (sim.Body(vertices=[(0, 0), (3, 0), (0, 4)]), 2.4),
+    ],
+)
+def test_a_bodys_size_is_its_thinnest_width(body, size):
+    # the length its contact tolerances scale with (sim.tolerances), public for the peers'
+    # comparable settings (study.common.comparable_slop)
+    assert body.size == pytest.approx(size, rel=1e-12)

@@ -37,8 +37,9 @@ around the parameter's default (the default itself included), from "freezes almo
   whose collision impulse is below it "stays in contact" (the body is held, then frozen); above it
   the body bounces. Small = nothing is ever held, large = every landing is held at impact.
   Grid: default x 10^(k/2), k = -3..3 (0.032 .. 32 N s).
-- sim-extended ``impulse_threshold`` (N s, default 0.5; sim/freeze/extended.py): an awake body's
-  contact above it wakes a frozen body (impact). Large = impacts never wake. k = -3..3.
+- sim-extended ``impact_speed`` (m/s, default 0.5; sim/freeze/extended.py): awake bodies' contact
+  impulses on a frozen body that would set it moving faster than this wake it (impact). Large =
+  impacts never wake. k = -3..3.
 - sim-extended ``rest_speed`` (m/s, default 0.02): the rest test's speed |v| + |w| extent. Not in
   the issue's list, but it, not the impulse threshold, decides how eagerly extended freezes; without
   it the sweep would show extended's eager end only through waking. k = -7..3 (6.3 um/s .. 0.6
@@ -220,9 +221,9 @@ SWEEPS = (
     ),
     (
         "sim-extended",
-        "impulse_threshold",
-        "N s",
-        sim.freeze.extended.PARAMETERS["impulse_threshold"],
+        "impact_speed",
+        "m/s",
+        sim.freeze.extended.PARAMETERS["impact_speed"],
         0.5,
         range(-3, 4),
     ),

@@ -70,9 +70,9 @@ its bodies exactly touching unless said otherwise; unit boxes, density 1 kg/m^2,
   v* is found by bisection (45 halvings of [0, 20] m/s: ~1e-13 relative; through the executor) as
   the v0 at which the policy's impulse test flips: under sim-paper, whether the hammer is held on
   landing on the anvil's (rotation-stable, floor-like) top edge or bounces (impulse_threshold
-  1 N s); under sim-extended, whether the impact wakes the frozen anvil (impulse_threshold
-  0.5 N s). The other systems have no such test: they get sim-paper's v*. The question is whether
-  a decision on a knife's edge makes states chatter. 2 s.
+  1 N s); under sim-extended, whether the impact wakes the frozen anvil (impact_speed
+  0.5 m/s: the impulse over the anvil's mass). The other systems have no such test: they get
+  sim-paper's v*. The question is whether a decision on a knife's edge makes states chatter. 2 s.
 - ``knife_edge``: a unit box balanced on one corner with its centre of mass offset from exactly
   above the corner by a tilt of 1e-3, 1e-6, 1e-9 and 0 rad (0 = exact balance, an unstable
   equilibrium that only round-off breaks; with an offset the box must fall to that side: a tilt

@@ -48,7 +48,8 @@ class Settings(NamedTuple):
     cell_size: float  # m, broadphase grid cell
     n_dynamic: int
     policy: int  # index into sim.freeze.POLICY_NAMES
-    impulse_threshold: float  # N s   (paper, extended)
+    impulse_threshold: float  # N s   (paper)
+    impact_speed: float  # m/s   (extended)
     sleep_speed: float  # m/s   (sleep)
     sleep_time: float  # s     (sleep)
     rest_speed: float  # m/s   (extended)

@@ -25,7 +25,7 @@ from . import geometry
 from .buffers import grown, new_bodies, new_contacts, new_geometry, new_solver
 from .clock import ticks_per_second
 from .contacts import sort_awake
-from .freeze import POLICY_NAMES, parameters_of, resolve
+from .freeze import POLICY_NAMES, parameters_of, renamed_in, resolve
 from .freeze.extended_layout import WAIT_NAMES, WAIT_NONE, WAITING
 from .narrowphase import update_manifolds
 from .packing import pack
@@ -264,6 +264,7 @@ class World:
             n_dynamic=n,
             policy=POLICY_NAMES.index(self.freeze),
             impulse_threshold=float(params.get("impulse_threshold", 0.0)),
+            impact_speed=float(params.get("impact_speed", 0.0)),
             sleep_speed=float(params.get("sleep_speed", 0.0)),
             sleep_time=float(params.get("sleep_time", 0.0)),
             rest_speed=float(params.get("rest_speed", 0.0)),
@@ -358,6 +359,11 @@ class World:
             return  # resolve names the unknown policy
         takes = parameters_of(freeze)
         unknown = sorted(set(policy_parameters) - set(takes))
+        for name in unknown:
+            if name in renamed_in(freeze):
+                raise ValueError(
+                    f"freeze={freeze!r} does not take {name}: {renamed_in(freeze)[name]}"
+                )
         if unknown:
             settings = [
                 p.name

@@ -5,6 +5,7 @@ policy name and its parameters for ``sim.World``.
 """
 
 import math
+import numbers
 
 from ..arguments import number
 from . import extended, off, paper, sleep
@@ -19,6 +20,12 @@ def parameters_of(name):
     name (``resolve`` says what is wrong with it)."""
     policy = _IMPLEMENTED.get(name) if isinstance(name, str) else None
     return dict(policy.PARAMETERS) if policy is not None else {}
+
+
+def renamed_in(name):
+    """{old parameter name: what replaced it} of the implemented policy ``name`` (its RENAMED)."""
+    policy = _IMPLEMENTED.get(name) if isinstance(name, str) else None
+    return dict(getattr(policy, "RENAMED", {}))
 
 
 def resolve(name, params):
@@ -42,6 +49,8 @@ def resolve(name, params):
     for key, value in values.items():
         x = number(value, key)  # "0.1" is not taken as a number
         integral = key in policy.INT_PARAMETERS
+        if integral and isinstance(value, numbers.Integral):
+            x = int(value)  # exactly: as a float, 2**62 - 1 was 2**62 and 2**53 + 1 was 2**53
         # counts are int64 in the step loop
         if not math.isfinite(x) or x < 0 or (integral and (x != int(x) or x < 1 or x >= 2**62)):
             kind = "an integer >= 1 (and < 2**62)" if integral else "finite and >= 0"

@@ -12,8 +12,8 @@ The test, for one body i (``holds``):
     is a support when its partner cannot move (floor, static body, frozen body) or when the
     contact normal into i points up (against gravity: i rests on it). Every other point is a
     **load**: a body resting on i, or a side contact with a moving body.
-  - the load to hold is i's weight over the step (m g dt) plus every load's impulse, as a force and
-    a moment about i's centre of mass;
+  - the load to hold is i's weight over the step (m g dt) plus every load's impulse plus its
+    momentum (MOTION), as a force and a moment about i's centre of mass;
   - each support point may push with any force inside its friction cone shrunk by
     ``friction_margin``: |f_t| <= (1 - friction_margin) mu f_n, f_n >= 0. Such a force is a
     non-negative combination of the cone's two edges, so the wrenches (force x, force y, moment)
@@ -26,6 +26,13 @@ The test, for one body i (``holds``):
     never passes it: one point holds no moment, so a body balanced on a corner or an apex is
     never certified, however slow it is or however well the solver balanced it. (Bracing loads,
     below, count for the extra moment.)
+
+MOTION. Holding a body still means stopping what motion it has too: its momentum (m v, and
+I w about its centre) is part of the load. A slow body is nearly still, and in gravity its
+momentum is a small part of the load (|v| < rest_speed, 2 cm/s, against g dt, 16 cm/s at 60 Hz);
+but where nothing presses it onto its supports, their friction cannot stop it: without gravity, a
+box touching the floor and drifting along it at 1 cm/s (Newton: forever) was frozen in its second
+step, since zero forces "balanced" its zero weight.
 
 Whose forces. A resting pile's contact forces are statically indeterminate, and the solver's
 impulses (its *witness*) are one distribution among many: in a pyramid that holds, it leaves
@@ -112,6 +119,18 @@ def _up(settings):
 
 
 @inline_kernel
+def _momentum(i, bodies):
+    """(px, py, angular) of body i: N s, and N s m about its centre of mass (MOTION)."""
+    mass = 1.0 / bodies.inv_mass[i]
+    inertia = 1.0 / bodies.inv_inertia[i]
+    return (
+        mass * bodies.velocity[i, 0],
+        mass * bodies.velocity[i, 1],
+        inertia * bodies.angular_velocity[i],
+    )
+
+
+@inline_kernel
 def _witness(c, j, sign, contacts):
     """(px, py) N s: the solver's impulse at point j of contact c on body B (sign 1) or A (-1):
     pn n + pt (ny, -nx) on B (the solver's tangent), minus that on A."""
@@ -136,11 +155,13 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
     """For each body candidates[k], k < n_candidates: is it certified at rest (see the module
     docstring)? ``awake_slot`` (N,): -1 for a frozen body (a support, like the floor and static
     bodies). Margins from ``settings.friction_margin`` and ``settings.tip_margin``. Looks only at
-    this step's active contacts, contacts.active[:n_active]. Returns (n_candidates,) bool."""
+    this step's active contacts, contacts.active[:n_active]. Returns (held, braced): (n_candidates,)
+    bool each; braced: held only with a bracing load's help (its supports alone do not)."""
     # inlined into its caller, which allocates the work arrays; the work in a lean kernel (no
     # reference counting, see sim/jit: its loops pass the contacts to inlined helpers, each
     # call an increment per array otherwise)
     out = np.zeros(n_candidates, np.bool_)
+    braced = np.zeros(n_candidates, np.bool_)
     _holds_into(
         candidates,
         n_candidates,
@@ -157,8 +178,9 @@ def holds(candidates, n_candidates, awake_slot, settings, bodies, contacts, n_ac
         np.empty((2 * MAX_SUPPORT_POINTS, 3)),  # brace
         np.empty(2 * MAX_SUPPORT_POINTS),  # weights
         out,
+        braced,
     )
-    return out
+    return out, braced
 
 
 @lean_kernel
@@ -178,8 +200,9 @@ def _holds_into(
     brace,
     weights,
     out,
+    braced,
 ):
-    """``holds``'s work, in its work arrays; the answers into ``out``."""
+    """``holds``'s work, in its work arrays; the answers into ``out`` and ``braced``."""
     n_dyn = settings.n_dynamic
     position, extent, size, inv_mass = (
         bodies.position,
@@ -215,10 +238,11 @@ def _holds_into(
     for k in range(n_candidates):
         i = candidates[k]
         length = extent[i]
+        # the load to hold: its momentum (MOTION) plus its weight over the step ...
+        lx, ly, lm = _momentum(i, bodies)
         mass = 1.0 / inv_mass[i]
-        lx = mass * settings.gravity_x * dt  # the load to hold: weight over the step ...
-        ly = mass * settings.gravity_y * dt
-        lm = 0.0
+        lx += mass * settings.gravity_x * dt
+        ly += mass * settings.gravity_y * dt
         n_points = 0
         n_brace = 0
         too_many = False
@@ -267,19 +291,18 @@ def _holds_into(
             # balanced; without gravity zero forces "balance" it, and a box drifting freely at
             # 1.5 cm/s (slow, steady) was frozen where it was, though nothing would stop it
             continue
+        spare = settings.tip_margin * size[i] * np.hypot(lx, ly) / length
+        if n_points > 0 and _margin(cone, n_points, -lx, -ly, -lm / length, spare, weights):
+            out[k] = True  # its supports alone hold it
+            continue
         n_all = min(n_points + n_brace, MAX_SUPPORT_POINTS)
+        if n_all == n_points:
+            continue
         for e in range(2 * (n_all - n_points)):  # (element by element: a slice copy needs
             for q in range(3):  # reference counting, which this kernel runs without)
                 cone[2 * n_points + e, q] = brace[e, q]
-        out[k] = _margin(
-            cone,
-            n_all,
-            -lx,
-            -ly,
-            -lm / length,
-            settings.tip_margin * size[i] * np.hypot(lx, ly) / length,
-            weights,
-        )
+        out[k] = _margin(cone, n_all, -lx, -ly, -lm / length, spare, weights)
+        braced[k] = out[k]
 
 
 @inline_kernel
@@ -336,22 +359,19 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
     lx = mass * settings.gravity_x * dt
     ly = mass * settings.gravity_y * dt
     lm = 0.0
+    for k in range(n_members):  # the members' momenta (MOTION), about the group's centre
+        i = members[k]
+        px, py, pm = _momentum(i, bodies)
+        lx += px
+        ly += py
+        lm += pm + (position[i, 0] - cx) * py - (position[i, 1] - cy) * px
     cone = np.empty((2 * MAX_SUPPORT_POINTS, 3))
     weights = np.empty(2 * MAX_SUPPORT_POINTS)
     n_points = 0
-    witness_sticks = True
     for kk in range(n_active):
         c = contacts.active[kk]
         a, b, a_in, b_in = _sides(c, ci, n_dyn, in_group)
-        if not (a_in or b_in):
-            continue
-        if a_in and b_in:  # inside: does it stick by the solver's witness?
-            limit = (1.0 - settings.friction_margin) * cf[c, FRICTION]
-            for j in range(ci[c, POINT_COUNT]):
-                if pf[c, j, END_SEPARATION] > cf[c, SLOP]:
-                    continue
-                if abs(pf[c, j, TANGENT_IMPULSE]) > limit * pf[c, j, NORMAL_IMPULSE]:
-                    witness_sticks = False
+        if a_in == b_in:  # outside it, or inside it (_members_balance)
             continue
         i = a if a_in else b
         other = b if a_in else a
@@ -387,7 +407,7 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
         weights,
     ):
         return False
-    return witness_sticks or _members_balance(
+    return _members_balance(
         members, n_members, in_group, length, awake_slot, settings, bodies, contacts, n_active
     )
 
@@ -424,8 +444,10 @@ def _members_balance(
         i = members[k]
         row_of[i] = 3 * k
         mass = 1.0 / inv_mass[i]
-        rhs[3 * k] = -mass * settings.gravity_x * dt  # minus the weight over the step
-        rhs[3 * k + 1] = -mass * settings.gravity_y * dt
+        px, py, pm = _momentum(i, bodies)  # minus its momentum and weight over the step
+        rhs[3 * k] = -px - mass * settings.gravity_x * dt
+        rhs[3 * k + 1] = -py - mass * settings.gravity_y * dt
+        rhs[3 * k + 2] = -pm / length
     n_cols = 0
     for kk in range(n_active):
         c = contacts.active[kk]

@@ -45,7 +45,10 @@ mass. A body freezing onto an already frozen body adds its own push to that body
 
 Waking (every transition back to motion), checked every step only for frozen bodies that awake
 bodies touch (so resting bodies cost nothing otherwise):
-  - impact: an awake body's contact pushes with a normal impulse above ``impulse_threshold`` (N s);
+  - impact: an awake body's contacts would push it with normal impulses that, were it free, would
+    set it moving faster than ``impact_speed`` (m/s): impulse / its mass. A speed, not an impulse,
+    so that the rule is the same at every size (with a threshold of 0.5 N s, a stack of 1 mm boxes
+    was never woken by a box falling onto it, and stood where ``off``'s toppled);
   - push: the frozen body's load plus this step's impulses from awake bodies would need more
     friction than mu_s provides at its supports (a horizontal push), or would lift it off its
     supports;
@@ -85,8 +88,9 @@ from ..data import (
 )
 from ..jit import inline_kernel, lean_kernel
 from . import certificate, extended_layout
-from .contact_math import arrives, stopping_impulse
+from .contact_math import impact_impulses
 from .extended_layout import (
+    BRACED,
     FREE,
     FROZEN,
     LOAD_M,
@@ -133,7 +137,7 @@ from .extended_wake import (
 
 NAME = "extended"
 PARAMETERS = {
-    "impulse_threshold": 0.5,
+    "impact_speed": 0.5,
     "rest_speed": 0.02,
     "rest_acceleration": 0.1,
     "rest_steps": 1,
@@ -142,6 +146,11 @@ PARAMETERS = {
     "tip_margin": 0.02,
 }
 INT_PARAMETERS = ("rest_steps",)
+#: parameters that were replaced, and by what (a World given one says so)
+RENAMED = {
+    "impulse_threshold": "impact_speed (m/s: the impulses over the frozen body's mass, the same "
+    "rule at every size) replaced extended's impulse_threshold (N s) in 2026-12"
+}
 #: parameters that must stay below a bound (exclusive): a friction cone shrunk by 100% is a line;
 #: a tip margin of half the body's size or more already certifies nothing, and one of ~1e155 made
 #: the certificate's moments overflow to inf, after which every body passed it (a box frozen at
@@ -162,13 +171,13 @@ def before_solve(settings, counters, bodies, contacts, activity):
     moving bodies and momentum is passed on, not reflected off an immovable body (a body woken
     after the step would have stopped its pusher dead first).
 
-    For each frozen body that awake bodies touch, the impulse each approaching contact point
-    would need to stop its mover against an immovable body is estimated from the velocities
-    before gravity is applied (so a body merely resting on a frozen one contributes nothing,
-    however heavy; its weight is judged after the solve). The frozen body wakes (and, through the
-    support graph, all it carries) if the estimates add up to more than ``impulse_threshold``
-    (an impact), or if its load plus the estimated push breaks its equilibrium (a push, or
-    tipping). Returns the number of bodies woken."""
+    For each frozen body that awake bodies touch, the impulses the solve will give the contact
+    points its movers reach in this step, were it immovable, are estimated from the velocities
+    before gravity is applied (``contact_math.impact_impulses``; so a body merely resting on a
+    frozen one contributes nothing, however heavy; its weight is judged after the solve). The
+    frozen body wakes (and, through the support graph, all it carries) if the estimates, over its
+    mass, add up to more than ``impact_speed`` (an impact), or if its load plus the estimated push
+    breaks its equilibrium (a push, or tipping). Returns the number of bodies woken."""
     # the work arrays here; the walk over contacts in a lean kernel (no reference counting:
     # sim/jit), for a kernel that allocates counts every array its inlined helpers are passed
     touched = np.empty(min(2 * counters[N_ACTIVE], settings.n_dynamic) + 1, np.int64)
@@ -202,10 +211,9 @@ def _impacts(settings, counters, bodies, contacts, activity, touched, queue):
             n_touched = touch(frozen_body, touched, n_touched, body_real, body_int)
             # n points from a to b: a push on the frozen body is along +n if it is b, -n if a
             sign = 1.0 if frozen_body == b else -1.0
-            for j in range(ci[c, POINT_COUNT]):
-                if not arrives(c, j, settings.dt, bodies, contacts):
-                    continue  # made ahead: the mover reaches it in a later step
-                p, wx, wy = stopping_impulse(c, j, mover, bodies, contacts)
+            # a point made ahead, that the mover reaches in a later step, gives nothing
+            p0, p1, x0, y0, x1, y1 = impact_impulses(c, mover, settings, bodies, contacts)
+            for p, wx, wy in ((p0, x0, y0), (p1, x1, y1)):
                 if p > 0.0:
                     px = sign * p * nx
                     py = sign * p * ny
@@ -219,7 +227,7 @@ def _impacts(settings, counters, bodies, contacts, activity, touched, queue):
     for k in range(n_touched):
         i = touched[k]
         body_int[i, TOUCHED] = 0
-        if body_real[i, PUSH_NORMAL] > settings.impulse_threshold:
+        if body_real[i, PUSH_NORMAL] * bodies.inv_mass[i] > settings.impact_speed:
             cause = _IMPACT
         elif body_real[i, PUSH_NORMAL] > 0.0:
             cause = equilibrium_broken(i, body_real, position)
@@ -258,7 +266,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
         if body_int[awake[k], MARK] == 1:
             candidates[n_candidates] = awake[k]
             n_candidates += 1
-    held = certificate.holds(
+    held, braced = certificate.holds(
         candidates, n_candidates, awake_slot, settings, bodies, contacts, count
     )
     counters[N_CERTIFICATES] += n_candidates
@@ -266,6 +274,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
         candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, contacts, count
     )
     for k in range(n_candidates):
+        body_int[candidates[k], BRACED] = 1 if braced[k] else 0
         if not held[k]:
             body_int[candidates[k], MARK] = 2
             body_int[candidates[k], WAITING] = WAIT_UNCERTIFIED

@@ -35,8 +35,11 @@ from ..state import State
 ) = range(16)
 REAL_COLUMNS = 16
 # body_int columns
-REST_COUNT, MARK, TOUCHED, WAITING = range(4)
-INT_COLUMNS = 4
+REST_COUNT, MARK, TOUCHED, WAITING, BRACED = range(5)
+INT_COLUMNS = 5
+#: BRACED: 1 when this step's certificate held the candidate only with a bracing load
+#: (``certificate.holds``): then the body that braces it must be at rest too
+#: (``extended_rest.on_the_awake``)
 
 #: WAITING: why an awake body was not frozen by the step's rest test, the first stage that
 #: refused it (0 once frozen, and before the first rest test; ``sim.World.why_awake`` names

@@ -158,7 +158,7 @@ def before_solve(settings, counters, bodies, contacts, activity):
                 for j in range(manifold_int[c, POINT_COUNT]):
                     # CHOICE: only points that reach the surface in this step collide in it (a
                     # speculative point further away, made early for a fast body, does not)
-                    if arrives(c, j, settings.dt, bodies, contacts):
+                    if arrives(c, j, settings, bodies, contacts):
                         body_real[i, FLOOR_IMPACT] += stopping_impulse(c, j, i, bodies, contacts)[0]
     woken = 0
     for kk in range(count):
@@ -180,7 +180,7 @@ def before_solve(settings, counters, bodies, contacts, activity):
             # before gravity, so merely resting or sliding along it is not a collision)
             impulse = 0.0
             for j in range(manifold_int[c, POINT_COUNT]):
-                if arrives(c, j, settings.dt, bodies, contacts):
+                if arrives(c, j, settings, bodies, contacts):
                     impulse += stopping_impulse(c, j, mover, bodies, contacts)[0]
             if impulse <= settings.impulse_threshold:
                 continue

@@ -64,7 +64,7 @@ def before_solve(settings, counters, bodies, contacts, activity):
     woken = 0
     for k in range(counters[N_ACTIVE]):
         c = contacts.active[k]
-        if not arriving(c, settings.dt, bodies, contacts):
+        if not arriving(c, settings, bodies, contacts):
             continue  # made ahead: the mover reaches it in a later step
         a = ci[c, BODY_A]
         b = ci[c, BODY_B]

@@ -226,7 +226,7 @@ def test_extended_slow_push_wakes_a_frozen_box():
         1, 1, position=(-1.6, 0.5), velocity=(1.2, 0.0), density=10.0, friction=0.0
     )
     scene = sim.Scene(bodies=[pushed, pusher], floor_friction=0.3)
-    world = sim.World(scene, freeze="extended", impulse_threshold=100.0).step(90)
+    world = sim.World(scene, freeze="extended", impact_speed=100.0).step(90)
     causes = [c for _, b, f, t, c in world.events if b == 0 and t == State.FREE]
     assert causes and causes[0] == "pushed"
     assert world.positions[0, 0] > 0.05  # it moved
@@ -239,7 +239,7 @@ def test_extended_tipping_wakes_an_overhanging_plank():
     plank = sim.Body.box(3.0, 0.2, position=(0.3, 1.1))
     weight = sim.Body.box(0.5, 0.5, position=(1.6, 2.0), density=8.0)
     world = sim.World(
-        sim.Scene(bodies=[base, plank, weight]), freeze="extended", impulse_threshold=1e6
+        sim.Scene(bodies=[base, plank, weight]), freeze="extended", impact_speed=1e6
     )  # no impact waking: only the balance test
     world.step(90)
     frozen_first = [step for step, b, f, t, c in world.events if b == 1 and c == "rested"]

@@ -561,3 +561,19 @@ def test_a_scene_file_into_a_missing_folder_names_the_folder(tmp_path):
     with pytest.raises(FileNotFoundError, match="the folder .*no such folder does not exist"):
         sim.scenes.single_box().to_file(path)
     assert not path.parent.exists()
+
+
+def test_extendeds_old_impulse_threshold_names_what_replaced_it():
+    # extended's impulse_threshold (N s) became impact_speed (m/s) in 2026-12: a World given
+    # the old name says what replaced it (paper keeps its own impulse_threshold)
+    with pytest.raises(ValueError, match="impact_speed .* replaced extended's impulse_threshold"):
+        sim.World(sim.scenes.single_box(), freeze="extended", impulse_threshold=0.5)
+    assert sim.World(sim.scenes.single_box(), freeze="paper", impulse_threshold=0.5)
+
+
+@pytest.mark.parametrize("steps", [2**53 + 1, 2**62 - 1])
+def test_an_integer_policy_parameter_is_taken_exactly(steps):
+    # rest_steps went through a float: 2**62 - 1 became 2**62 and was refused as "< 2**62",
+    # 2**53 + 1 silently became 2**53
+    world = sim.World(sim.scenes.single_box(), freeze="extended", rest_steps=steps)
+    assert world.policy_parameters["rest_steps"] == steps

@@ -84,6 +84,7 @@ import sim
 from sim.arguments import count, flag, positive
 from sim.scene import Scene
 
+from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
 from .pose import com_pose
 from .pybullet_urdf import (
@@ -140,7 +141,11 @@ class PybulletRunner:
     dt               step, s                 iterations   numSolverIterations (default 50)
     sleeping         URDF_ENABLE_SLEEPING on every body, or never sleep
     sleep_threshold  Bullet's sleep threshold, sum of squared joint velocities; None = default 0.05
+                     (only with sleeping: without it, refused, as it would change nothing)
     restitution_threshold  m/s, impacts slower than this do not bounce (sim's default, 1.0)
+
+    Bodies marked ``bullet`` are ordinary bodies here (the runner enables none of Bullet's
+    continuous collision): ``settings["bullets"]`` says so.
     """
 
     def __init__(
@@ -157,6 +162,12 @@ class PybulletRunner:
         self.dt = positive(dt, "dt")
         iterations = count(iterations, "iterations", 1, MAX_ITERATIONS, LIMITS_WHY)
         self.sleeping = flag(sleeping, "sleeping")
+        if sleep_threshold is not None and not self.sleeping:
+            raise ValueError(
+                f"pybullet: sleep_threshold applies only with sleeping (system pybullet-sleep); "
+                f"pybullet runs with sleeping off, so sleep_threshold={sleep_threshold!r} would "
+                f"change nothing"
+            )
         if sleep_threshold is not None:
             sleep_threshold = positive(sleep_threshold, "sleep_threshold", allow_zero=True)
         restitution_threshold = positive(
@@ -339,6 +350,7 @@ class PybulletRunner:
             "max(e_body, e_environment)",
             "restitution_exact_for_all_pairs": bool(exact_e),
             "initial_velocity": "impulse over the first step",
+            "bullets": bullets(scene, False, "ordinary bodies: no continuous collision enabled"),
             "floor": None
             if self._floor is None
             else {

@@ -50,6 +50,7 @@ from sim.arguments import count, flag, positive
 from sim.geometry import MAX_VERTICES
 from sim.scene import Scene
 
+from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
 from .pose import com_pose
 
@@ -57,6 +58,9 @@ from .pose import com_pose
 SHAPE_ID_START = MAX_VERTICES
 #: Thickness of the floor box under floor_y, m (the pybullet and Box2D runners' floors too).
 FLOOR_THICKNESS = 1.0
+#: s a body must stay idle before its group may sleep, when sleeping and none is given (Chipmunk's
+#: own default is infinity: never)
+DEFAULT_SLEEP_TIME = 0.5
 
 
 def canonical_vertices(local):
@@ -90,9 +94,18 @@ class PymunkRunner:
 
     dt              step, s                 iterations   Chipmunk solver iterations per step
     sleeping        use Chipmunk's sleeping (space.sleep_time_threshold = sleep_time) or not (inf)
-    sleep_time      s a body must stay idle before its group may sleep
-    idle_speed      m/s; None leaves Chipmunk's default (|gravity| * dt)
+    sleep_time      s a body must stay idle before its group may sleep (None: DEFAULT_SLEEP_TIME)
+    idle_speed      m/s below which a body counts as idle; None leaves Chipmunk's rule, |gravity|
+                    * dt (0.1635 m/s at dt 1/60: the space holds 0, which Chipmunk reads as
+                    that; ``settings`` records the speed in effect). Each engine sleeps at its
+                    own default (study.peers.DEFAULT_ITERATIONS: as its authors tuned it), and
+                    Chipmunk's is the loosest: Box2D's b2_linearSleepTolerance is 0.01 m/s, sim's
+                    sleep_speed 0.05 m/s, so pymunk-sleep stops slow slides the others let run
     collision_slop  m of penetration Chipmunk leaves uncorrected (sim's ``slop``)
+
+    sleep_time and idle_speed only act with sleeping: given without it they are refused (a value
+    that changed nothing would otherwise be recorded as if it had). Bodies marked ``bullet`` are
+    ordinary bodies here (Chipmunk has no continuous collision): ``settings["bullets"]`` says so.
     """
 
     def __init__(
@@ -101,7 +114,7 @@ class PymunkRunner:
         dt=1 / 60,
         iterations=10,
         sleeping=False,
-        sleep_time=0.5,
+        sleep_time=None,
         idle_speed=None,
         collision_slop=0.005,
     ):
@@ -110,6 +123,13 @@ class PymunkRunner:
         self.dt = positive(dt, "dt")
         iterations = count(iterations, "iterations", 1, MAX_ITERATIONS, LIMITS_WHY)
         sleeping = flag(sleeping, "sleeping")
+        for option, value in (("sleep_time", sleep_time), ("idle_speed", idle_speed)):
+            if value is not None and not sleeping:
+                raise ValueError(
+                    f"pymunk: {option} applies only with sleeping (system pymunk-sleep); "
+                    f"pymunk runs with sleeping off, so {option}={value!r} would change nothing"
+                )
+        sleep_time = DEFAULT_SLEEP_TIME if sleep_time is None else sleep_time
         sleep_time = positive(sleep_time, "sleep_time", allow_zero=True)
         idle_speed = (
             None if idle_speed is None else positive(idle_speed, "idle_speed", allow_zero=True)
@@ -181,12 +201,21 @@ class PymunkRunner:
             "iterations": space.iterations,
             "sleeping": self.sleeping,
             "sleep_time_threshold": space.sleep_time_threshold,
-            "idle_speed_threshold": space.idle_speed_threshold,
+            # the speed Chipmunk uses: it reads the space's 0 as |gravity| * dt
+            # (cpSpaceProcessComponents), and 0 was recorded as if nothing were idle
+            "idle_speed_threshold": space.idle_speed_threshold
+            or math.hypot(*scene.gravity) * self.dt,
+            "idle_speed_rule": "set"
+            if space.idle_speed_threshold
+            else "Chipmunk's default, |gravity| * dt",
             "collision_slop": space.collision_slop,
             "collision_bias": space.collision_bias,
             "collision_persistence": space.collision_persistence,
             "damping": space.damping,
             "restitution_max_handler": bouncy,
+            "bullets": bullets(
+                scene, False, "ordinary bodies: Chipmunk has no continuous collision"
+            ),
             "shape_id_start": SHAPE_ID_START,
             "polygon_vertices": "raw, lowest-then-rightmost first",
             "floor": None

@@ -19,6 +19,8 @@ import inspect
 import sim
 from sim.soft_step import DYNAMIC_CAP
 
+from .bullets import bullets
+
 _DEFAULTS = inspect.signature(sim.World).parameters
 #: sim.World's default biased solve sweeps per substep (Box2D v3's: 1).
 DEFAULT_ITERATIONS = _DEFAULTS["iterations"].default
@@ -72,6 +74,13 @@ class SimRunner:
             # above means the cap, DYNAMIC_CAP of the substep rate
             "contact_hertz_base": (
                 w.contact_hertz if w.contact_hertz is not None else DYNAMIC_CAP * w.substeps / w.dt
+            ),
+            "bullets": bullets(
+                self.scene,
+                w.continuous,
+                "swept against every body"
+                if w.continuous
+                else "ordinary bodies: continuous collision is off",
             ),
         }
 

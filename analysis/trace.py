@@ -24,7 +24,10 @@ What the recording holds, on the timelines ``step`` (the run's step count) and `
                             that keeps it awake (``World.why_awake``: "sliding", "deep", ...)
   systems/<s>/static        the floor and static bodies (static: logged once)
   systems/<s>/contacts      the contact points of the step (each engine's own, runner.contacts)
-  systems/<s>/impulses      normal impulses as arrows, ``--arrow-scale`` m per N s
+  systems/<s>/impulses      normal impulses as arrows, ``--arrow-scale`` m per N s, each the
+                            impulse on the pair's dynamic body of higher index (the floor and
+                            static bodies rank lowest; study.peers.impulse_vectors): the same
+                            convention in every engine, up into a resting box
   events/<s>                freeze/wake events (sim: World.events with their cause; a peer: a
                             body falling asleep or waking), a system not run and why, a system
                             that stopped (an error, a non-finite state)
@@ -59,7 +62,7 @@ from study import scenarios, targets
 from study.extremes.geometry import Shapes
 from study.metadata import git_state, jsonable
 from study.paths import RECORDINGS, ensure
-from study.peers import sim_world
+from study.peers import impulse_vectors, sim_world
 from sim.files import write_text_atomically
 from study.cli import first_paragraph
 
@@ -271,7 +274,7 @@ class Recorder:
                 f"systems/{t.path}/impulses",
                 rr.Arrows2D(
                     origins=c["point"],
-                    vectors=c["normal"] * c["normal_impulse"][:, None] * self.arrow_scale,
+                    vectors=impulse_vectors(c, len(t.scene.bodies)) * self.arrow_scale,
                 ),
             )
 

@@ -520,17 +520,29 @@ class PybulletRunner:
         return np.stack([m[0, 0] * x + m[0, 2] * z + px, m[2, 0] * x + m[2, 2] * z + pz], axis=1)
 
     def contacts(self):
-        """The contact points of the last step, as SimRunner.contacts gives them: {"point": (K,2)
-        m (on B), "normal": (K,2) unit (Bullet's contactNormalOnB, B to A), "normal_impulse": (K,)
-        N s}. Bullet reports a force, its impulse over the step divided by dt: times dt again."""
+        """The contact points of the last step, as SimRunner.contacts gives them: {"body_a",
+        "body_b": (K,) int (scene body i, static body j as N + j, the floor -1), "point": (K,2)
+        m (on B), "normal": (K,2) unit, A to B (Bullet's contactNormalOnB points from B to A:
+        turned round), "normal_impulse": (K,) N s, pushing B along the normal}. Bullet reports
+        a force, its impulse over the step divided by dt: times dt again."""
+        index = {uid: i for i, uid in enumerate(self._ids)}
+        index.update({uid: len(self._ids) + j for j, uid in enumerate(self._static_ids)})
         found = pb.getContactPoints(physicsClientId=self._client)
         k = len(found)
         point, normal, impulse = np.empty((k, 2)), np.empty((k, 2)), np.empty(k)
+        pair = np.empty((k, 2), dtype=np.int64)
         for j, c in enumerate(found):
+            pair[j] = index.get(c[1], -1), index.get(c[2], -1)  # bodyUniqueIdA, B
             point[j] = c[6][0], c[6][2]  # positionOnB, x-z plane -> 2D
-            normal[j] = c[7][0], c[7][2]
+            normal[j] = -c[7][0], -c[7][2]
             impulse[j] = c[9] * self.dt  # normalForce
-        return {"point": point, "normal": normal, "normal_impulse": impulse}
+        return {
+            "body_a": pair[:, 0],
+            "body_b": pair[:, 1],
+            "point": point,
+            "normal": normal,
+            "normal_impulse": impulse,
+        }
 
     # ---- lifetime ---------------------------------------------------------------------------
     def close(self):

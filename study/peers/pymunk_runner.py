@@ -151,6 +151,8 @@ class PymunkRunner:
         self.space = space
 
         self._bodies = []
+        # pymunk body -> its index in contacts(): static body j is N + j, the floor -1 (sim's)
+        self._static_index = {}
         x_lo, x_hi = math.inf, -math.inf
         for b in scene.bodies:
             com, local, mass, inertia = com_pose(b)
@@ -163,12 +165,13 @@ class PymunkRunner:
             reach = float(np.max(np.hypot(local[:, 0], local[:, 1])))
             x_lo, x_hi = min(x_lo, com[0] - reach), max(x_hi, com[0] + reach)
 
-        for b in scene.static_bodies:
+        for j, b in enumerate(scene.static_bodies):
             com, local, _, _ = com_pose(b)
             local = canonical_vertices(local)
             pm = pymunk.Body(body_type=pymunk.Body.STATIC)
             pm.position, pm.angle = com, b.angle
             space.add(pm, self._material(_poly(pm, local), b.friction, b.restitution))
+            self._static_index[pm] = len(scene.bodies) + j
 
         self.floor_span = None  # (x_min, x_max) m of the floor box
         if scene.floor_y is not None:
@@ -278,12 +281,16 @@ class PymunkRunner:
         return np.array([b.is_sleeping for b in self._bodies], dtype=bool)
 
     def contacts(self):
-        """The contact points of the last step, as SimRunner.contacts gives them: {"point": (K,2)
-        m (midway between the two shapes' points), "normal": (K,2) unit, "normal_impulse": (K,)
-        N s}. Chipmunk reports only a pair's total impulse (``Arbiter.total_impulse``, the
-        impulse on its first shape), so each of the pair's points gets an even share of it:
-        the sum over a pair is exact, the split between its points is not."""
-        seen, point, normal, impulse = set(), [], [], []
+        """The contact points of the last step, as SimRunner.contacts gives them: {"body_a",
+        "body_b": (K,) int (scene body i, static body j as N + j, the floor -1), "point": (K,2)
+        m (midway between the two shapes' points), "normal": (K,2) unit, A to B,
+        "normal_impulse": (K,) N s, pushing B along the normal}. Chipmunk reports only a pair's
+        total impulse (``Arbiter.total_impulse``, the impulse on its first shape), so each of
+        the pair's points gets an even share of it: the sum over a pair is exact, the split
+        between its points is not."""
+        index = {b: i for i, b in enumerate(self._bodies)}
+        index.update(self._static_index)
+        seen, pair, point, normal, impulse = set(), [], [], [], []
 
         def add(arbiter):
             key = frozenset(id(s) for s in arbiter.shapes)
@@ -296,7 +303,10 @@ class PymunkRunner:
             n = np.array(cps.normal, dtype=np.float64)
             jx, jy = arbiter.total_impulse
             share = -(jx * n[0] + jy * n[1]) / len(cps.points)  # elementwise: no BLAS
+            # the arbiter's shapes in its order: the normal points from the first to the second
+            ab = tuple(index.get(shape.body, -1) for shape in arbiter.shapes)
             for p in cps.points:
+                pair.append(ab)
                 point.append(0.5 * (np.array(p.point_a) + np.array(p.point_b)))
                 normal.append(n)
                 impulse.append(share)
@@ -304,7 +314,10 @@ class PymunkRunner:
         for body in self._bodies:
             body.each_arbiter(add)
         k = len(point)
+        pair = np.array(pair, dtype=np.int64).reshape(k, 2)
         return {
+            "body_a": pair[:, 0],
+            "body_b": pair[:, 1],
             "point": np.array(point, dtype=np.float64).reshape(k, 2),
             "normal": np.array(normal, dtype=np.float64).reshape(k, 2),
             "normal_impulse": np.array(impulse, dtype=np.float64),

@@ -132,10 +132,13 @@ class SimRunner:
         return self.world.frozen
 
     def contacts(self):
-        """The contact points of the last step: {"point": (K,2) m, "normal": (K,2) unit, A to B,
-        "normal_impulse": (K,) N s along the normal over the whole step} (World.contacts)."""
+        """The contact points of the last step: {"body_a", "body_b": (K,) int (scene body i,
+        static body j as N + j, the floor -1), "point": (K,2) m, "normal": (K,2) unit, A to B,
+        "normal_impulse": (K,) N s pushing B along the normal over the whole step}
+        (World.contacts)."""
         c = self.world.contacts()
-        return {"point": c["point"], "normal": c["normal"], "normal_impulse": c["normal_impulse"]}
+        keys = ("body_a", "body_b", "point", "normal", "normal_impulse")
+        return {k: c[k] for k in keys}
 
     def close(self):
         """Nothing to release; here so every runner can be closed alike."""

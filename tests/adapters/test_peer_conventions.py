@@ -1,19 +1,50 @@
-"""What the runners record must mean the same in every engine: the bullets a runner does not
-honour, the sleep speed in effect, and options that cannot act (refused, not recorded as if
-used)."""
+"""What the runners record and report must mean the same in every engine: the contact view's pair
+order and impulse direction, the bullets a runner does not honour, the sleep speed in effect, and
+options that cannot act (refused, not recorded as if used)."""
 
 import math
 
+import numpy as np
 import pytest
 
 import sim
 from study.common import build
-from study.peers import make_runner
+from study.peers import impulse_vectors, make_runner
 from study.peers.pymunk_runner import PymunkRunner
 from study.peers.pybullet_runner import PybulletRunner
 
 DT = 1 / 60
 G = 9.81
+ENGINES = ("sim-off", "pymunk", "pybullet", "box2d")
+
+
+@pytest.mark.parametrize("system", ENGINES)
+def test_contacts_name_their_pair_and_push_b_along_the_normal(system):
+    """A box resting on the floor: the floor (-1) and the box (0) are the pair, the normal points
+    from A to B whichever the engine put first, and the impulse pushes B along it, so the box's
+    share points up. Before, pymunk and Box2D gave the floor's impulse (arrows down) and sim and
+    pybullet the box's, with no pair to tell them apart."""
+    with build(system, sim.scenes.single_box()) as runner:
+        runner.step(60)
+        c = runner.contacts()
+    pairs = set(zip(c["body_a"].tolist(), c["body_b"].tolist()))
+    assert pairs in ({(-1, 0)}, {(0, -1)}), pairs
+    up_is_b = np.where(c["body_b"] == 0, 1.0, -1.0)  # the box is B: the normal points up
+    loaded = c["normal_impulse"] > 0
+    assert np.all(c["normal"][loaded, 1] * up_is_b[loaded] > 0.99)
+
+
+@pytest.mark.parametrize("system", ENGINES)
+def test_impulse_arrows_point_into_the_upper_body_in_every_engine(system):
+    """stack(2): every arrow goes to the dynamic body of higher index (the floor's onto box 0, box
+    0's onto box 1), so all point up, and they add up to what the floor and box 0 carry: 3 m g dt
+    over the step (two boxes on the floor, one on box 0)."""
+    scene = sim.scenes.stack(2)
+    with build(system, scene) as runner:
+        runner.step(60)
+        arrows = impulse_vectors(runner.contacts(), len(scene.bodies))
+    assert np.all(arrows[:, 1] >= -1e-9), arrows
+    assert arrows[:, 1].sum() == pytest.approx(3 * 1.0 * G * DT, rel=2e-3)
 
 
 def test_pymunk_records_the_idle_speed_chipmunk_uses():

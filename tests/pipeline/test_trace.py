@@ -193,6 +193,22 @@ def test_every_engine_reports_its_contact_impulses():
             )
 
 
+def test_impulse_arrows_follow_one_convention_in_every_engine(tmp_path):
+    """stack(2): each arrow is the impulse on the pair's upper body (the floor lowest), so every
+    arrow points up and they add up to 3 m g dt (two boxes on the floor, one on box 0), in every
+    engine. Before, pymunk's and Box2D's arrows pointed down, into the floor and box 0."""
+    systems = ["sim-off", "pymunk", "pybullet", "box2d"]
+    target = targets.resolve("stack", systems=systems, size=2)
+    trace.record(target, tmp_path / "stack.rrd", steps=30, arrow_scale=0.5)
+    entities = read(tmp_path / "stack.rrd")
+    for s in systems:
+        arrows = np.array(
+            [tuple(v) for v in entities[f"/systems/{s}/impulses"]["Arrows2D:vectors"].iloc[-1]]
+        )
+        assert np.all(arrows[:, 1] >= -1e-9), (s, arrows)
+        assert arrows[:, 1].sum() / 0.5 == pytest.approx(3 * 9.81 / 60, rel=2e-3), s
+
+
 # ---- names -------------------------------------------------------------------------------------
 def test_a_scene_file_traces_by_its_path(tmp_path):
     scene = sim.scenes.stack(3)

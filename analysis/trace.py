@@ -81,11 +81,6 @@ def body_colors(states, frozen):
     return colors.astype(np.uint8)
 
 
-def slug(system):
-    """An entity-path name for a system: "sim-off (no presolve)" -> "sim-off_no-presolve"."""
-    return system.replace(" (", "_").replace(")", "").replace(" ", "-")
-
-
 def _rgb(system):
     hex_color = system_style(system.split(" (")[0])["color"].lstrip("#")
     return [int(hex_color[k : k + 2], 16) for k in (0, 2, 4)]
@@ -97,7 +92,7 @@ class Track:
 
     def __init__(self, system, target):
         self.system = system
-        self.path = slug(system.name)
+        self.path = targets.slug(system.name)
         self.scene = system.scene or target.scene
         self.shapes = Shapes(self.scene)
         self.runner = None
@@ -142,7 +137,7 @@ class Recorder:
         views = [
             rrb.Spatial2DView(
                 origin=f"systems/{t.path}",
-                name=t.system.name if t.path == slug(t.system.name) else t.path,
+                name=t.system.name if t.path == targets.slug(t.system.name) else t.path,
             )
             for t in self.tracks
         ]
@@ -378,7 +373,8 @@ def _progress(label):
 
 def _record_one(name, args):
     target = targets.resolve(name, systems=args.systems, size=args.size, dt=args.dt)
-    path = Path(args.out) if args.out else RECORDINGS / f"{target.stem}.rrd"
+    stem = target.file_stem(steps=args.steps, every=args.every)
+    path = Path(args.out) if args.out else RECORDINGS / f"{stem}.rrd"
     record(
         target,
         path,
@@ -433,7 +429,9 @@ def main(argv=None):
         "--size",
         type=int,
         default=None,
-        help="a builder's size argument (rest_row n, stack height, pyramid base, drop n)",
+        help="a builder's body count: "
+        + ", ".join(f"{b} {p}" for b, p in targets.SIZE_PARAMETERS.items())
+        + " (no other builder has one)",
     )
     parser.add_argument(
         "--dt",
@@ -454,7 +452,12 @@ def main(argv=None):
         default=None,
         help=f"record every K steps (default: at most {MAX_FRAMES} frames)",
     )
-    parser.add_argument("--out", default=None, help="output .rrd (default results/recordings/)")
+    parser.add_argument(
+        "--out",
+        default=None,
+        help="output .rrd (default results/recordings/<name>.rrd, the name saying what "
+        "distinguishes the run: size, dt, systems, steps, every)",
+    )
     parser.add_argument(
         "--table",
         choices=TABLES,
@@ -470,8 +473,11 @@ def main(argv=None):
     if args.list:
         print(targets.available())
         return None
+    raw_systems = args.systems
     if args.systems is not None:
         args.systems = [s.strip() for s in args.systems.split(",") if s.strip()]
+        if not args.systems:  # "," fell back to the default systems
+            parser.error(f"--systems {raw_systems!r} names no system")
     if (args.name is None) == (args.table is None):
         parser.error("give a NAME or --table (not both); --list shows the names")
     try:

@@ -2,6 +2,7 @@
 entities on one step timeline, the divergence against the reference, the colours of frozen
 bodies, the blueprint; and the names a run can be traced by (study.targets)."""
 
+import inspect
 import math
 import os
 import subprocess
@@ -334,3 +335,59 @@ def test_a_long_run_is_recorded_every_k_steps(tmp_path):
     with pytest.raises(ValueError, match="every"):
         trace.record(target, tmp_path / "y.rrd", steps=10, every=0)
     assert math.ceil(100000 / trace.MAX_FRAMES) == 50  # long_run's default: every 50 steps
+
+
+def test_different_runs_get_different_default_names(tmp_path, monkeypatch):
+    """pyramid at sizes 3 and 4, at another dt, under other systems, and two scene.toml files
+    in different folders all went to pyramid.rrd or scene.rrd, each overwriting the last."""
+    monkeypatch.setattr(trace, "RECORDINGS", tmp_path / "recordings")
+    for folder, scene in (("a", sim.scenes.pyramid(2)), ("b", sim.scenes.stack(2))):
+        (tmp_path / folder).mkdir()
+        scene.to_file(tmp_path / folder / "scene.toml")
+    runs = [
+        ["pyramid", "--size", "3"],
+        ["pyramid", "--size", "4"],
+        ["pyramid", "--size", "3", "--dt", str(1 / 240)],
+        ["pyramid", "--size", "3", "--systems", "pybullet,pymunk"],
+        ["pyramid", "--size", "3", "--every", "2"],
+        [str(tmp_path / "a" / "scene.toml")],
+        [str(tmp_path / "b" / "scene.toml")],
+    ]
+    paths = [
+        trace.main([*run, "--steps", "4"] + (["--systems", "pymunk"] * ("--systems" not in run)))
+        for run in runs
+    ]
+    assert len(set(paths)) == len(runs), paths
+    assert paths[0].name == "pyramid__size3__pymunk__steps4.rrd"
+    assert paths[3].name == "pyramid__size3__pybullet+pymunk__steps4.rrd"
+    assert paths[2].name == "pyramid__size3__dt0.00416667__pymunk__steps4.rrd"
+    assert paths[5].name.startswith("scene-") and paths[6].name.startswith("scene-")
+    assert (
+        targets.resolve("table_failures/slope_creep").file_stem() == "table_failures__slope_creep"
+    )
+
+
+def test_size_is_only_a_size_and_systems_must_name_one(capsys):
+    """--size went to the builder's first argument, whatever it was: seed_fig1 (none) raised a
+    TypeError, seed_fig3 took it as the speed, single_box as its width in m. "--systems ,"
+    fell back to the default systems."""
+    for builder in ("seed_fig1", "seed_fig3", "single_box"):
+        with pytest.raises(ValueError, match=f"^{builder} has no size argument .--size sets"):
+            targets.resolve(builder, size=3)
+    for builder, parameter in targets.SIZE_PARAMETERS.items():
+        assert next(iter(inspect.signature(sim.scenes.BUILDERS[builder]).parameters)) == parameter
+        assert targets.resolve(builder, size=3).scene.params[parameter] == 3
+    with pytest.raises(ValueError, match="the list of systems is empty"):
+        targets.resolve("pyramid", systems=[])
+    with pytest.raises(ValueError, match="the list of systems is empty"):
+        targets.resolve("table_failures/slope_creep", systems=[])
+    for argv in (["pyramid", "--systems", ","], ["seed_fig3", "--size", "5"]):
+        with pytest.raises(SystemExit) as exc:
+            trace.main(argv)
+        assert exc.value.code == 2
+        err = capsys.readouterr().err.strip().splitlines()[-1]
+        assert err in (
+            "python -m analysis.trace: error: --systems ',' names no system",
+            "python -m analysis.trace: error: seed_fig3 has no size argument (--size sets the "
+            "body count of rest_row, stack, pyramid, drop, arch)",
+        ), err

@@ -146,7 +146,7 @@ def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
                 PymunkRunner's (collision_slop, sleep_time, idle_speed), PybulletRunner's
                 (sleep_threshold, restitution_threshold) or Box2dRunner's
                 (position_iterations, warm_starting, continuous). Sleeping is chosen by the
-                name.
+                name; a sleep option given without it is refused (it would change nothing).
     """
     engine = engine_of(system)
     if "sleeping" in settings or "freeze" in settings:

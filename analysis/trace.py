@@ -11,7 +11,8 @@ frame where their outcomes part.
 NAME is a scene builder (pyramid), a failure-catalogue scenario (slope_creep), a scene file
 (path/to/scene.toml) or a table cell (table_failures/<scenario>, table_extremes/<axis>/<value>):
 study.targets resolves it, running a cell exactly as its table does. Every system starts
-from the same scene and is stepped in lockstep; the first one named is the *reference*.
+from the same scene and is stepped in lockstep; the first one named is the *reference* (if it
+cannot run, e.g. Box2D refusing dt 0.5 s, the first that can, and the events and stderr say so).
 
 What the recording holds, on the timelines ``step`` (the run's step count) and ``time``
 (simulated seconds), one entity path per system (<s>: the system's name, e.g. ``sim-extended``,
@@ -24,7 +25,10 @@ What the recording holds, on the timelines ``step`` (the run's step count) and `
                             that keeps it awake (``World.why_awake``: "sliding", "deep", ...)
   systems/<s>/static        the floor and static bodies (static: logged once)
   systems/<s>/contacts      the contact points of the step (each engine's own, runner.contacts)
-  systems/<s>/impulses      normal impulses as arrows, ``--arrow-scale`` m per N s
+  systems/<s>/impulses      normal impulses as arrows, ``--arrow-scale`` m per N s, each the
+                            impulse on the pair's dynamic body of higher index (the floor and
+                            static bodies rank lowest; study.peers.impulse_vectors): the same
+                            convention in every engine, up into a resting box
   events/<s>                freeze/wake events (sim: World.events with their cause; a peer: a
                             body falling asleep or waking), a system not run and why, a system
                             that stopped (an error, a non-finite state)
@@ -35,16 +39,28 @@ What the recording holds, on the timelines ``step`` (the run's step count) and `
                             experiments/bench_* for timings)
   timeline/divergence_m/<s>      largest centre distance to the reference's same body, m
   timeline/divergence_rad/<s>    largest angle difference to it (modulo 2 pi), rad
-  about                     what ran: the target, every system's settings, the commit
+  about                     what ran: the target, the steps run, every system's settings, and
+                            the provenance a results file records (study.metadata.collect:
+                            commit, uncommitted changes, package versions, machine, date)
 
 A blueprint is written with the recording, so the viewer opens on the scene views side by side
 with the timelines and the event log below. A long run is recorded every K steps (``--every``;
-default: at most MAX_FRAMES frames), the step timeline keeping the true step numbers.
+default: at most MAX_FRAMES frames), and at its last step whatever K is, the step timeline
+keeping the true step numbers.
+
+The file is written as <out>.partial.rrd beside <out> and renamed to <out> when the run ends, so
+<out> is only ever a whole recording: an interrupted or failed run leaves the old <out> as it
+was, and what it recorded so far in the partial file (named on stderr; exit status 130 on
+Ctrl-C). Without --out the file is results/recordings/<name>.rrd, the name saying what
+distinguishes the run (study.targets.Target.file_stem: the builder's size, a dt other than
+1/60, the systems when not the default ones, --steps, --every), so that different runs never
+overwrite each other: ``pyramid --size 40 --systems pymunk`` -> ``pyramid__size40__pymunk.rrd``.
 """
 
 import argparse
 import json
 import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -57,9 +73,9 @@ import sim
 from analysis.style import STATE_RGB, system_style
 from study import scenarios, targets
 from study.extremes.geometry import Shapes
-from study.metadata import git_state, jsonable
-from study.paths import RECORDINGS, ensure
-from study.peers import sim_world
+from study.metadata import code_state, collect, jsonable
+from study.paths import RECORDINGS, ensure, partial_path
+from study.peers import impulse_vectors, sim_world
 from sim.files import write_text_atomically
 from study.cli import first_paragraph
 
@@ -78,11 +94,6 @@ def body_colors(states, frozen):
     return colors.astype(np.uint8)
 
 
-def slug(system):
-    """An entity-path name for a system: "sim-off (no presolve)" -> "sim-off_no-presolve"."""
-    return system.replace(" (", "_").replace(")", "").replace(" ", "-")
-
-
 def _rgb(system):
     hex_color = system_style(system.split(" (")[0])["color"].lstrip("#")
     return [int(hex_color[k : k + 2], 16) for k in (0, 2, 4)]
@@ -94,7 +105,7 @@ class Track:
 
     def __init__(self, system, target):
         self.system = system
-        self.path = slug(system.name)
+        self.path = targets.slug(system.name)
         self.scene = system.scene or target.scene
         self.shapes = Shapes(self.scene)
         self.runner = None
@@ -121,14 +132,28 @@ class Track:
 class Recorder:
     """Writes the frames of a target's tracks to one rerun recording."""
 
-    def __init__(self, target, path, every, arrow_scale):
-        self.target, self.every, self.arrow_scale = target, every, arrow_scale
+    def __init__(self, target, path, steps, every, arrow_scale):
+        self.target, self.steps, self.every = target, steps, every
+        self.arrow_scale, self.reached = arrow_scale, 0  # reached: the last step recorded
+        self.started = code_state()  # the code that runs (the about page's provenance)
         self.tracks = [Track(s, target) for s in target.systems]
         seen = {}
         for t in self.tracks:  # a system named twice: "sim-off", "sim-off_2"
             seen[t.path] = seen.get(t.path, 0) + 1
             if seen[t.path] > 1:
                 t.path = f"{t.path}_{seen[t.path]}"
+        # the divergence's reference: the first system named, or else the first that runs (a
+        # refused first system left every divergence unlogged, and nothing said why)
+        self.reference = next((t for t in self.tracks if not t.stopped), None)
+        first = self.tracks[0]
+        self.reference_note = ""
+        if self.reference is None:
+            self.reference_note = "no system runs: no divergence is recorded"
+        elif self.reference is not first:
+            self.reference_note = (
+                f"the reference {first.system.name} is {first.stopped}: divergence is measured "
+                f"against {self.reference.system.name}, the first system that runs"
+            )
         self.rec = rr.RecordingStream(f"freeze2d-{target.stem}")
         self.rec.save(str(path), default_blueprint=self.blueprint())
         self._static()
@@ -139,12 +164,12 @@ class Recorder:
         views = [
             rrb.Spatial2DView(
                 origin=f"systems/{t.path}",
-                name=t.system.name if t.path == slug(t.system.name) else t.path,
+                name=t.system.name if t.path == targets.slug(t.system.name) else t.path,
             )
             for t in self.tracks
         ]
         scenes = rrb.Horizontal(*views) if len(views) <= 4 else rrb.Grid(*views, grid_columns=4)
-        reference = self.tracks[0].system.name
+        reference = self.reference.system.name if self.reference is not None else "none"
         series = rrb.Horizontal(
             rrb.TimeSeriesView(
                 origin="timeline/divergence_m", name=f"largest position error vs {reference}, m"
@@ -192,22 +217,45 @@ class Recorder:
                     rr.LineStrips2D(strips, colors=[(0, 0, 0)] * len(strips)),
                     static=True,
                 )
+        self._about()
+
+    def _about(self):
+        rec = self.rec
         rec.log(
             "about", rr.TextDocument(self.about(), media_type=rr.MediaType.MARKDOWN), static=True
         )
 
-    def about(self):
-        """What ran, as markdown: the target, each system's settings or why it did not run."""
+    def provenance(self):
+        """What produced the recording, as a results file records it (study.metadata.collect:
+        the commit and uncommitted changes since the run started, package versions, machine)."""
         t = self.target
+        parameters = {
+            "target": t.label,
+            "kind": t.kind,
+            "systems": [s.name for s in t.systems],
+            "dt": t.dt,
+            "steps": self.steps,
+            "every": self.every,
+            "arrow_scale": self.arrow_scale,
+        }
+        return collect(t.scene, parameters, script="analysis.trace", started=self.started)
+
+    def about(self):
+        """What ran, as markdown: the target, each system's settings or why it did not run, and
+        the provenance."""
+        t = self.target
+        reference = self.reference.system.name if self.reference is not None else "none"
         lines = [
             f"# {t.label}",
             "",
             f"{t.kind}; scene `{t.scene.name}` {json.dumps(jsonable(t.scene.params))}; "
-            f"{len(t.scene.bodies)} bodies; dt {t.dt:g} s; {t.steps} steps "
-            f"(recorded every {self.every}); reference {self.tracks[0].system.name}; "
-            f"commit {git_state()['commit']}",
+            f"{len(t.scene.bodies)} bodies; dt {t.dt:g} s; {self.steps} steps "
+            f"(recorded every {self.every}{' and at the last' if self.steps % self.every else ''}"
+            f"); reference {reference}",
             "",
         ]
+        if self.reference_note:
+            lines += [self.reference_note, ""]
         for track in self.tracks:
             settings = track.runner.settings if track.runner is not None else {}
             lines += [
@@ -216,28 +264,31 @@ class Recorder:
                 track.stopped or f"```\n{json.dumps(jsonable(settings), indent=1)}\n```",
                 "",
             ]
+        provenance = json.dumps(jsonable(self.provenance()), indent=1)
+        lines += ["## provenance", "", f"```\n{provenance}\n```", ""]
         return "\n".join(lines)
 
     # ---- frames ------------------------------------------------------------------------------
-    def frame(self, step):
-        """Log every running track at ``step`` (0: the start state)."""
+    def frame(self, step, advance):
+        """Step every running track ``advance`` steps and log it at ``step`` (0: the start
+        state, ``advance`` 0)."""
         rec = self.rec
         rec.set_time("step", sequence=step)
         rec.set_time("time", duration=step * self.target.dt)
         reference = None
-        for k, t in enumerate(self.tracks):
+        for t in self.tracks:
             if t.stopped:
                 continue
-            if step > 0:
+            if advance > 0:
                 t0 = time.perf_counter()
                 try:
-                    t.runner.step(self.every)
+                    t.runner.step(advance)
                 except Exception as exc:  # the system's failure is a result
                     self._stop(t, step, f"{type(exc).__name__}: {exc}")
                     continue
                 rec.log(
                     f"timeline/step_ms/{t.path}",
-                    rr.Scalars(1e3 * (time.perf_counter() - t0) / self.every),
+                    rr.Scalars(1e3 * (time.perf_counter() - t0) / advance),
                 )
             positions, angles = t.runner.positions, t.runner.angles
             if not (np.isfinite(positions).all() and np.isfinite(angles).all()):
@@ -246,7 +297,7 @@ class Recorder:
             t.pose = positions, angles
             self._bodies(t, positions, angles)
             self._events(t, step)
-            if k == 0:
+            if t is self.reference:  # tracks before it do not run
                 reference = t.pose
             self._scalars(t, reference)
 
@@ -271,7 +322,7 @@ class Recorder:
                 f"systems/{t.path}/impulses",
                 rr.Arrows2D(
                     origins=c["point"],
-                    vectors=c["normal"] * c["normal_impulse"][:, None] * self.arrow_scale,
+                    vectors=impulse_vectors(c, len(t.scene.bodies)) * self.arrow_scale,
                 ),
             )
 
@@ -318,8 +369,22 @@ class Recorder:
             rr.TextLog(f"{t.system.name} {t.stopped}", level=rr.TextLogLevel.ERROR),
         )
         print(f"{t.system.name}: {t.stopped}", file=sys.stderr)
+        if t is self.reference:
+            self._note(f"the reference {t.system.name} stopped: no divergence after step {step}")
 
-    def run(self, steps, progress=None):
+    def _note(self, text):
+        """A message about the whole recording: in its events and on stderr."""
+        self.rec.log("events/recording", rr.TextLog(text, level=rr.TextLogLevel.WARN))
+        print(f"{self.target.label}: {text}", file=sys.stderr)
+
+    def frame_steps(self):
+        """The steps recorded: 0, every K steps, and the last (steps // K frames stopped short
+        of it: 100 steps every 7 ended at step 98)."""
+        return sorted(set(range(0, self.steps + 1, self.every)) | {self.steps})
+
+    def run(self, progress=None):
+        """Step and record every frame; returns the tracks (``close`` then writes the file
+        out and closes their runners, after an exception too)."""
         self.rec.set_time("step", sequence=0)
         self.rec.set_time("time", duration=0.0)
         for t in self.tracks:
@@ -329,21 +394,40 @@ class Recorder:
                     rr.TextLog(f"{t.system.name} {t.stopped}", level=rr.TextLogLevel.WARN),
                 )
                 print(f"{t.system.name}: {t.stopped}", file=sys.stderr)
-        frames = steps // self.every
-        for k in range(frames + 1):
-            self.frame(k * self.every)
+        if self.reference_note:
+            self._note(self.reference_note)
+        steps = self.frame_steps()
+        frames = len(steps) - 1
+        for k, step in enumerate(steps):
+            self.reached = step
+            self.frame(step, step - steps[k - 1] if k else 0)
             if progress is not None:
                 progress(k, frames)
+        if self.provenance()["code_changed_during_run"] is True:  # say so on the about page
+            self._about()
+        return self.tracks
+
+    def close(self):
+        """Write out what was logged, close the file and the runners."""
         self.rec.flush()
+        self.rec.disconnect()
         for t in self.tracks:
             t.close()
-        return self.tracks
+
+
+class Interrupted(Exception):
+    """A recording that did not run to its end; the message is one line for the user."""
 
 
 def record(target, path, steps=None, every=None, arrow_scale=0.5, progress=None):
     """Record ``target`` (study.targets.Target) for ``steps`` steps (default its own) to
-    ``path``, one frame every ``every`` steps (default: at most MAX_FRAMES frames). Returns the
-    tracks (``.runner`` closed; ``.stopped``: why a system did not run to the end, or "")."""
+    ``path``, one frame every ``every`` steps (default: at most MAX_FRAMES frames) and one at
+    the last step. Returns the tracks (``.runner`` closed; ``.stopped``: why a system did not
+    run to the end, or "").
+
+    Written to ``partial_path(path)`` and renamed to ``path`` at the end: a run stopped by an
+    exception (Ctrl-C included) leaves ``path`` as it was and the frames so far in the partial
+    file, and raises ``Interrupted`` (from the exception) saying both."""
     steps = target.steps if steps is None else steps
     if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
         raise ValueError(f"steps must be an integer >= 1, got {steps!r}")
@@ -352,7 +436,21 @@ def record(target, path, steps=None, every=None, arrow_scale=0.5, progress=None)
     if isinstance(every, bool) or not isinstance(every, int) or not 1 <= every <= steps:
         raise ValueError(f"every must be an integer in [1, steps={steps}], got {every!r}")
     ensure(Path(path).parent)
-    return Recorder(target, path, every, arrow_scale).run(steps, progress)
+    partial = partial_path(path)
+    recorder = Recorder(target, partial, steps, every, arrow_scale)
+    try:
+        tracks = recorder.run(progress)
+    except BaseException as exc:  # Ctrl-C included
+        recorder.close()
+        what = "interrupted" if isinstance(exc, KeyboardInterrupt) else f"failed ({exc!r})"
+        kept = f"{path} left as it was" if Path(path).exists() else f"{path} not written"
+        raise Interrupted(
+            f"{target.label} {what} at step {recorder.reached} of {steps}: {kept}; the steps "
+            f"recorded so far are in {partial}"
+        ) from exc
+    recorder.close()
+    os.replace(partial, path)  # whole, or not at all: the old file stays until this
+    return tracks
 
 
 def _progress(label):
@@ -375,7 +473,8 @@ def _progress(label):
 
 def _record_one(name, args):
     target = targets.resolve(name, systems=args.systems, size=args.size, dt=args.dt)
-    path = Path(args.out) if args.out else RECORDINGS / f"{target.stem}.rrd"
+    stem = target.file_stem(steps=args.steps, every=args.every)
+    path = Path(args.out) if args.out else RECORDINGS / f"{stem}.rrd"
     record(
         target,
         path,
@@ -430,7 +529,9 @@ def main(argv=None):
         "--size",
         type=int,
         default=None,
-        help="a builder's size argument (rest_row n, stack height, pyramid base, drop n)",
+        help="a builder's body count: "
+        + ", ".join(f"{b} {p}" for b, p in targets.SIZE_PARAMETERS.items())
+        + " (no other builder has one)",
     )
     parser.add_argument(
         "--dt",
@@ -451,7 +552,12 @@ def main(argv=None):
         default=None,
         help=f"record every K steps (default: at most {MAX_FRAMES} frames)",
     )
-    parser.add_argument("--out", default=None, help="output .rrd (default results/recordings/)")
+    parser.add_argument(
+        "--out",
+        default=None,
+        help="output .rrd (default results/recordings/<name>.rrd, the name saying what "
+        "distinguishes the run: size, dt, systems, steps, every)",
+    )
     parser.add_argument(
         "--table",
         choices=TABLES,
@@ -467,8 +573,11 @@ def main(argv=None):
     if args.list:
         print(targets.available())
         return None
+    raw_systems = args.systems
     if args.systems is not None:
         args.systems = [s.strip() for s in args.systems.split(",") if s.strip()]
+        if not args.systems:  # "," fell back to the default systems
+            parser.error(f"--systems {raw_systems!r} names no system")
     if (args.name is None) == (args.table is None):
         parser.error("give a NAME or --table (not both); --list shows the names")
     try:
@@ -477,6 +586,12 @@ def main(argv=None):
         return _record_table(args)
     except ValueError as exc:
         parser.exit(2, f"python -m analysis.trace: error: {exc}\n")
+    except Interrupted as exc:  # Ctrl-C: one line, status 130 as the shell's; a bug: traceback
+        if not isinstance(exc.__cause__, KeyboardInterrupt):
+            raise
+        parser.exit(130, f"python -m analysis.trace: {exc}\n")
+    except KeyboardInterrupt:  # while building the runners: nothing written yet
+        parser.exit(130, "python -m analysis.trace: interrupted before recording began\n")
 
 
 if __name__ == "__main__":

@@ -182,7 +182,7 @@ from study import systems
 from study.peers import DEFAULT_ITERATIONS, engine_of
 from study.peers.box2d_runner import BOX2D_SLEEP
 from study.peers.pybullet_runner import DEFAULT_SLEEP_THRESHOLD
-from study.peers.pymunk_runner import PymunkRunner
+from study.peers.pymunk_runner import DEFAULT_SLEEP_TIME as PYMUNK_SLEEP_TIME
 from study.tradeoff import (
     COLUMNS,
     accuracy_run,
@@ -202,7 +202,6 @@ G = 9.81  # m/s^2, |gravity| of every scene here
 OFF = dict(systems.OFF)
 ENGINES = tuple(OFF)
 
-_PYMUNK_SLEEP_TIME = inspect.signature(PymunkRunner).parameters["sleep_time"].default
 #: sim-off's solver defaults, as the baseline runs them: substeps are sim.World's own, iterations
 #: (biased sweeps per substep) what the runners give sim when none are asked for
 SIM_SUBSTEPS = inspect.signature(sim.World).parameters["substeps"].default
@@ -252,7 +251,7 @@ SWEEPS = (
         range(-3, 4),
     ),
     ("sim-sleep", "sleep_time", "s", sim.freeze.sleep.PARAMETERS["sleep_time"], 0.5, range(-3, 3)),
-    ("pymunk-sleep", "sleep_time", "s", _PYMUNK_SLEEP_TIME, 0.5, range(-3, 3)),
+    ("pymunk-sleep", "sleep_time", "s", PYMUNK_SLEEP_TIME, 0.5, range(-3, 3)),
     # Chipmunk's rule when idle_speed is unset: |g| dt (cpSpaceProcessComponents)
     ("pymunk-sleep", "idle_speed", "m/s", G * DT, 0.5, range(-3, 4)),
     ("pybullet-sleep", "sleep_threshold", "(m/s)^2", DEFAULT_SLEEP_THRESHOLD, 1.0, range(-3, 3)),

@@ -42,3 +42,10 @@ def ensure(folder):
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     return folder
+
+
+def partial_path(path):
+    """Where a file written in steps goes until it is whole (then renamed to ``path``): beside
+    it, in the same folder (so the rename is atomic), ``<stem>.partial<suffix>``."""
+    path = Path(path)
+    return path.with_name(f"{path.stem}.partial{path.suffix}")

@@ -15,9 +15,17 @@ settings: built by the table's own library functions, so the two cannot drift ap
 it against the scripts). A name that is none of these is an error listing what is available.
 
 Scenes and scene files run ``DEFAULT_SYSTEMS`` at DT unless told otherwise, each system with the
-study's comparable settings (study.common.build).
+study's comparable settings (study.common.build). A builder takes a size (``size``) only if it
+has one (``SIZE_PARAMETERS``: the argument that sets its body count).
+
+``Target.file_stem`` names a target's recording by what distinguishes its run, so that two runs
+never share a default file: the name (a cell's path with ``__``, a scene file's stem and a hash
+of its contents), then, joined by ``__``, a builder's size, a dt other than DT, the systems when
+not the default ones, and the steps and sampling when asked for:
+``pyramid__size40__dt0.004167__pymunk+sim-off__steps60``.
 """
 
+import hashlib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -49,6 +57,15 @@ VALUE_TOLERANCE = 0.01
 #: table_extremes' bisection of the impact threshold: its own settings (experiments.table_extremes)
 THRESHOLD_BISECTIONS = 45
 PYBULLET_MAX_BODIES = 250  # table_extremes does not run pybullet above this (its cost)
+#: builder -> its size argument, the one that sets its body count (``resolve``'s ``size``); the
+#: others' first arguments are not sizes (seed_fig3's is a speed, single_box's a length in m)
+SIZE_PARAMETERS = {
+    "rest_row": "n",
+    "stack": "height",
+    "pyramid": "base",
+    "drop": "n",
+    "arch": "n_blocks",
+}
 
 
 @dataclass
@@ -81,11 +98,32 @@ class Target:
     dt: float  # s per step
     steps: int  # steps the table (or the default) runs
     systems: list  # [System], the first is the reference of the divergence
+    #: what distinguishes the run beyond its label, in the order file_stem names them
+    #: ("size", "dt"; set by ``resolve``), and a scene file's name with its hash ("file")
+    options: dict = field(default_factory=dict)
+    default_systems: tuple = ()  # the systems the target runs when none are named
 
     @property
     def stem(self):
-        """A file name for the target's recording (no path separators)."""
+        """The label as a file name (no path separators)."""
         return self.label.replace("/", "__").replace(".toml", "")
+
+    def file_stem(self, steps=None, every=None):
+        """A file name for the recording of this run (no path separators; see the module
+        docstring): ``steps`` when not the target's own, ``every`` when asked for."""
+        parts = [self.options.get("file", self.stem)]
+        if "size" in self.options:
+            parts.append(f"size{self.options['size']}")
+        if "dt" in self.options:
+            parts.append(f"dt{self.options['dt']:.6g}")
+        names = tuple(s.name for s in self.systems)
+        if names != tuple(self.default_systems):
+            parts.append("+".join(slug(n) for n in names))
+        if steps is not None and steps != self.steps:
+            parts.append(f"steps{steps}")
+        if every is not None:
+            parts.append(f"every{every}")
+        return "__".join(parts)
 
     def select(self, names):
         """The target with only ``names`` (in that order; a name given twice runs twice, e.g. to
@@ -100,6 +138,11 @@ class Target:
             )
         self.systems = [have[n] for n in names]
         return self
+
+
+def slug(system):
+    """A system's name as a path part: "sim-off (no presolve)" -> "sim-off_no-presolve"."""
+    return system.replace(" (", "_").replace(")", "").replace(" ", "-")
 
 
 def available():
@@ -117,12 +160,19 @@ def available():
 def resolve(name, systems=None, size=None, dt=None):
     """The Target called ``name`` (see the module docstring).
 
-    systems  names to record (default: the table's systems for a cell, else DEFAULT_SYSTEMS)
-    size     a builder's size argument (rest_row n, stack height, pyramid base, drop n)
+    systems  names to record (default: the table's systems for a cell, else DEFAULT_SYSTEMS);
+             an empty list is an error
+    size     a builder's size argument (SIZE_PARAMETERS: rest_row n, stack height, pyramid
+             base, drop n, arch n_blocks); an error for a builder without one
     dt       s per step for a scene (a cell runs at its table's dt; giving another is an error)
     """
     if not isinstance(name, str) or not name:
         raise ValueError(f"name a scene or a table cell; available:\n{available()}")
+    if systems is not None and not list(systems):  # an empty list fell back to the defaults
+        raise ValueError(
+            f"{name}: the list of systems is empty; name one or more of "
+            f"{', '.join(tuple(SYSTEMS) + NO_PRESOLVE_SYSTEMS)}"
+        )
     head = name.split("/", 1)[0]
     if head in TABLES:
         if size is not None or dt is not None:
@@ -130,7 +180,8 @@ def resolve(name, systems=None, size=None, dt=None):
                 f"{name}: a table cell runs as its table does; --size and --dt are for scenes"
             )
         target = _failure_cell(name) if head == "table_failures" else _extremes_cell(name)
-        if systems:
+        target.default_systems = tuple(s.name for s in target.systems)
+        if systems is not None:
             target.select(list(systems))
         return target
     return _scene_target(name, size, dt, list(systems or DEFAULT_SYSTEMS))
@@ -149,15 +200,28 @@ def scene_system(name):
 def _scene_target(name, size, dt, systems):
     dt = DT if dt is None else positive(dt, "dt")
     steps = DEFAULT_STEPS
+    options = {} if dt == DT else {"dt": dt}
     if name.endswith(".toml"):
         if size is not None:
             raise ValueError(f"{name}: --size is a builder's argument, not a scene file's")
         if not Path(name).is_file():
             raise ValueError(f"scene file {name} not found")
         scene, kind = sim.Scene.from_file(name), "file"
+        # two files of one name in different folders are different scenes: the contents tell
+        digest = hashlib.sha256(Path(name).read_bytes()).hexdigest()[:8]
+        options["file"] = f"{Path(name).stem}-{digest}"
     elif name in sim.scenes.BUILDERS:
         build = sim.scenes.BUILDERS[name]
-        scene, kind = (build() if size is None else build(size)), "builder"
+        parameter = SIZE_PARAMETERS.get(name)
+        if size is not None and parameter is None:
+            raise ValueError(
+                f"{name} has no size argument (--size sets the body count of "
+                f"{', '.join(SIZE_PARAMETERS)})"
+            )
+        scene = build() if size is None else build(**{parameter: size})
+        kind = "builder"
+        if parameter is not None:  # the size run, given or the builder's default
+            options["size"] = scene.params[parameter]
     elif name in scenarios.SCENARIOS:
         if size is not None:
             raise ValueError(f"{name}: a scenario has no size argument")
@@ -167,7 +231,8 @@ def _scene_target(name, size, dt, systems):
     else:
         raise ValueError(f"unknown scene or cell {name!r}; available:\n{available()}")
     label = Path(name).name if kind == "file" else name
-    return Target(label, kind, scene, dt, steps, [scene_system(s) for s in systems])
+    chosen = [scene_system(s) for s in systems]
+    return Target(label, kind, scene, dt, steps, chosen, options, DEFAULT_SYSTEMS)
 
 
 # ---- table cells -------------------------------------------------------------------------------

@@ -14,6 +14,12 @@ rad/s, ``asleep`` (N,) bool (the system does not solve the body this step), plus
 system string), ``scene``, ``dt`` s, ``step_count``, ``time`` s, ``settings`` (a JSON-ready dict
 of everything that matters: dt, iterations, sleeping and its thresholds, mixing rules...; what
 experiments store in their metadata) and ``close()`` (runners are also context managers).
+Every runner's ``contacts()`` gives the last step's contact points in one convention: ``body_a``,
+``body_b`` (scene body i, static body j as N + j, the floor -1), ``point``, ``normal`` (unit, A to
+B) and ``normal_impulse`` (N s, the impulse that pushes B along the normal); ``impulse_vectors``
+turns them into the impulse each point gives the pair's dynamic body of higher index, which is
+what the recordings draw (the engines' own pair orders differ: a box on the floor came out as the
+floor's impulse in pymunk and Box2D, the box's in sim and pybullet).
 A runner that does work of its own around the engine's steps (Box2dRunner: its motion-cap check;
 PybulletRunner with sleeping: the pose before the last step) also has ``engine_seconds``, the wall
 time spent inside the engine's step calls, which benchmarks time (study.timing.timed).
@@ -98,6 +104,19 @@ def sim_world(runner):
     return runner.world if isinstance(runner, SimRunner) else None
 
 
+def impulse_vectors(contacts, n_bodies):
+    """(K,2) N s: the normal impulse of each point of ``contacts`` (a runner's ``contacts()``)
+    as the vector received by the pair's dynamic body of higher index, the floor and static
+    bodies (index -1 and >= ``n_bodies``) ranking below every dynamic body: a box resting on the
+    floor, or on another box built before it, gets an arrow pointing up, in every engine."""
+    a, b = np.asarray(contacts["body_a"]), np.asarray(contacts["body_b"])
+    rank_a = np.where((a >= 0) & (a < n_bodies), a, -1)
+    rank_b = np.where((b >= 0) & (b < n_bodies), b, -1)
+    # the impulse pushes B along the normal and A the other way (Newton's third law)
+    sign = np.where(rank_b >= rank_a, 1.0, -1.0)
+    return np.asarray(contacts["normal"]) * (sign * np.asarray(contacts["normal_impulse"]))[:, None]
+
+
 def solver_summary(settings):
     """How much solving a runner's ``settings`` ask for per step, comparable across engines:
     {"substeps": integration substeps per step (sim's setting; 1 for the peers, which step
@@ -127,7 +146,7 @@ def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
                 PymunkRunner's (collision_slop, sleep_time, idle_speed), PybulletRunner's
                 (sleep_threshold, restitution_threshold) or Box2dRunner's
                 (position_iterations, warm_starting, continuous). Sleeping is chosen by the
-                name.
+                name; a sleep option given without it is refused (it would change nothing).
     """
     engine = engine_of(system)
     if "sleeping" in settings or "freeze" in settings:
@@ -156,6 +175,7 @@ __all__ = [
     "make_runner",
     "engine_of",
     "sim_world",
+    "impulse_vectors",
     "solver_summary",
     "SimRunner",
     "PymunkRunner",

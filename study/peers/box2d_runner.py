@@ -76,6 +76,7 @@ import numpy as np
 from sim.arguments import count, flag, positive
 from sim.scene import Scene
 
+from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
 from .pose import com_pose
 from .pybullet_urdf import inset
@@ -234,7 +235,13 @@ class Box2dRunner:
             "warm_starting": world.warmStarting,
             "continuous": world.continuousPhysics,
             "sub_stepping": world.subStepping,
-            "bullets": int(sum(b.bullet for b in scene.bodies)),
+            "bullets": bullets(
+                scene,
+                world.continuousPhysics,
+                "b2Body bullets: swept against every body"
+                if world.continuousPhysics
+                else "ordinary bodies: continuous collision is off",
+            ),
             "b2_linearSlop": float(Box2D.b2_linearSlop),
             "b2_angularSlop": float(Box2D.b2_angularSlop),
             "b2_polygonRadius": POLYGON_RADIUS,

@@ -84,6 +84,7 @@ import sim
 from sim.arguments import count, flag, positive
 from sim.scene import Scene
 
+from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
 from .pose import com_pose
 from .pybullet_urdf import (
@@ -140,7 +141,11 @@ class PybulletRunner:
     dt               step, s                 iterations   numSolverIterations (default 50)
     sleeping         URDF_ENABLE_SLEEPING on every body, or never sleep
     sleep_threshold  Bullet's sleep threshold, sum of squared joint velocities; None = default 0.05
+                     (only with sleeping: without it, refused, as it would change nothing)
     restitution_threshold  m/s, impacts slower than this do not bounce (sim's default, 1.0)
+
+    Bodies marked ``bullet`` are ordinary bodies here (the runner enables none of Bullet's
+    continuous collision): ``settings["bullets"]`` says so.
     """
 
     def __init__(
@@ -157,6 +162,12 @@ class PybulletRunner:
         self.dt = positive(dt, "dt")
         iterations = count(iterations, "iterations", 1, MAX_ITERATIONS, LIMITS_WHY)
         self.sleeping = flag(sleeping, "sleeping")
+        if sleep_threshold is not None and not self.sleeping:
+            raise ValueError(
+                f"pybullet: sleep_threshold applies only with sleeping (system pybullet-sleep); "
+                f"pybullet runs with sleeping off, so sleep_threshold={sleep_threshold!r} would "
+                f"change nothing"
+            )
         if sleep_threshold is not None:
             sleep_threshold = positive(sleep_threshold, "sleep_threshold", allow_zero=True)
         restitution_threshold = positive(
@@ -339,6 +350,7 @@ class PybulletRunner:
             "max(e_body, e_environment)",
             "restitution_exact_for_all_pairs": bool(exact_e),
             "initial_velocity": "impulse over the first step",
+            "bullets": bullets(scene, False, "ordinary bodies: no continuous collision enabled"),
             "floor": None
             if self._floor is None
             else {
@@ -508,17 +520,29 @@ class PybulletRunner:
         return np.stack([m[0, 0] * x + m[0, 2] * z + px, m[2, 0] * x + m[2, 2] * z + pz], axis=1)
 
     def contacts(self):
-        """The contact points of the last step, as SimRunner.contacts gives them: {"point": (K,2)
-        m (on B), "normal": (K,2) unit (Bullet's contactNormalOnB, B to A), "normal_impulse": (K,)
-        N s}. Bullet reports a force, its impulse over the step divided by dt: times dt again."""
+        """The contact points of the last step, as SimRunner.contacts gives them: {"body_a",
+        "body_b": (K,) int (scene body i, static body j as N + j, the floor -1), "point": (K,2)
+        m (on B), "normal": (K,2) unit, A to B (Bullet's contactNormalOnB points from B to A:
+        turned round), "normal_impulse": (K,) N s, pushing B along the normal}. Bullet reports
+        a force, its impulse over the step divided by dt: times dt again."""
+        index = {uid: i for i, uid in enumerate(self._ids)}
+        index.update({uid: len(self._ids) + j for j, uid in enumerate(self._static_ids)})
         found = pb.getContactPoints(physicsClientId=self._client)
         k = len(found)
         point, normal, impulse = np.empty((k, 2)), np.empty((k, 2)), np.empty(k)
+        pair = np.empty((k, 2), dtype=np.int64)
         for j, c in enumerate(found):
+            pair[j] = index.get(c[1], -1), index.get(c[2], -1)  # bodyUniqueIdA, B
             point[j] = c[6][0], c[6][2]  # positionOnB, x-z plane -> 2D
-            normal[j] = c[7][0], c[7][2]
+            normal[j] = -c[7][0], -c[7][2]
             impulse[j] = c[9] * self.dt  # normalForce
-        return {"point": point, "normal": normal, "normal_impulse": impulse}
+        return {
+            "body_a": pair[:, 0],
+            "body_b": pair[:, 1],
+            "point": point,
+            "normal": normal,
+            "normal_impulse": impulse,
+        }
 
     # ---- lifetime ---------------------------------------------------------------------------
     def close(self):

@@ -50,6 +50,7 @@ from sim.arguments import count, flag, positive
 from sim.geometry import MAX_VERTICES
 from sim.scene import Scene
 
+from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
 from .pose import com_pose
 
@@ -57,6 +58,9 @@ from .pose import com_pose
 SHAPE_ID_START = MAX_VERTICES
 #: Thickness of the floor box under floor_y, m (the pybullet and Box2D runners' floors too).
 FLOOR_THICKNESS = 1.0
+#: s a body must stay idle before its group may sleep, when sleeping and none is given (Chipmunk's
+#: own default is infinity: never)
+DEFAULT_SLEEP_TIME = 0.5
 
 
 def canonical_vertices(local):
@@ -90,9 +94,18 @@ class PymunkRunner:
 
     dt              step, s                 iterations   Chipmunk solver iterations per step
     sleeping        use Chipmunk's sleeping (space.sleep_time_threshold = sleep_time) or not (inf)
-    sleep_time      s a body must stay idle before its group may sleep
-    idle_speed      m/s; None leaves Chipmunk's default (|gravity| * dt)
+    sleep_time      s a body must stay idle before its group may sleep (None: DEFAULT_SLEEP_TIME)
+    idle_speed      m/s below which a body counts as idle; None leaves Chipmunk's rule, |gravity|
+                    * dt (0.1635 m/s at dt 1/60: the space holds 0, which Chipmunk reads as
+                    that; ``settings`` records the speed in effect). Each engine sleeps at its
+                    own default (study.peers.DEFAULT_ITERATIONS: as its authors tuned it), and
+                    Chipmunk's is the loosest: Box2D's b2_linearSleepTolerance is 0.01 m/s, sim's
+                    sleep_speed 0.05 m/s, so pymunk-sleep stops slow slides the others let run
     collision_slop  m of penetration Chipmunk leaves uncorrected (sim's ``slop``)
+
+    sleep_time and idle_speed only act with sleeping: given without it they are refused (a value
+    that changed nothing would otherwise be recorded as if it had). Bodies marked ``bullet`` are
+    ordinary bodies here (Chipmunk has no continuous collision): ``settings["bullets"]`` says so.
     """
 
     def __init__(
@@ -101,7 +114,7 @@ class PymunkRunner:
         dt=1 / 60,
         iterations=10,
         sleeping=False,
-        sleep_time=0.5,
+        sleep_time=None,
         idle_speed=None,
         collision_slop=0.005,
     ):
@@ -110,6 +123,13 @@ class PymunkRunner:
         self.dt = positive(dt, "dt")
         iterations = count(iterations, "iterations", 1, MAX_ITERATIONS, LIMITS_WHY)
         sleeping = flag(sleeping, "sleeping")
+        for option, value in (("sleep_time", sleep_time), ("idle_speed", idle_speed)):
+            if value is not None and not sleeping:
+                raise ValueError(
+                    f"pymunk: {option} applies only with sleeping (system pymunk-sleep); "
+                    f"pymunk runs with sleeping off, so {option}={value!r} would change nothing"
+                )
+        sleep_time = DEFAULT_SLEEP_TIME if sleep_time is None else sleep_time
         sleep_time = positive(sleep_time, "sleep_time", allow_zero=True)
         idle_speed = (
             None if idle_speed is None else positive(idle_speed, "idle_speed", allow_zero=True)
@@ -131,6 +151,8 @@ class PymunkRunner:
         self.space = space
 
         self._bodies = []
+        # pymunk body -> its index in contacts(): static body j is N + j, the floor -1 (sim's)
+        self._static_index = {}
         x_lo, x_hi = math.inf, -math.inf
         for b in scene.bodies:
             com, local, mass, inertia = com_pose(b)
@@ -143,12 +165,13 @@ class PymunkRunner:
             reach = float(np.max(np.hypot(local[:, 0], local[:, 1])))
             x_lo, x_hi = min(x_lo, com[0] - reach), max(x_hi, com[0] + reach)
 
-        for b in scene.static_bodies:
+        for j, b in enumerate(scene.static_bodies):
             com, local, _, _ = com_pose(b)
             local = canonical_vertices(local)
             pm = pymunk.Body(body_type=pymunk.Body.STATIC)
             pm.position, pm.angle = com, b.angle
             space.add(pm, self._material(_poly(pm, local), b.friction, b.restitution))
+            self._static_index[pm] = len(scene.bodies) + j
 
         self.floor_span = None  # (x_min, x_max) m of the floor box
         if scene.floor_y is not None:
@@ -181,12 +204,21 @@ class PymunkRunner:
             "iterations": space.iterations,
             "sleeping": self.sleeping,
             "sleep_time_threshold": space.sleep_time_threshold,
-            "idle_speed_threshold": space.idle_speed_threshold,
+            # the speed Chipmunk uses: it reads the space's 0 as |gravity| * dt
+            # (cpSpaceProcessComponents), and 0 was recorded as if nothing were idle
+            "idle_speed_threshold": space.idle_speed_threshold
+            or math.hypot(*scene.gravity) * self.dt,
+            "idle_speed_rule": "set"
+            if space.idle_speed_threshold
+            else "Chipmunk's default, |gravity| * dt",
             "collision_slop": space.collision_slop,
             "collision_bias": space.collision_bias,
             "collision_persistence": space.collision_persistence,
             "damping": space.damping,
             "restitution_max_handler": bouncy,
+            "bullets": bullets(
+                scene, False, "ordinary bodies: Chipmunk has no continuous collision"
+            ),
             "shape_id_start": SHAPE_ID_START,
             "polygon_vertices": "raw, lowest-then-rightmost first",
             "floor": None
@@ -249,12 +281,16 @@ class PymunkRunner:
         return np.array([b.is_sleeping for b in self._bodies], dtype=bool)
 
     def contacts(self):
-        """The contact points of the last step, as SimRunner.contacts gives them: {"point": (K,2)
-        m (midway between the two shapes' points), "normal": (K,2) unit, "normal_impulse": (K,)
-        N s}. Chipmunk reports only a pair's total impulse (``Arbiter.total_impulse``, the
-        impulse on its first shape), so each of the pair's points gets an even share of it:
-        the sum over a pair is exact, the split between its points is not."""
-        seen, point, normal, impulse = set(), [], [], []
+        """The contact points of the last step, as SimRunner.contacts gives them: {"body_a",
+        "body_b": (K,) int (scene body i, static body j as N + j, the floor -1), "point": (K,2)
+        m (midway between the two shapes' points), "normal": (K,2) unit, A to B,
+        "normal_impulse": (K,) N s, pushing B along the normal}. Chipmunk reports only a pair's
+        total impulse (``Arbiter.total_impulse``, the impulse on its first shape), so each of
+        the pair's points gets an even share of it: the sum over a pair is exact, the split
+        between its points is not."""
+        index = {b: i for i, b in enumerate(self._bodies)}
+        index.update(self._static_index)
+        seen, pair, point, normal, impulse = set(), [], [], [], []
 
         def add(arbiter):
             key = frozenset(id(s) for s in arbiter.shapes)
@@ -267,7 +303,10 @@ class PymunkRunner:
             n = np.array(cps.normal, dtype=np.float64)
             jx, jy = arbiter.total_impulse
             share = -(jx * n[0] + jy * n[1]) / len(cps.points)  # elementwise: no BLAS
+            # the arbiter's shapes in its order: the normal points from the first to the second
+            ab = tuple(index.get(shape.body, -1) for shape in arbiter.shapes)
             for p in cps.points:
+                pair.append(ab)
                 point.append(0.5 * (np.array(p.point_a) + np.array(p.point_b)))
                 normal.append(n)
                 impulse.append(share)
@@ -275,7 +314,10 @@ class PymunkRunner:
         for body in self._bodies:
             body.each_arbiter(add)
         k = len(point)
+        pair = np.array(pair, dtype=np.int64).reshape(k, 2)
         return {
+            "body_a": pair[:, 0],
+            "body_b": pair[:, 1],
             "point": np.array(point, dtype=np.float64).reshape(k, 2),
             "normal": np.array(normal, dtype=np.float64).reshape(k, 2),
             "normal_impulse": np.array(impulse, dtype=np.float64),

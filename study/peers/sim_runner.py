@@ -19,6 +19,8 @@ import inspect
 import sim
 from sim.soft_step import DYNAMIC_CAP
 
+from .bullets import bullets
+
 _DEFAULTS = inspect.signature(sim.World).parameters
 #: sim.World's default biased solve sweeps per substep (Box2D v3's: 1).
 DEFAULT_ITERATIONS = _DEFAULTS["iterations"].default
@@ -73,6 +75,13 @@ class SimRunner:
             "contact_hertz_base": (
                 w.contact_hertz if w.contact_hertz is not None else DYNAMIC_CAP * w.substeps / w.dt
             ),
+            "bullets": bullets(
+                self.scene,
+                w.continuous,
+                "swept against every body"
+                if w.continuous
+                else "ordinary bodies: continuous collision is off",
+            ),
         }
 
     @property
@@ -123,10 +132,13 @@ class SimRunner:
         return self.world.frozen
 
     def contacts(self):
-        """The contact points of the last step: {"point": (K,2) m, "normal": (K,2) unit, A to B,
-        "normal_impulse": (K,) N s along the normal over the whole step} (World.contacts)."""
+        """The contact points of the last step: {"body_a", "body_b": (K,) int (scene body i,
+        static body j as N + j, the floor -1), "point": (K,2) m, "normal": (K,2) unit, A to B,
+        "normal_impulse": (K,) N s pushing B along the normal over the whole step}
+        (World.contacts)."""
         c = self.world.contacts()
-        return {"point": c["point"], "normal": c["normal"], "normal_impulse": c["normal_impulse"]}
+        keys = ("body_a", "body_b", "point", "normal", "normal_impulse")
+        return {k: c[k] for k in keys}
 
     def close(self):
         """Nothing to release; here so every runner can be closed alike."""

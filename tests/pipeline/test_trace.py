@@ -2,10 +2,13 @@
 entities on one step timeline, the divergence against the reference, the colours of frozen
 bodies, the blueprint; and the names a run can be traced by (study.targets)."""
 
+import inspect
 import math
 import os
+import re
 import subprocess
 import sys
+from importlib.metadata import version
 from pathlib import Path
 
 import numpy as np
@@ -193,6 +196,22 @@ def test_every_engine_reports_its_contact_impulses():
             )
 
 
+def test_impulse_arrows_follow_one_convention_in_every_engine(tmp_path):
+    """stack(2): each arrow is the impulse on the pair's upper body (the floor lowest), so every
+    arrow points up and they add up to 3 m g dt (two boxes on the floor, one on box 0), in every
+    engine. Before, pymunk's and Box2D's arrows pointed down, into the floor and box 0."""
+    systems = ["sim-off", "pymunk", "pybullet", "box2d"]
+    target = targets.resolve("stack", systems=systems, size=2)
+    trace.record(target, tmp_path / "stack.rrd", steps=30, arrow_scale=0.5)
+    entities = read(tmp_path / "stack.rrd")
+    for s in systems:
+        arrows = np.array(
+            [tuple(v) for v in entities[f"/systems/{s}/impulses"]["Arrows2D:vectors"].iloc[-1]]
+        )
+        assert np.all(arrows[:, 1] >= -1e-9), (s, arrows)
+        assert arrows[:, 1].sum() / 0.5 == pytest.approx(3 * 9.81 / 60, rel=2e-3), s
+
+
 # ---- names -------------------------------------------------------------------------------------
 def test_a_scene_file_traces_by_its_path(tmp_path):
     scene = sim.scenes.stack(3)
@@ -310,11 +329,143 @@ def test_a_system_that_cannot_run_is_logged_not_dropped(tmp_path):
     assert len(entities["/systems/sim-off/bodies"]) == 4
 
 
-def test_a_long_run_is_recorded_every_k_steps(tmp_path):
+def test_a_long_run_is_recorded_every_k_steps_and_at_its_last(tmp_path):
+    """10 steps every 4: frames at 0, 4, 8 and 10 (the last step was dropped: steps // every
+    frames), the step time of the last frame per step of its 2."""
     target = targets.resolve("single_box", systems=["sim-off"])
     trace.record(target, tmp_path / "x.rrd", steps=10, every=4)
     entities = read(tmp_path / "x.rrd")
-    assert entities["/systems/sim-off/bodies"]["step"].tolist() == [0, 4, 8]
+    assert entities["/systems/sim-off/bodies"]["step"].tolist() == [0, 4, 8, 10]
+    assert entities["/timeline/step_ms/sim-off"]["step"].tolist() == [4, 8, 10]
+    assert "(recorded every 4 and at the last)" in about(entities)
     with pytest.raises(ValueError, match="every"):
         trace.record(target, tmp_path / "y.rrd", steps=10, every=0)
     assert math.ceil(100000 / trace.MAX_FRAMES) == 50  # long_run's default: every 50 steps
+
+
+def about(entities):
+    """The text of a recording's about page."""
+    return entities["/about#static"]["TextDocument:text"].iloc[-1][0]
+
+
+def test_the_about_page_states_the_steps_run_and_the_provenance(tmp_path):
+    """--steps 60 on a 6 s row: the page said the row's 360 steps. It records what a results
+    file records (study.metadata.collect): the commit and whether the tree is dirty, package
+    versions, machine; it had the commit alone."""
+    target = targets.resolve("table_failures/slope_creep", systems=["pymunk-sleep"])
+    assert target.steps == 360
+    trace.record(target, tmp_path / "x.rrd", steps=60)
+    text = about(read(tmp_path / "x.rrd"))
+    assert "; 60 steps (recorded every 1); reference pymunk-sleep" in text
+    assert "360" not in text
+    assert '"dirty": ' in text and '"code_changed_during_run": false' in text
+    assert f'"rerun-sdk": "{version("rerun-sdk")}"' in text and '"cpu": ' in text
+    assert '"steps": 60' in text  # the run's parameters
+
+
+def test_an_interrupted_recording_leaves_the_old_file(tmp_path, monkeypatch, capsys):
+    """Ctrl-C at frame 3 of a rerun: the good recording stays whole (the partial one overwrote
+    it); what the interrupted run recorded is in the partial file beside it, which the
+    error names, and the command line says so in one line with status 130."""
+    target = targets.resolve("single_box", systems=["pymunk"])
+    out = tmp_path / "box.rrd"
+    trace.record(target, out, steps=5)
+    good = out.read_bytes()
+
+    def interrupt(k, frames):
+        if k == 3:
+            raise KeyboardInterrupt
+
+    try:
+        trace.record(targets.resolve("single_box", systems=["pymunk"]), out, 50, progress=interrupt)
+    except BaseException as exc:  # old code: the KeyboardInterrupt itself
+        raised = exc
+    assert out.read_bytes() == good
+    assert isinstance(raised, trace.Interrupted) and isinstance(raised.__cause__, KeyboardInterrupt)
+    assert re.search(r"interrupted at step 3 of 50: .*box.rrd left as it was", str(raised))
+    partial = tmp_path / "box.partial.rrd"
+    assert read(partial)["/systems/pymunk/bodies"]["step"].tolist() == [0, 1, 2, 3]
+    trace.record(target, out, steps=7)  # a run to its end replaces the file, partial gone
+    assert read(out)["/systems/pymunk/bodies"]["step"].tolist() == list(range(8))
+    assert not partial.exists()
+
+    monkeypatch.setattr(trace, "_progress", lambda label: interrupt)
+    with pytest.raises(SystemExit) as exc:
+        trace.main(["single_box", "--systems", "pymunk", "--steps", "9", "--out", str(out)])
+    assert exc.value.code == 130
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert err.startswith("python -m analysis.trace: single_box interrupted at step 3 of 9")
+    assert str(partial) in err
+
+
+def test_different_runs_get_different_default_names(tmp_path, monkeypatch):
+    """pyramid at sizes 3 and 4, at another dt, under other systems, and two scene.toml files
+    in different folders all went to pyramid.rrd or scene.rrd, each overwriting the last."""
+    monkeypatch.setattr(trace, "RECORDINGS", tmp_path / "recordings")
+    for folder, scene in (("a", sim.scenes.pyramid(2)), ("b", sim.scenes.stack(2))):
+        (tmp_path / folder).mkdir()
+        scene.to_file(tmp_path / folder / "scene.toml")
+    runs = [
+        ["pyramid", "--size", "3"],
+        ["pyramid", "--size", "4"],
+        ["pyramid", "--size", "3", "--dt", str(1 / 240)],
+        ["pyramid", "--size", "3", "--systems", "pybullet,pymunk"],
+        ["pyramid", "--size", "3", "--every", "2"],
+        [str(tmp_path / "a" / "scene.toml")],
+        [str(tmp_path / "b" / "scene.toml")],
+    ]
+    paths = [
+        trace.main([*run, "--steps", "4"] + (["--systems", "pymunk"] * ("--systems" not in run)))
+        for run in runs
+    ]
+    assert len(set(paths)) == len(runs), paths
+    assert paths[0].name == "pyramid__size3__pymunk__steps4.rrd"
+    assert paths[3].name == "pyramid__size3__pybullet+pymunk__steps4.rrd"
+    assert paths[2].name == "pyramid__size3__dt0.00416667__pymunk__steps4.rrd"
+    assert paths[5].name.startswith("scene-") and paths[6].name.startswith("scene-")
+    assert (
+        targets.resolve("table_failures/slope_creep").file_stem() == "table_failures__slope_creep"
+    )
+
+
+def test_a_refused_reference_is_replaced_by_the_next_system_and_said(tmp_path, capsys):
+    """Box2D refuses dt 0.5 s: with it named first, no divergence was logged for any system and
+    nothing said why. The first system that runs is the reference, and the events, the about
+    page and stderr say so."""
+    target = targets.resolve("pyramid", systems=["box2d", "pymunk", "pybullet"], size=3, dt=0.5)
+    tracks = trace.record(target, tmp_path / "x.rrd", steps=5)
+    assert tracks[0].stopped.startswith("not run: refused (box2d: dt 0.5 s is too long")
+    entities = read(tmp_path / "x.rrd")
+    for s, zero in (("pymunk", True), ("pybullet", False)):
+        steps, d = scalars(entities, f"/timeline/divergence_m/{s}")
+        assert steps.tolist() == list(range(6))
+        assert np.all(d == 0.0) if zero else d.max() > 0.0
+    (note,) = [t[0] for t in entities["/events/recording"]["TextLog:text"]]
+    assert "divergence is measured against pymunk, the first system that runs" in note
+    assert note in about(entities) and note in capsys.readouterr().err
+
+
+def test_size_is_only_a_size_and_systems_must_name_one(capsys):
+    """--size went to the builder's first argument, whatever it was: seed_fig1 (none) raised a
+    TypeError, seed_fig3 took it as the speed, single_box as its width in m. "--systems ,"
+    fell back to the default systems."""
+    for builder in ("seed_fig1", "seed_fig3", "single_box"):
+        with pytest.raises(ValueError, match=f"^{builder} has no size argument .--size sets"):
+            targets.resolve(builder, size=3)
+    for builder, parameter in targets.SIZE_PARAMETERS.items():
+        assert next(iter(inspect.signature(sim.scenes.BUILDERS[builder]).parameters)) == parameter
+        assert targets.resolve(builder, size=3).scene.params[parameter] == 3
+    with pytest.raises(ValueError, match="the list of systems is empty"):
+        targets.resolve("pyramid", systems=[])
+    with pytest.raises(ValueError, match="the list of systems is empty"):
+        targets.resolve("table_failures/slope_creep", systems=[])
+    for argv in (["pyramid", "--systems", ","], ["seed_fig3", "--size", "5"]):
+        with pytest.raises(SystemExit) as exc:
+            trace.main(argv)
+        assert exc.value.code == 2
+        err = capsys.readouterr().err.strip().splitlines()[-1]
+        assert err in (
+            "python -m analysis.trace: error: --systems ',' names no system",
+            "python -m analysis.trace: error: seed_fig3 has no size argument (--size sets the "
+            "body count of rest_row, stack, pyramid, drop, arch)",
+        ), err

@@ -41,7 +41,7 @@ around the parameter's default (the default itself included), from "freezes almo
   impulses on a frozen body that would set it moving faster than this wake it (impact). Large =
   impacts never wake. k = -3..3.
 - sim-extended ``rest_speed`` (m/s, default 0.02): the rest test's speed |v| + |w| extent. Not in
-  the issue's list, but it, not the impulse threshold, decides how eagerly extended freezes; without
+  the issue's list, but it, not the impact speed, decides how eagerly extended freezes; without
   it the sweep would show extended's eager end only through waking. k = -7..3 (6.3 um/s .. 0.6
   m/s): its slow end must reach "freezes almost nothing", as the sleep timers' 5 s does. At k = -3
   (0.6 mm/s) extended still froze the landing at 4x: a box that landed is pushed out of its 0.15 mm

@@ -505,10 +505,10 @@ class World:
         "sliding" (a contact at its friction limit while its surfaces slip), "deep" (a contact
         deeper than twice its slop, still being pushed open), "neighbour" (it touches an awake
         body in motion), "uncertified" (no contact forces hold it still with margin, alone or
-        with the bodies it touches), "on_awake" (certified, but resting on an awake body that
-        does not freeze with it); "untested" before the first step. What a pile is still waiting
-        for, which its velocities do not say. Only ``extended`` has a rest test of stages: any
-        other policy raises ValueError."""
+        with the bodies it touches), "on_awake" (certified, but resting on, or braced by, an
+        awake body that does not freeze with it); "untested" before the first step. What a pile
+        is still waiting for, which its velocities do not say. Only ``extended`` has a rest test
+        of stages: any other policy raises ValueError."""
         if self.freeze != "extended":
             raise ValueError(
                 f"why_awake: only freeze='extended' records why a body is awake (its rest test "

@@ -46,24 +46,28 @@ but a vertex solution can put a thrust on the bottom of an arch, or all of a loa
 that the solver does not have: piles that rest were refused. It was tried and not kept.)
 
 Bracing. A load can also steady the body it presses on: a triangle standing on its apex with a box
-resting across it and on a neighbour cannot tip, since the box would have to move. For the margin
-(not for holding the nominal load), the cone edges of a load's contact count as supports when the
-load's body touches something else too. A box balanced on one corner with another box resting on
-it alone is still balanced on one point.
+resting across it and on a neighbour cannot tip, since the box would have to move. The cone edges
+of a load's contact count as supports when the load's body touches something else too (its
+witness stays in the load). A box balanced on one corner with another box resting on it alone is
+still balanced on one point. A body held only with a brace's help (``holds``' ``braced``) freezes
+only with the body that braces it (``extended_rest.on_the_awake``): a plank on one corner leaning
+on a box that nothing held was frozen while the box slid away from under it.
 
 Groups (``group_holds``). Bodies that each lean on the other are refused one by one: each one's
 support is the other, which may move (a polygon on one floor point leaning on a body that rests
 on it). Frozen one after the other, the first was woken by the second's push the next step, and
 so on every step (drop(30) seed 4: 573 freezes and wakes in 10 s, and the pile never froze
 whole). So the candidates a refused body touches are judged with it as one rigid body: its load
-is the group's weight plus the witness of every contact with a movable body outside it that is
-not a support; its supports are its contacts with the outside; the margins are the same, with
-its largest member's size. The contacts inside the group must hold too: forces must exist, each
-inside its shrunk cone, that hold every member still at once (``_members_balance``, a small
-linear feasibility problem, ``feasibility.py``). The solve is skipped when the witness keeps
-every inside contact inside its shrunk cone: the solver's impulses balance a still body, so they
-are such a set up to its convergence (the rule before the solve, kept so that what it certified
-stays certified at no cost). Bodies sliding on each other are no rigid body: the rest
+is the group's weight and momentum plus the witness of every contact with a movable body outside
+it that is not a support; its supports are its contacts with the outside; the margins are the
+same, with its largest member's size. The contacts inside the group must hold too: forces must
+exist, each inside its shrunk cone, that hold every member still at once (``_members_balance``,
+a small linear feasibility problem, ``feasibility.py``). The solver's impulses inside the group
+are no such proof: they balance each member only up to the steadiness gate (0.1 m/s^2), and a
+plank leaning on a frictionless box was certified with it by them while the box accelerated at
+2e-3 m/s^2 (until 2026-12 they were taken, and the solve skipped, whenever every inside contact
+was inside its shrunk cone). Only a group too large for the solve (``feasibility.MAX_ROWS``,
+``MAX_COLUMNS``) is still judged by them. Bodies sliding on each other are no rigid body: the rest
 test's sliding gate (``extended_rest.unsettled``) has already taken them out. A group that is
 not certified grows by the candidates it touches and is judged again
 (``extended_rest.wedges``). And each member refused alone
@@ -323,9 +327,10 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
     The test is ``holds``'s, for the union: the load is the group's weight (at its centre of mass)
     plus the witness of every contact with a movable body outside the group that is not a
     support; the supports are the group's contacts with the outside that ``_supports`` accepts;
-    the margins are the same, with the group's largest body size and extent. The contacts inside
-    the group must hold too: by the witness, when every one of them is inside its friction cone
-    shrunk by ``friction_margin``, else by forces solved for (``_members_balance``). No bracing.
+    the margins are the same, with the group's largest body size and extent; the members'
+    momenta are part of the load (MOTION). The contacts inside the group must hold too: by forces
+    solved for (``_members_balance``), or, for a group too large for that solve, by the witness,
+    when every one of them is inside its friction cone shrunk by ``friction_margin``. No bracing.
     Returns bool."""
     n_dyn = settings.n_dynamic
     position, extent, size, inv_mass = (
@@ -368,10 +373,19 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
     cone = np.empty((2 * MAX_SUPPORT_POINTS, 3))
     weights = np.empty(2 * MAX_SUPPORT_POINTS)
     n_points = 0
+    witness_sticks = True  # (for a group too large for _members_balance only)
     for kk in range(n_active):
         c = contacts.active[kk]
         a, b, a_in, b_in = _sides(c, ci, n_dyn, in_group)
-        if a_in == b_in:  # outside it, or inside it (_members_balance)
+        if not (a_in or b_in):
+            continue
+        if a_in and b_in:  # inside: does it stick by the solver's witness?
+            limit = (1.0 - settings.friction_margin) * cf[c, FRICTION]
+            for j in range(ci[c, POINT_COUNT]):
+                if pf[c, j, END_SEPARATION] > cf[c, SLOP]:
+                    continue
+                if abs(pf[c, j, TANGENT_IMPULSE]) > limit * pf[c, j, NORMAL_IMPULSE]:
+                    witness_sticks = False
             continue
         i = a if a_in else b
         other = b if a_in else a
@@ -407,9 +421,10 @@ def group_holds(members, n_members, awake_slot, settings, bodies, contacts, n_ac
         weights,
     ):
         return False
-    return _members_balance(
+    balance = _members_balance(
         members, n_members, in_group, length, awake_slot, settings, bodies, contacts, n_active
     )
+    return balance == 1 or (balance < 0 and witness_sticks)
 
 
 @inline_kernel
@@ -424,9 +439,11 @@ def _members_balance(
     its bodies, equal and opposite). The solver's own impulses inside a group are one answer among
     many: in a pile at rest it leaves friction at its limit where a neighbour's push would hold
     the same bodies with friction to spare (drop(30) seed 2: a polygon wedged between two others
-    by friction at 100% of its limit, exactly still, never froze). Without a margin on the moment:
-    the union's test (``group_holds``) and each member's (``extended_rest.wedges``) carry it. A
-    group too large for ``feasibility.MAX_ROWS`` / ``MAX_COLUMNS`` is not certified."""
+    by friction at 100% of its limit, exactly still, never froze). Each member's momentum is part
+    of what its forces must hold (MOTION). Without a margin on the moment:
+    the union's test (``group_holds``) and each member's (``extended_rest.wedges``) carry it.
+    Returns 1 (such forces exist), 0 (they do not) or -1 (the group is too large for
+    ``feasibility.MAX_ROWS`` / ``MAX_COLUMNS``)."""
     n_dyn = settings.n_dynamic
     position, inv_mass = bodies.position, bodies.inv_mass
     ci = contacts.contact_int
@@ -434,7 +451,7 @@ def _members_balance(
     pf = contacts.point_float
     n_rows = 3 * n_members
     if n_rows > feasibility.MAX_ROWS:
-        return False
+        return -1
     up_x, up_y = _up(settings)
     dt = settings.dt
     row_of = np.full(n_dyn, -1, np.int64)
@@ -479,7 +496,7 @@ def _members_balance(
                 rhs[r + 2] -= ((px - position[i, 0]) * wy - (py - position[i, 1]) * wx) / length
                 continue
             if n_cols + 2 > feasibility.MAX_COLUMNS:
-                return False
+                return -1
             for side in range(2):  # the cone's edges n +- mu t, as forces on B
                 fx = nx + (1 - 2 * side) * mu * ny
                 fy = ny - (1 - 2 * side) * mu * nx
@@ -493,7 +510,7 @@ def _members_balance(
                         sign * ((px - position[body, 0]) * fy - (py - position[body, 1]) * fx)
                     ) / length
                 n_cols += 1
-    return feasibility.phase_one(a_mat, rhs, n_rows, n_cols)[0]
+    return 1 if feasibility.phase_one(a_mat, rhs, n_rows, n_cols)[0] else 0
 
 
 @inline_kernel

@@ -86,9 +86,9 @@ def impact_impulses(c, mover, settings, bodies, contacts):
         if b0 >= 0.0 and b1 >= 0.0:
             p0 = b0
             p1 = b1
-        elif p0 >= p1:  # the block pulls at one point: the other alone
+        elif b1 < 0.0:  # the block pulls at point 1: point 0 alone stops both
             p1 = 0.0
-        else:
+        else:  # ... at point 0: point 1 alone
             p0 = 0.0
     elif v0 < 0.0 and v1 < 0.0:  # the points nearly coincide for the mover: one row
         p0 = 0.5 * p0

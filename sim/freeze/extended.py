@@ -25,8 +25,9 @@ step it passes, with no timer (``rest_steps`` = 1):
      taken as immovable (``extended_rest.wedges``): two bodies that each lean on the other are
      refused one by one, since each one's support may move;
   6. whole groups only: no body it touches is awake and failing 1-4 (iterated to a fixed point),
-     and nothing it rests on is awake and not freezing with it (``extended_rest.on_the_awake``;
-     a frozen body's supports are at rest, as the wake rules assume).
+     and nothing it rests on, nor, if only a brace held it, anything that presses on it, is awake
+     and not freezing with it (``extended_rest.on_the_awake``; a frozen body's supports are at
+     rest, as the wake rules assume).
      An awake body that is still moving keeps its neighbours awake, so nothing freezes against
      something that pushes it. A body that is still but not certified (on a point, at its
      friction limit) stays awake without keeping the bodies beside it awake: it pushes nothing,

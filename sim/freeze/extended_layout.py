@@ -57,7 +57,8 @@ INT_COLUMNS = 5
     WAIT_NEIGHBOUR,  # touches an awake body that is in motion (extended_rest.whole_groups)
     WAIT_UNCERTIFIED,  # no forces hold it in equilibrium with margin (certificate), alone or in
     # a group (extended_rest.wedges)
-    WAIT_ON_AWAKE,  # certified, but rests on an awake body not freezing with it
+    WAIT_ON_AWAKE,  # certified, but rests on (or, braced, is pressed by) an awake body not
+    # freezing with it
 ) = range(9)
 WAIT_NAMES = (
     "",

@@ -156,8 +156,9 @@ def before_solve(settings, counters, bodies, contacts, activity):
                 and _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float)
             ):
                 for j in range(manifold_int[c, POINT_COUNT]):
-                    # CHOICE: only points that reach the surface in this step collide in it (a
-                    # speculative point further away, made early for a fast body, does not)
+                    # CHOICE: only points the solve of this step stops collide in it (those that
+                    # reach the surface within the step and one substep more: contact_math.arrives;
+                    # a speculative point further away, made early for a fast body, does not)
                     if arrives(c, j, settings, bodies, contacts):
                         body_real[i, FLOOR_IMPACT] += stopping_impulse(c, j, i, bodies, contacts)[0]
     woken = 0

@@ -65,7 +65,7 @@ def before_solve(settings, counters, bodies, contacts, activity):
     for k in range(counters[N_ACTIVE]):
         c = contacts.active[k]
         if not arriving(c, settings, bodies, contacts):
-            continue  # made ahead: the mover reaches it in a later step
+            continue  # made ahead: this step's solve does not stop it (contact_math.arrives)
         a = ci[c, BODY_A]
         b = ci[c, BODY_B]
         for sleeper, other in ((a, b), (b, a)):

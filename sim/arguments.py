@@ -19,6 +19,8 @@ def number(value, what):
         return float(value)
     except (TypeError, ValueError):
         raise ValueError(f"{what} must be a number, got {value!r}") from None
+    except OverflowError:  # an int beyond float's range (10**400)
+        raise ValueError(f"{what} must be finite, got {value!r}") from None
 
 
 def positive(value, what, allow_zero=False):

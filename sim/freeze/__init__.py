@@ -47,12 +47,18 @@ def resolve(name, params):
         raise ValueError(f"freeze={name!r} does not take {', '.join(unknown)} (it takes {takes})")
     values = {**policy.PARAMETERS, **params}
     for key, value in values.items():
-        x = number(value, key)  # "0.1" is not taken as a number
         integral = key in policy.INT_PARAMETERS
-        if integral and isinstance(value, numbers.Integral):
+        if integral and isinstance(value, numbers.Integral) and not isinstance(value, bool):
             x = int(value)  # exactly: as a float, 2**62 - 1 was 2**62 and 2**53 + 1 was 2**53
+        else:
+            x = number(value, key)  # "0.1" is not taken as a number
         # counts are int64 in the step loop
-        if not math.isfinite(x) or x < 0 or (integral and (x != int(x) or x < 1 or x >= 2**62)):
+        if isinstance(x, int):
+            bad = not 1 <= x < 2**62  # (math.isfinite(10**400) overflows)
+        else:
+            bad = not math.isfinite(x) or x < 0
+            bad = bad or (integral and (x != int(x) or x < 1 or x >= 2**62))
+        if bad:
             kind = "an integer >= 1 (and < 2**62)" if integral else "finite and >= 0"
             raise ValueError(f"{key} must be {kind}, got {value!r}")
         below = getattr(policy, "BELOW", {}).get(key)

@@ -577,3 +577,16 @@ def test_an_integer_policy_parameter_is_taken_exactly(steps):
     # 2**53 + 1 silently became 2**53
     world = sim.World(sim.scenes.single_box(), freeze="extended", rest_steps=steps)
     assert world.policy_parameters["rest_steps"] == steps
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"rest_steps": 10**400}, r"rest_steps must be an integer >= 1 \(and < 2\*\*62\)"),
+        ({"rest_speed": 10**400}, "rest_speed must be finite"),
+    ],
+)
+def test_an_integer_beyond_floats_range_is_refused_by_name(kwargs, match):
+    # float(10**400) raised a bare OverflowError from the argument checks
+    with pytest.raises(ValueError, match=match):
+        sim.World(sim.scenes.single_box(), freeze="extended", **kwargs)

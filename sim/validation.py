@@ -10,6 +10,7 @@ that the peer runners share (a count, a switch, a number) are ``sim.arguments``.
 import numpy as np
 
 from . import soft_step
+from .arguments import count
 from .body import MAX_COORDINATE
 
 #: Settings of the solver before soft step, refused with the reason.
@@ -33,6 +34,26 @@ LIMITS_WHY = (
     "a step cannot be interrupted, and more sweeps than this buy no accuracy "
     "(see sim.validation.MAX_SWEEPS)"
 )
+
+#: the initial solve's sweeps when the World is not told (and warm starts)
+INITIAL_ITERATIONS = 5000
+
+
+def initial_sweeps(initial_iterations, warm_starting):
+    """The initial solve's sweep count: ``INITIAL_ITERATIONS`` by default with warm starting, 0
+    without. Its impulses reach step 1 only as a warm start, so a count asked for with
+    warm_starting=False is refused (it was once silently ignored)."""
+    if initial_iterations is None:
+        return INITIAL_ITERATIONS if warm_starting else 0
+    sweeps = count(initial_iterations, "initial_iterations", 0, MAX_INITIAL_ITERATIONS, LIMITS_WHY)
+    if sweeps and not warm_starting:
+        raise ValueError(
+            f"initial_iterations={sweeps} needs warm_starting=True: the initial solve's impulses "
+            f"reach the first step only as its warm start, so without it they would be dropped "
+            f"(pass initial_iterations=0, or leave it out)"
+        )
+    return sweeps
+
 
 #: the solver's fast paths (see World's ``fast_paths``)
 FAST_PATHS = ("friction", "quiet")

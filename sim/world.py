@@ -35,7 +35,7 @@ from .state import State
 from .tolerances import check_step
 from .validation import (
     LIMITS_WHY,
-    MAX_INITIAL_ITERATIONS,
+    initial_sweeps,
     MAX_SUBSTEPS,
     MAX_SWEEPS,
     REMOVED,
@@ -110,8 +110,8 @@ class World:
       0.01)
       initial_iterations    most sweeps spent once, before step 1, solving the initial contact
                             impulses to convergence (nothing moves; stops early when converged;
-                            default 5000, 0 disables): a scene placed at rest starts in
-                            equilibrium. Needs warm_starting.
+                            0 disables; default 5000, or 0 without warm_starting, which it
+                            needs): a scene placed at rest starts in equilibrium.
       fast_paths            True (default), False, or a collection of names from
                             ``sim.validation.FAST_PATHS``: work skipped when the scene does not
                             need it, each exact ("friction": no friction rows for batches of
@@ -147,7 +147,7 @@ class World:
         warm_starting=True,
         continuous=True,
         overlap_tolerance=0.01,
-        initial_iterations=5000,
+        initial_iterations=None,
         fast_paths=True,
         **policy_parameters,
     ):
@@ -192,9 +192,7 @@ class World:
         self.continuous = flag(continuous, "continuous")
         self.fast_paths = fast_path_names(fast_paths)
         self.overlap_tolerance = positive(overlap_tolerance, "overlap_tolerance", allow_zero=True)
-        self.initial_iterations = count(
-            initial_iterations, "initial_iterations", 0, MAX_INITIAL_ITERATIONS, LIMITS_WHY
-        )
+        self.initial_iterations = initial_sweeps(initial_iterations, self.warm_starting)
         self.freeze = freeze
         self.policy, self.policy_parameters = resolve(freeze, policy_parameters)
 
@@ -218,7 +216,7 @@ class World:
         self._diverged = None  # why the World cannot step any more, once it diverged
         self._detect()
         self._check_initial_overlap()
-        if self.initial_iterations and self.warm_starting:
+        if self.initial_iterations:
             while K.presolve(self.initial_iterations, INITIAL_TOLERANCE, *self._state()) == K.GROW:
                 self._grow()
 

@@ -21,6 +21,7 @@ import pytest
 import sim
 from conftest import tilted_box
 from experiments import peer_agreement
+from sim.validation import INITIAL_ITERATIONS
 from study.common import build
 from study.metadata import jsonable
 from study.peers import (
@@ -127,9 +128,11 @@ def test_sim_runs_at_the_worlds_own_defaults_and_records_every_setting():
         "warm_starting",
         "continuous",
         "overlap_tolerance",
-        "initial_iterations",
     ):
         assert s[key] == getattr(w, key) == defaults[key].default, key
+    # None: the World's choice, recorded as the count it made (warm starting is on)
+    assert defaults["initial_iterations"].default is None
+    assert s["initial_iterations"] == w.initial_iterations == INITIAL_ITERATIONS
     assert s["fast_paths"] == w.fast_paths
     for removed in ("position_iterations", "baumgarte", "max_correction"):
         assert removed not in s

@@ -371,6 +371,19 @@ def test_solver_counts_beyond_what_a_step_can_afford_are_refused(field, value):
         sim.World(sim.scenes.single_box(), **{field: value})
 
 
+def test_an_initial_solve_without_warm_starting_is_refused_not_ignored():
+    """Its impulses reach step 1 only as the warm start: asked for with warm_starting=False, it
+    was silently skipped. Left out, the World chooses: 5000 sweeps with warm starting, none
+    without."""
+    scene = sim.scenes.stack(3)
+    with pytest.raises(ValueError, match=r"initial_iterations=10 needs warm_starting=True"):
+        sim.World(scene, warm_starting=False, initial_iterations=10)
+    assert sim.World(scene, warm_starting=False).initial_iterations == 0
+    assert sim.World(scene, warm_starting=False, initial_iterations=0).initial_iterations == 0
+    assert sim.World(scene).initial_iterations == 5000
+    assert sim.World(scene, initial_iterations=7).initial_iterations == 7
+
+
 # ---- numpy values in bodies and scenes ---------------------------------------------------------
 def test_a_body_restarted_from_a_worlds_arrays_builds_a_world():
     world = sim.World(sim.scenes.stack(3)).step(30)

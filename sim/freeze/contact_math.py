@@ -74,6 +74,23 @@ def impact_impulses(c, mover, settings, bodies, contacts):
         v1 = 0.0
     v0 = min(v0, 0.0)
     v1 = min(v1, 0.0)
+    p0, p1 = stopping_impulses(v0, v1, r0, r1, inv_m, inv_i)
+    bounce = 1.0 + contacts.contact_float[c, RESTITUTION]
+    if -min(v0, v1) > settings.restitution_threshold:
+        p0 *= bounce
+        p1 *= bounce
+    return p0, p1, x0, y0, x1, y1
+
+
+@inline_kernel
+def stopping_impulses(v0, v1, r0, r1, inv_m, inv_i):
+    """The normal impulses (N s, >= 0) that stop a body closing at v0 and v1 (m/s, <= 0; 0: not
+    closing) at two points of one contact, the other body immovable: the 2x2 complementarity
+    problem the solver's block solves, K p = -v where both push, else the one point whose
+    impulse alone leaves the other opening (at most one of the two pulls when K is positive
+    definite). r0, r1: each point's arm across the normal (m); inv_m (1/kg), inv_i (1/(kg m^2)):
+    the body's. Two points that nearly coincide for the body (K singular) share one row's impulse.
+    """
     k00 = inv_m + inv_i * r0 * r0
     k11 = inv_m + inv_i * r1 * r1
     k01 = inv_m + inv_i * r0 * r1
@@ -93,11 +110,7 @@ def impact_impulses(c, mover, settings, bodies, contacts):
     elif v0 < 0.0 and v1 < 0.0:  # the points nearly coincide for the mover: one row
         p0 = 0.5 * p0
         p1 = 0.5 * p1
-    bounce = 1.0 + contacts.contact_float[c, RESTITUTION]
-    if -min(v0, v1) > settings.restitution_threshold:
-        p0 *= bounce
-        p1 *= bounce
-    return p0, p1, x0, y0, x1, y1
+    return p0, p1
 
 
 @inline_kernel

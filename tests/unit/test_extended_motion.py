@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 import sim
+from naive import complementary_impulses
 from sim import State
+from sim.freeze.contact_math import stopping_impulses
 
 
 def woken(world, body, cause):
@@ -123,3 +125,33 @@ def test_an_impact_on_a_small_frozen_box_wakes_it():
     assert world.frozen[0]  # the base froze at once
     world.step(10)
     assert woken(world, 0, "impact")
+
+
+def test_the_impact_estimate_solves_a_two_point_contact_as_one_complementarity_problem():
+    # What a frozen body's impact wake reads (contact_math.impact_impulses): the impulses that
+    # stop a body closing at two points of one contact, against a slow reference that shares
+    # nothing with the enumeration (tests/naive.py). The draws include the block pulling at
+    # either point (both points on one side of the centre, one closing much faster: stopping it
+    # turns the body away from the other); until b40d9d7 that case kept the larger impulse of
+    # the two points taken alone, wrong when the two points lie on one side of the centre.
+    rng = np.random.default_rng(7)
+    pulled = 0
+    for _ in range(400):
+        v0, v1 = -rng.uniform(0.0, 3.0, 2)
+        r0, r1 = rng.uniform(-1.0, 1.0, 2)
+        inv_m, inv_i = rng.uniform(0.1, 2.0, 2)
+        K = inv_m + inv_i * np.array([[r0 * r0, r0 * r1], [r0 * r1, r1 * r1]])
+        if np.linalg.det(K) < 1e-3 * K[0, 0] * K[1, 1]:
+            continue  # nearly coincident points: the estimate shares one row (below)
+        p = np.array(stopping_impulses(v0, v1, r0, r1, inv_m, inv_i))
+        expected = complementary_impulses(K, np.array([v0, v1]))
+        assert p == pytest.approx(expected, abs=1e-9 * (1.0 + expected.max()))
+        pulled += int(expected.min() == 0.0)
+    assert pulled > 20  # the pull case is exercised, not only the block
+
+
+def test_two_coincident_points_of_an_impact_take_one_rows_impulse():
+    # K singular: the block is refused, and the pair takes what one point alone would stop
+    p = stopping_impulses(-2.0, -2.0, 0.3, 0.3, 1.0, 0.5)
+    assert sum(p) == pytest.approx(2.0 / (1.0 + 0.5 * 0.09), rel=1e-12)
+    assert min(p) >= 0.0

@@ -104,8 +104,8 @@ class World:
                             not sink) follows the impulse it applies (default 1/3; 0: at once)
       restitution_threshold impacts slower than this do not bounce, m/s (default 1.0)
       warm_starting         start each step from last step's impulses (default True)
-      continuous            sweep fast bodies against static and frozen ones (bullets: against
-                            every body) so they cannot pass through in one step (default True)
+      continuous            the speculative contacts' backstop: a fast body left deep in or past
+                            a static or frozen one (bullet: any) goes back to the impact (True)
       overlap_tolerance     initial overlap allowed between bodies / with the floor, m (default
       0.01)
       initial_iterations    most sweeps spent once, before step 1, solving the initial contact
@@ -202,8 +202,9 @@ class World:
         # kinetic_energy() negative)
         self.masses = _read_only(packed.mass)  # (N,) kg
         self.inertias = _read_only(packed.inertia)  # (N,) kg m^2 about the COM
-        self.extents = packed.extent  # (M,) m, COM to farthest vertex
-        self.sizes = packed.size  # (M,) m, thinnest width
+        # read-only copies: the solver's own, handed out, let a write change the run
+        self.extents = _read_only(packed.extent.copy())  # (M,) m, COM to farthest vertex
+        self.sizes = _read_only(packed.size.copy())  # (M,) m, thinnest width
         check_mass_properties(packed, self._describe)
         check_range(packed, self._describe)
         g = float(np.hypot(*scene.gravity))

@@ -241,8 +241,9 @@ def test_observables_are_copies():
     world.positions[0, 0] = 99.0
     world.velocities[0, 0] = 99.0
     assert world.positions[0, 0] == 0.0 and world.velocities[0, 0] == 0.0
-    # masses and inertias are the World's own (the energies use them): read-only
-    for array in (world.masses, world.inertias):
+    # masses and inertias are the World's own (the energies use them), extents and sizes
+    # copies of the solver's: read-only
+    for array in (world.masses, world.inertias, world.extents, world.sizes):
         with pytest.raises(ValueError, match="read-only"):
             array[0] = -1.0
     assert world.kinetic_energy() == 0.0

@@ -97,6 +97,15 @@ def before_solve(settings, counters, bodies, contacts, activity):
     return woken
 
 
+@inline_kernel
+def _due(settings):
+    """The timer reading (s) at which a body has been idle for ``sleep_time``. A timer sums dt
+    step by step in floating point: 30 steps of 1/60 s sum to 0.49999999999999994 s, short of
+    0.5 by round-off, and the default 0.5 s took 31 steps where 1.0 s took 60. A millionth of a
+    step of slack absorbs the round-off and nothing else."""
+    return settings.sleep_time - 1e-6 * settings.dt
+
+
 @lean_kernel
 def _timers_and_islands(settings, counters, bodies, contacts, activity):
     """Idle timers of the awake bodies; when one has been idle for sleep_time, the islands (union-
@@ -126,7 +135,7 @@ def _timers_and_islands(settings, counters, bodies, contacts, activity):
         else:
             body_real[i, TIMER] = 0.0
         body_int[i, PARENT] = i
-    if longest < settings.sleep_time:
+    if longest < _due(settings):
         return longest  # no island can sleep: skip building them
     # islands of touching awake bodies (union-find over this step's manifolds)
     parent = body_int[:, PARENT]
@@ -161,7 +170,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
     n_awake = counters[N_AWAKE]
     if n_awake == 0:
         return
-    if _timers_and_islands(settings, counters, bodies, contacts, activity) < settings.sleep_time:
+    if _timers_and_islands(settings, counters, bodies, contacts, activity) < _due(settings):
         return
     parent = body_int[:, PARENT]
     # an island sleeps when its least idle body has been idle long enough (minimum timer per
@@ -177,7 +186,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
     sleeper_island = np.empty(n_awake, np.int64)
     n_sleep = 0
     for k in range(n_awake):
-        if island_min[root_slot[k]] >= settings.sleep_time:
+        if island_min[root_slot[k]] >= _due(settings):
             sleepers[n_sleep] = awake[k]
             sleeper_island[n_sleep] = root_slot[k]
             n_sleep += 1

@@ -298,11 +298,15 @@ def test_extended_does_not_freeze_a_box_sliding_down_a_ramp():
 
 
 # ---- sleep ------------------------------------------------------------------------------------
-def test_sleep_puts_an_island_to_sleep_after_sleep_time():
-    world = sim.World(sim.scenes.stack(3), freeze="sleep", sleep_time=0.5)
-    world.step(29)
+@pytest.mark.parametrize("sleep_time, dt", [(0.5, 1 / 60), (1.0, 1 / 60), (0.5, 0.01), (0.3, 0.1)])
+def test_sleep_puts_an_island_to_sleep_after_sleep_time(sleep_time, dt):
+    # placed at rest, idle from step 1: asleep in the step its timer reaches sleep_time, exactly
+    # (the timer's sum of dt fell short by round-off: 0.5 s at 1/60 s took 31 steps, 1.0 s 60)
+    steps = round(sleep_time / dt)
+    world = sim.World(sim.scenes.stack(3), dt=dt, freeze="sleep", sleep_time=sleep_time)
+    world.step(steps - 1)
     assert awake_count(world) == 3
-    world.step(3)
+    world.step(1)
     assert awake_count(world) == 0
     assert {c for *_, c in world.events} == {"timer"}
     assert list(world.states) == [State.SLEEPING] * 3

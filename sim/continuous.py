@@ -5,7 +5,10 @@ Why: the step loop checks contacts only at the poses the integrator lands on. A 
 on the other side at the next without ever overlapping it (tunnelling). For a body that moved more
 than a fraction of its size, the step loop sweeps it from its pose at the start of the step to its
 pose at the end against each static or frozen polygon its swept box touches (``swept_aabb``), and
-moves it back to the pose at the time of impact (``time_of_impact``).
+moves it back to the pose at the time of impact (``time_of_impact``). Speculative contacts, whose
+reach grows with the approach speed (``sim.contacts``), stop such a box at the wall already (with
+continuous=False too); the sweep is the backstop for where the contact solve fails, which
+``kernel``'s stage ``continuous`` judges (ARCHITECTURE, continuous collision).
 
 Motion model: within the step, each body's centre of mass moves linearly and its angle changes
 linearly, t in [0, 1] being the fraction of the step. A pose is (x m, y m, angle rad) of the centre

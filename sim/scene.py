@@ -286,7 +286,8 @@ class Scene:
     def from_file(cls, path):
         """Load a scene from TOML: top-level scene fields, ``[[bodies]]`` and ``[[static_bodies]]``
         tables with Body fields (or ``box = [w, h]`` instead of ``vertices``). ``floor_y = "none"``
-        removes the floor. Every error is a ValueError that starts with the file's path."""
+        removes the floor. Every error in the file's contents is a ValueError that starts with
+        the file's path; a file that cannot be opened raises the OSError open() raises."""
         with open(path, "rb") as f:
             try:
                 data = tomllib.load(f)
@@ -322,7 +323,7 @@ class Scene:
 
     def to_file(self, path):
         """Write the scene as TOML that ``from_file`` reads back to an equal scene (any name,
-        any params key). The text is made before the file is touched, and written atomically:
+        any string params key; another key is a ValueError). The text is made before the file is touched, and written atomically:
         a value TOML cannot hold is a ValueError, and a failed write leaves the old file whole."""
         try:
             text = tomli_w.dumps(self.to_dict())

@@ -183,6 +183,7 @@ def _numbers(table, families, systems, cap):
             "ms_per_call": {},
             "speedup_single": {},
             "n_awake": {},
+            "n_awake_after": {},
         }
         for r in at.itertuples():
             if math.isfinite(r.ms_per_step_median):
@@ -192,6 +193,7 @@ def _numbers(table, families, systems, cap):
                 fam["ms_per_call"][r.system] = r.ms_per_call_median
                 fam["speedup_single"][r.system] = r.speedup_single
                 fam["n_awake"][r.system] = int(r.n_awake_before)
+                fam["n_awake_after"][r.system] = int(r.n_awake_after)
         # each system at the largest size it was run at (pybullet is capped)
         fam["largest_run"] = {}
         for system in systems:

@@ -97,9 +97,8 @@ def lines():
         f"- **Where freezing goes wrong** ({tf['n_scenarios']} scenarios; outcomes changed "
         "by freezing): "
         + ", ".join(f"{s} {n}" for s, n in tf["failures_by_freezing"].items())
-        + f". Every system gets {' and '.join(tf['scenarios_all_right'])} right; the "
-        "engines' velocity-based sleeping misses slow tipping, slow sliding and creep, "
-        "which `extended`'s certificate of equilibrium does not freeze."
+        + f". Every system gets {' and '.join(tf['scenarios_all_right'])} right. "
+        + slow_cases_line(tf)
     )
     out.append(extremes_line(ex))
     out += ["", "| figure / table | what it shows | make target |", "| --- | --- | --- |"]
@@ -154,6 +153,21 @@ def frozen_cost_line(sc):
     )
 
 
+def slow_cases_line(tf):
+    """Which freezing systems change the slow cases (a body tipping from an unstable balance,
+    sliding or creeping too slowly to be seen): table_failures' ``slow_broken_by``."""
+    slow = tf["slow_broken_by"]
+    broke = [f"{s} {len(v)} ({', '.join(v)})" for s, v in slow.items() if v]
+    clean = [s for s, v in slow.items() if not v]
+    return (
+        f"Of the {len(tf['slow_cases'])} slow cases (tipping from an unstable balance, slow "
+        "sliding, creep), freezing changes: "
+        + ("; ".join(broke) if broke else "none")
+        + (f"; none under {', '.join(clean)}" if clean else "")
+        + "."
+    )
+
+
 def time_to_rest_line(ttr):
     """The time-to-rest bullet from fig_time_to_rest's numbers: a row placed at rest (where a
     timer is all that separates the systems), the piles dropped into a bin (median over the
@@ -198,9 +212,10 @@ def _seed_sample(sample):
 
     ratio = sample.get("extended_over_sleep")
     return (
-        f"; over {sample['seeds']} seeds of {sample['scene']}: "
+        f"; over {sample['seeds']} seeds of {sample['scene']} (medians, a pile that never "
+        "froze counted as beyond the cap): "
         + ", ".join(med(s) for s in ("sim-extended", "sim-sleep") if s in sample["systems"])
-        + (f" ({fmt(ratio, 2)}×)" if ratio is not None else "")
+        + (f", extended / sleep {fmt(ratio, 2)}×" if ratio is not None else "")
     )
 
 

@@ -480,6 +480,7 @@ def no_presolve_numbers(table, systems, variants, axes_values):
             for v in variants
         }
     worse, better = freezing_effect(table, variants)
+    degraded = table[table["status"] == "degraded"]
     return {
         "systems": variants,
         "suffix": NO_PRESOLVE,
@@ -488,6 +489,11 @@ def no_presolve_numbers(table, systems, variants, axes_values):
         "counts": {v: counts[v] for v in variants},
         "per_axis": per_axis,
         "sim_failures": _failures(table, variants),
+        # each variant's degraded cells: scene -> the largest drift over the run, in widths
+        "degraded_drift": {
+            v: {r.scene: float(r.drift_rel) for r in degraded[degraded["system"] == v].itertuples()}
+            for v in variants
+        },
         "freezing_worse_than_off": worse,
         "freezing_better_than_off": better,
     }

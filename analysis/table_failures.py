@@ -25,6 +25,17 @@ NAME = "table_failures"
 OK, WRONG_FREEZING, WRONG_ENGINE = 0, 1, 2
 CELL_COLORS = ("#cfe8c9", "#e9a3a0", "#d4d4d4")  # right, wrong by freezing, wrong as the engine
 REFERENCES = tuple(systems.OFF.values())  # each engine with nothing frozen
+#: the dangers of motion too slow to see (a body tipping from an unstable balance, sliding or
+#: creeping slowly), where a rest rule of velocities alone freezes what still moves; each of the
+#: first three with its twin of other geometry (study.scenarios)
+SLOW_CASES = (
+    "unstable_equilibrium",
+    "unstable_ledge",
+    "slow_sliding",
+    "slow_glide",
+    "slope_creep",
+    "slope_creep_plank",
+)
 
 
 def _bool(series):
@@ -168,6 +179,15 @@ def draw(table, meta):
         "failures_by_freezing": {s: int((by_freezing["system"] == s).sum()) for s in freezing},
         "broken_by": {
             s: list(by_freezing.loc[by_freezing["system"] == s, "scenario"]) for s in freezing
+        },
+        "slow_cases": [sc for sc in SLOW_CASES if sc in scenarios],
+        "slow_broken_by": {
+            s: [
+                sc
+                for sc in by_freezing.loc[by_freezing["system"] == s, "scenario"]
+                if sc in SLOW_CASES
+            ]
+            for s in freezing
         },
         "breaks": {
             sc: list(by_freezing.loc[by_freezing["scenario"] == sc, "system"]) for sc in scenarios

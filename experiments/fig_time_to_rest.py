@@ -147,7 +147,12 @@ def run(config, args):
         "systems": SYSTEMS,
         "frozen_means": FROZEN_MEANS,
         "reference_speeds_m_per_s": REFERENCE_SPEEDS,
-        "seed_sample": {"scene": "drop", **sample, "systems": SAMPLE_SYSTEMS},
+        "seed_sample": {
+            "scene": "drop",
+            **sample,
+            "seed_list": list(range(sample["seeds"])),  # the seeds, named (not implied by a count)
+            "systems": SAMPLE_SYSTEMS,
+        },
         "system_settings": settings,
     }
     return pd.DataFrame(rows), scenes, parameters

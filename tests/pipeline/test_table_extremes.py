@@ -450,6 +450,8 @@ def _cells(rows):
                 "status": st,
                 "reason": r,
                 "error": r if st == "rejected" else "",
+                "scene": f"{a}({v})",
+                "drift_rel": 0.05 if st == "degraded" else 0.0,
             }
             for a, v, s, st, r in rows
         ]
@@ -528,6 +530,8 @@ def test_the_headline_takes_placed_axes_from_the_fair_rows():
     assert per_axis["stack_height"]["breaks_first"] == ["pymunk"]  # with sim's presolve
     fair = analysis.no_presolve_numbers(table, ["sim-off", "pymunk"], [nop], values)
     assert fair["axes"] == ["stack_height"]
+    # the degraded no-presolve cells, named with their drift (the paper lists them)
+    assert fair["degraded_drift"] == {nop: {"stack_height(10)": 0.05}}
     headline = analysis.fair_headline(per_axis, fair)
     assert headline["stack_height"]["protocol"] == "sim without presolve"
     assert headline["stack_height"]["breaks_first"] == [nop]

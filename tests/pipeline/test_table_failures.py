@@ -162,6 +162,11 @@ def test_analysis_draws_the_catalogue(quick_run, monkeypatch, tmp_path):
     assert numbers["truth_all_expected"] is True
     assert "support_removed" in numbers["broken_by"]["sim-paper"]
     assert numbers["failures_by_freezing"]["sim-paper"] == len(numbers["broken_by"]["sim-paper"])
+    # the slow cases each system changes: its broken scenarios among analysis.SLOW_CASES
+    assert set(numbers["slow_cases"]) <= set(analysis.SLOW_CASES)
+    for system, slow in numbers["slow_broken_by"].items():
+        assert slow == [s for s in numbers["broken_by"][system] if s in analysis.SLOW_CASES]
+    assert "support_removed" not in numbers["slow_broken_by"]["sim-paper"]
 
 
 def test_bad_scenario_name_is_a_clear_error(tmp_path, capsys):

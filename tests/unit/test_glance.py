@@ -1,6 +1,12 @@
 """The README's results bullets say what the numbers say, in the study's protocol."""
 
-from analysis.glance import extremes_line, frozen_cost_line, provenance_text, time_to_rest_line
+from analysis.glance import (
+    extremes_line,
+    frozen_cost_line,
+    provenance_text,
+    slow_cases_line,
+    time_to_rest_line,
+)
 from analysis.fig_time_to_rest import median_beyond_cap
 from analysis.paper import provenance
 
@@ -134,13 +140,30 @@ def test_the_time_to_rest_bullet_quotes_the_larger_seed_sample():
     }
     line = time_to_rest_line(ttr)
     assert (
-        "over 100 seeds of drop(30): sim-extended 215.5 (3 never froze), sim-sleep 170 (1.3×)"
-        in line
+        "over 100 seeds of drop(30) (medians, a pile that never froze counted as beyond the "
+        "cap): sim-extended 215.5 (3 never froze), sim-sleep 170, extended / sleep 1.3×" in line
     )
     sample["systems"]["sim-extended"]["median_steps"] = None
     sample["extended_over_sleep"] = None
     line = time_to_rest_line(ttr)
     assert "sim-extended beyond the cap (3 never froze), sim-sleep 170." in line
+
+
+def test_the_failures_bullet_names_what_freezing_changes_among_the_slow_cases():
+    tf = {
+        "slow_cases": ["unstable_equilibrium", "slow_sliding"],
+        "slow_broken_by": {
+            "sim-sleep": ["unstable_equilibrium", "slow_sliding"],
+            "pybullet-sleep": ["slow_sliding"],
+            "sim-extended": [],
+        },
+    }
+    line = slow_cases_line(tf)
+    assert line == (
+        "Of the 2 slow cases (tipping from an unstable balance, slow sliding, creep), freezing "
+        "changes: sim-sleep 2 (unstable_equilibrium, slow_sliding); pybullet-sleep 1 "
+        "(slow_sliding); none under sim-extended."
+    )
 
 
 def _fit(b_over_a, stderr):

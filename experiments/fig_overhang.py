@@ -1,7 +1,8 @@
 """Figure "fig_overhang": the seed's figure 3, filmstrip plus state timeline.
 
 Question: when the upper body slides until no support point lies under its centre of mass, does it
-leave the rotation-stable state and fall off the edge, as the seed's figure 3 says? seed_fig3
+leave the rotation-stable state, as the seed's figure 3 says (it becomes vertical-unstable), and
+fall off the edge? seed_fig3
 (sim/scenes.py): A (0.8 x 0.4 m) rests on B (2 x 1 m) and slides right at 2.5 m/s with friction
 0.2, so it passes B's edge and tips off. Recorded under paper (the figure), extended and off (the
 reference the frozen runs should match), 240 steps at dt 1/60.

@@ -323,8 +323,9 @@ class Scene:
 
     def to_file(self, path):
         """Write the scene as TOML that ``from_file`` reads back to an equal scene (any name,
-        any string params key; another key is a ValueError). The text is made before the file is touched, and written atomically:
-        a value TOML cannot hold is a ValueError, and a failed write leaves the old file whole."""
+        any string params key; another key is a ValueError). The text is made before the file
+        is touched, and written atomically: a value TOML cannot hold is a ValueError, and a
+        failed write leaves the old file whole."""
         try:
             text = tomli_w.dumps(self.to_dict())
         except TypeError as exc:  # e.g. None or an object in params

@@ -205,8 +205,9 @@ def seed_fig2(drop_height=1.8):
 
     A (centre at ``drop_height`` m, tilted 10 degrees) lands on one corner at ~2.5 m/s: under the
     seed's impulse threshold (1 N s), so under ``paper`` it stays on that vertex (VS) and then
-    settles on its face (RS), as the seed draws it. (From 2.5 m it lands at 4.4 m/s, above the
-    threshold: it bounces off its corner instead, and comes down on its face a step later.)"""
+    settles on its face (RS) (the seed's figure shows the landing only). (From 2.5 m it lands at
+    4.4 m/s, above the threshold: it bounces off its corner instead, and comes down on its face a
+    step later.)"""
     b = Body.box(2.0, 1.0, position=(0.0, 0.5), name="B")
     a = Body.box(0.8, 0.8, position=(0.2, drop_height), angle=math.radians(10.0), name="A")
     return _scene("seed_fig2", [a, b], {"drop_height": drop_height})

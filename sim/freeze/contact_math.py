@@ -39,16 +39,24 @@ def _closing(c, j, mover, bodies, contacts):
 
 
 @inline_kernel
-def stopping_impulse(c, j, mover, bodies, contacts):
-    """The normal impulse (N s, >= 0) that would stop ``mover``'s point j of contact c from
-    approaching its partner, were the partner immovable, from the current velocities; and the
-    point's world position (m). Policies use it to judge an impact *before* the solve, when the
-    solved impulse is not known yet: for a frozen partner it is exactly what a rigid contact would
-    apply at zero restitution, at that point alone."""
-    vn, rn, wx, wy = _closing(c, j, mover, bodies, contacts)
-    if vn >= 0.0:
-        return 0.0, wx, wy
-    return -vn / (bodies.inv_mass[mover] + bodies.inv_inertia[mover] * rn * rn), wx, wy
+def approach_impulses(c, mover, settings, bodies, contacts):
+    """The normal impulses (N s, >= 0) that stop ``mover``'s approach at the points of contact c
+    it reaches in this step (``arrives``), were its partner immovable: a two-point contact as one
+    2x2 problem (``stopping_impulses``). Returns (p0, p1, v0, v1): each point's impulse and
+    closing velocity (m/s, <= 0; 0 for a point that does not arrive or opens)."""
+    inv_m = bodies.inv_mass[mover]
+    inv_i = bodies.inv_inertia[mover]
+    v0, r0, _, _ = _closing(c, 0, mover, bodies, contacts)
+    second = min(1, contacts.contact_int[c, POINT_COUNT] - 1)
+    v1, r1, _, _ = _closing(c, second, mover, bodies, contacts)
+    if not arrives(c, 0, settings, bodies, contacts):
+        v0 = 0.0
+    if contacts.contact_int[c, POINT_COUNT] < 2 or not arrives(c, 1, settings, bodies, contacts):
+        v1 = 0.0
+    v0 = min(v0, 0.0)
+    v1 = min(v1, 0.0)
+    p0, p1 = stopping_impulses(v0, v1, r0, r1, inv_m, inv_i)
+    return p0, p1, v0, v1
 
 
 @inline_kernel
@@ -63,18 +71,10 @@ def impact_impulses(c, mover, settings, bodies, contacts):
     Each point judged alone, a box landing flat on a frozen one took its whole momentum at each
     corner in turn: 0.23 N s each for a 0.25 kg box at 2.3 m/s, where the solver gave 0.61 each
     (0.57 to stop it, doubled by its restitution of 1)."""
-    inv_m = bodies.inv_mass[mover]
-    inv_i = bodies.inv_inertia[mover]
-    v0, r0, x0, y0 = _closing(c, 0, mover, bodies, contacts)
+    p0, p1, v0, v1 = approach_impulses(c, mover, settings, bodies, contacts)
     second = min(1, contacts.contact_int[c, POINT_COUNT] - 1)
-    v1, r1, x1, y1 = _closing(c, second, mover, bodies, contacts)
-    if not arrives(c, 0, settings, bodies, contacts):
-        v0 = 0.0
-    if contacts.contact_int[c, POINT_COUNT] < 2 or not arrives(c, 1, settings, bodies, contacts):
-        v1 = 0.0
-    v0 = min(v0, 0.0)
-    v1 = min(v1, 0.0)
-    p0, p1 = stopping_impulses(v0, v1, r0, r1, inv_m, inv_i)
+    _, _, x0, y0 = _closing(c, 0, mover, bodies, contacts)
+    _, _, x1, y1 = _closing(c, second, mover, bodies, contacts)
     bounce = 1.0 + contacts.contact_float[c, RESTITUTION]
     if -min(v0, v1) > settings.restitution_threshold:
         p0 *= bounce

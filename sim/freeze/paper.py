@@ -6,15 +6,18 @@ States: FREE (the seed's vertical-unstable), VERTICAL_STABLE (VS), ROTATION_STAB
 Floor-like surfaces (sections 2, 5.2): the floor; an upward, floor-parallel face of a static body
 (CHOICE: the seed has no static bodies; a fixed ledge is treated as the floor is); and the
 floor-parallel top edge of an RS body. A contact counts as floor-like when its normal on the body
-is within 1 degree of straight up.
+is within 1 degree of straight up (CHOICE: the normal alone decides, so an RS body's corner under a
+mover's horizontal face counts as its edge too, as a triangle's apex under a flat box does).
 
 Section 2, the impulse threshold: when a FREE body hits a floor-like surface with a normal
 impulse larger than ``impulse_threshold`` (N s) it bounces by its impulse (the ordinary solve
 stands); otherwise it *stays in contact*. CHOICE: the collision impulse is the one that stops the
 body's approach against the (immovable) surface, from its velocity before gravity acts in the
-step. In an impulse solver a resting body also receives, every step, its weight and the weight
-of everything it carries; that is not collision (judging the solved impulse instead froze no box
-in a pyramid's bottom row: they carry more than the threshold).
+step, at all its arriving points of a contact at once (``contact_math.approach_impulses``). In an
+impulse solver a resting body also receives, every step, its weight and the weight of everything
+it carries; that is not collision (judging the solved impulse instead froze no box in a pyramid's
+bottom row: they carry more than the threshold). CHOICE: the default threshold, 1 N s (the seed
+gives no value), is a 1 kg body landing at 1 m/s; ``fig_tradeoff`` sweeps it.
 
 Section 4, staying in contact:
   - one vertex touching -> VS: that vertex no longer moves vertically (it is held on the
@@ -24,7 +27,11 @@ Section 4, staying in contact:
     the vertex keeps the floor's friction.
   - two or more vertices touching, centre of mass over the support (its x within the touching
     points') -> RS. Otherwise the body keeps rotating: VS about the touching vertex on the side of
-    the centre of mass.
+    the centre of mass. CHOICE: only a vertex of the body pivots, one the manifold has as its
+    incident point (the support holds the reference face); a body whose touching point on that
+    side is the support's corner under its face (tipping off an edge), or one whose face is the
+    reference face (it lands nearly flat, and is on its face a step later), stays FREE (a VS
+    body keeps its pivot).
 RS: rotation and vertical motion stop (held at the pose reached, set down on the surface: CHOICE,
 the step's solve may have begun a bounce the threshold has just ruled out); the body is no longer
 solved against anything (its solver masses are zero: to others it is immovable); horizontal motion
@@ -32,8 +39,11 @@ goes on under Coulomb friction with its support, v_x reduced by mu g h in each s
 exactly as the solver applies friction to a sliding body, so an RS body slides as far as under
 `off`), until it stops; then it is frozen outright (taken out of the awake list).
 
-Section 5.1: a VS body in contact with an RS body for two consecutive steps -> both held at rest
-(frozen), until another body collides with them.
+Section 5.1: a VS body in contact with an RS body (a point within the pair's slop, as a vertex
+touches in section 4) for two consecutive steps -> both held at rest (frozen), until another body
+collides with them. CHOICE: "stays in contact right after the collision" is read as the contact
+lasting two steps; a collision above the threshold would have woken the RS body first
+(``before_solve``). The RS body the VS body stands on is its floor (section 5.2), not a partner.
 Section 5.2: a FREE body landing on an RS body's floor-parallel top edge treats it as the floor
 (same threshold and states); two stacked RS bodies are held without computing their interaction
 (frozen bodies are never paired). An RS body resting on another RS body whose centre of mass is no
@@ -51,7 +61,9 @@ impulse (estimated as the impulse that would stop the mover against an immovable
 CHOICE (figure 3): a body freed because its centre of mass left its support's edge does not take
 that edge as its floor again; it tips off it (otherwise it would at once become VS on the edge's
 corner and, its vertex held up, never fall). Nothing else wakes a body (the seed's second limit): a
-body resting on a body that is knocked away stays where it was, floating; VS never returns to FREE.
+body resting on a body that is knocked away stays where it was, floating; a VS body moving on its
+own never returns to FREE. CHOICE: a VS body held under section 5.1 and then struck wakes FREE, as
+any held body does (the seed, 6.2, leaves VS -> FREE out; a held body woken keeps no pivot).
 """
 
 import numpy as np
@@ -59,7 +71,6 @@ import numpy as np
 from ..activity import CAUSE, freeze, record, wake
 from ..data import (
     ANCHOR_BX,
-    ANCHOR_BY,
     BODY_A,
     BODY_B,
     FRICTION,
@@ -78,7 +89,7 @@ from ..data import (
 )
 from ..jit import inline_kernel, lean_kernel
 from ..state import State
-from .contact_math import arrives, stopping_impulse, touching
+from .contact_math import approach_impulses, touching
 
 NAME = "paper"
 PARAMETERS = {"impulse_threshold": 1.0}
@@ -155,12 +166,13 @@ def before_solve(settings, counters, bodies, contacts, activity):
                 and awake_slot[i] >= 0
                 and _floor_like_for(i, other, c, n_dyn, states, manifold_int, manifold_float)
             ):
-                for j in range(manifold_int[c, POINT_COUNT]):
-                    # CHOICE: only points the solve of this step stops collide in it (those that
-                    # reach the surface within the step and one substep more: contact_math.arrives;
-                    # a speculative point further away, made early for a fast body, does not)
-                    if arrives(c, j, settings, bodies, contacts):
-                        body_real[i, FLOOR_IMPACT] += stopping_impulse(c, j, i, bodies, contacts)[0]
+                # CHOICE: only points the solve of this step stops collide in it (those that
+                # reach the surface within the step and one substep more: contact_math.arrives;
+                # a speculative point further away, made early for a fast body, does not), and
+                # a two-point landing takes the impulse that stops both points at once (one
+                # point at a time gave a square landing flat 0.8 m v, a 2 x 0.2 plank 0.5 m v)
+                p0, p1, _, _ = approach_impulses(c, i, settings, bodies, contacts)
+                body_real[i, FLOOR_IMPACT] += p0 + p1
     woken = 0
     for kk in range(count):
         c = contacts.active[kk]
@@ -179,11 +191,8 @@ def before_solve(settings, counters, bodies, contacts, activity):
             # a collision in the seed's sense (section 2): stopping the mover against the held
             # body would take more than the threshold impulse (estimated from the velocities
             # before gravity, so merely resting or sliding along it is not a collision)
-            impulse = 0.0
-            for j in range(manifold_int[c, POINT_COUNT]):
-                if arrives(c, j, settings, bodies, contacts):
-                    impulse += stopping_impulse(c, j, mover, bodies, contacts)[0]
-            if impulse <= settings.impulse_threshold:
+            p0, p1, _, _ = approach_impulses(c, mover, settings, bodies, contacts)
+            if p0 + p1 <= settings.impulse_threshold:
                 continue
             # both bodies of the collision end their rest: the held one wakes, and a sliding RS
             # mover (itself immovable to the solver) is released too
@@ -256,6 +265,7 @@ def _after_solve(settings, counters, bodies, contacts, activity, held_pairs):
                 and 0 <= other < n_dyn
                 and states[other] == _RS
                 and body_int[i, SUPPORT] != other
+                and _in_contact(c, manifold_int, manifold_float, point_float)
             ):
                 body_int[i, RS_PARTNER] = other
     for k in range(n_awake):
@@ -334,17 +344,33 @@ def _after_solve(settings, counters, bodies, contacts, activity, held_pairs):
             # on the touching vertex on the centre of mass's side, and keep rotating
             # (a VS body keeps its pivot, and the pivot its height, until another vertex lands
             # and the centre of mass is outside them: then it pivots on the new outer vertex)
+            # CHOICE: only a vertex of the body pivots (section 4.1: the body on one of its
+            # vertices). A point on its face over the support's corner is no pivot: holding the
+            # body's vertex nearest it hung a box tipping off an edge by its far corner, in mid
+            # air. A FREE body so touching stays FREE (the solve tips it); a VS one keeps its pivot.
+            pivoted = False
             if state == _FREE or n_touch >= 2:
                 pivot_x = hi if com_x > hi else lo
                 for j in range(manifold_int[c, POINT_COUNT]):
                     x = point_float[c, j, ANCHOR_BX] + position[b, 0]
-                    if x == pivot_x:
-                        y = point_float[c, j, ANCHOR_BY] + position[b, 1]
-                        _set_pivot(i, x, y, position, angle, vert_start, local_verts, body_real)
+                    # only a vertex of i is a pivot: the manifold's points are vertices of its
+                    # incident body, so i's when the support holds the reference face
+                    if x == pivot_x and manifold_int[c, INCIDENT] == i:
+                        _set_pivot(
+                            i,
+                            point_float[c, j, LOCAL_X],
+                            point_float[c, j, LOCAL_Y],
+                            position,
+                            angle,
+                            vert_start,
+                            local_verts,
+                            body_real,
+                        )
+                        pivoted = True
                         body_real[i, PIVOT_Y] = _surface_height(
                             c, j, i, position, angle, manifold_int, manifold_float, point_float
                         )
-            if state == _FREE:
+            if state == _FREE and pivoted:
                 record(events, counters, i, state, _VS, _ONE_VERTEX_ON_FLOOR)
                 states[i] = _VS
                 body_int[i, LEFT_SUPPORT] = -2
@@ -365,6 +391,16 @@ def _after_solve(settings, counters, bodies, contacts, activity, held_pairs):
                 freeze(body, settings, counters, bodies, contacts, activity)
                 record(events, counters, body, states[body], states[body], _HELD_BY_CONTACT)
         body_int[i, RS_CONTACT_STEPS] = 0
+
+
+@inline_kernel
+def _in_contact(c, manifold_int, manifold_float, point_float):
+    """Does contact c touch: a point within the pair's slop at the end of the step (the rule a
+    vertex touches by, section 4), not merely within the speculative reach (``touching``)?"""
+    for j in range(manifold_int[c, POINT_COUNT]):
+        if point_float[c, j, END_SEPARATION] <= manifold_float[c, SLOP]:
+            return True
+    return False
 
 
 @inline_kernel
@@ -390,15 +426,11 @@ def _surface_height(c, j, i, position, angle, manifold_int, manifold_float, poin
 
 
 @inline_kernel
-def _set_pivot(i, x, y, position, angle, vert_start, local_verts, body_real):
-    """Pivot on body i's vertex nearest to the contact point (x, y): its body-frame position and
-    its current height, which it keeps while the body is VS."""
+def _set_pivot(i, lx, ly, position, angle, vert_start, local_verts, body_real):
+    """Pivot on body i's vertex nearest to (lx, ly) in its frame (m): the vertex's body-frame
+    position and its current height, which it keeps while the body is VS."""
     cs = np.cos(angle[i])
     sn = np.sin(angle[i])
-    dx = x - position[i, 0]
-    dy = y - position[i, 1]
-    lx = cs * dx + sn * dy
-    ly = -sn * dx + cs * dy
     best = vert_start[i]
     nearest = np.inf
     for v in range(vert_start[i], vert_start[i + 1]):

@@ -11,8 +11,9 @@ is named; ``key_bodies(scene)`` are all but those named "projectile..." (the bod
 is about: pose errors are taken over them).
 
 The dangers come from the seed paper's own admitted limits (``docs/seed/translation.md`` section
-6: no general rest test, no way back to motion, two bodies only; and section 5.2's "an edge
-parallel to the floor is treated exactly like the floor") and from the engines' known ones (a body
+6: no general rest test, no way back to motion, two bodies only; and section 5.2: a
+rotation-stable body's edge parallel to the floor, struck by a vertical-unstable body, is treated
+as the floor is) and from the engines' known ones (a body
 is put to sleep when it is merely slow: slow sliding, creeping down a slope, tipping slowly out of
 an unstable equilibrium).
 

@@ -118,6 +118,48 @@ def test_friction_margin_decides_a_box_on_a_ramp_that_holds(share, frozen):
     assert float(np.hypot(*world.velocities[0])) < 1e-3
 
 
+def _a_frame(mu, tilt_deg=30.0, length=2.0, width=0.1):
+    """Two planks leaning on each other, ``tilt_deg`` from vertical: the left one (``length``)
+    leans right with its foot at x = -1; the right one, 0.8 as long, leans left with its top-left
+    corner 0.1 mm from the left plank's face. Every friction (the floor's too) is ``mu``."""
+    tilt = math.radians(tilt_deg)
+
+    def corners(centre, angle, long):
+        c, s = math.cos(angle), math.sin(angle)
+        local = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]]) * [width / 2, long / 2]
+        return local @ np.array([[c, s], [-s, c]]) + centre
+
+    k = corners((0.0, 0.0), -tilt, length)
+    left_centre = np.array([-1.0 - k[np.argmin(k[:, 1]), 0], -k[:, 1].min()])
+    face = corners(left_centre, -tilt, length)[1]  # a point of the left plank's right face
+    normal = np.array([math.cos(tilt), -math.sin(tilt)])
+    k2 = corners((0.0, 0.0), tilt, 0.8 * length)
+    y2 = -k2[:, 1].min()
+    x2 = (1e-4 - (np.array([0.0, y2]) + k2[3] - face) @ normal) / normal[0]
+    planks = [
+        sim.Body.box(width, length, position=left_centre, angle=-tilt, friction=mu),
+        sim.Body.box(width, 0.8 * length, position=(x2, y2), angle=tilt, friction=mu),
+    ]
+    return sim.Scene(bodies=planks, floor_friction=mu)
+
+
+@pytest.mark.parametrize("mu, frozen", [(0.31, False), (0.33, True)])
+def test_friction_margin_decides_a_leaning_pair(mu, frozen):
+    """Each plank of an A-frame leans on the other, so only the group certificate can hold them
+    (``extended_rest.wedges``), its forces inside cones shrunk by friction_margin (5%). Measured:
+    under off they slide apart at mu 0.30 and stand from 0.305; extended certifies them from
+    0.315 (0.30 / 0.95 = 0.316). At 0.31 they need ~97% of their friction: they stand and stay
+    awake; at 0.33 (~91%) they are frozen at step 3. Without the margin in the group's solve
+    both froze at step 1 (no other test saw it)."""
+    world = sim.World(_a_frame(mu), freeze="extended")
+    start = world.positions.copy()
+    world.step(180)
+    assert (len(_frozen_at(world)) == 2) == frozen
+    if frozen:
+        assert max(_frozen_at(world).values()) <= 3
+    assert np.abs(world.positions - start).max() < 1e-3  # it stands either way
+
+
 def test_a_hexagon_gliding_on_ice_slides_the_analytic_distance():
     speed, mu = 0.05, 0.002  # under rest_speed for its last second
     hexagon = sim.Body.regular(6, 0.4, velocity=(speed, 0.0), friction=mu)
@@ -158,6 +200,8 @@ def test_a_box_on_one_corner_is_never_frozen_upright(tilt):
         world.step()
         if world.frozen[0]:
             assert abs(world.angles[0] - math.pi / 4) > 0.3, "frozen balanced on a corner"
+    if tilt >= 1e-5:  # it falls, as off has it fall (from 1e-9 rad it takes ~6.4 s: 20 e-folds)
+        assert abs(world.angles[0] - math.pi / 4) > 0.3
 
 
 @pytest.mark.parametrize(

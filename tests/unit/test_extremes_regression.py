@@ -119,19 +119,22 @@ def substeps_named(error):
     return int(found.group(1))
 
 
-def test_tenth_of_a_millimetre_boxes_stand_or_are_refused():
-    # measured: refused at World() with "body 0 is 0.0001 m thick: its contacts would need 249 Hz
-    # ... Use substeps >= 34 (or dt <= 0.00201 s), or larger bodies" (before solver v2 the column
-    # collapsed: top box ~10 widths sideways). Refusing with the remedy named is an acceptable
-    # answer; a run that neither stands nor is refused is not.
-    try:
-        w = world(scenes.size_stack(1e-4))
-    except ValueError as exc:
-        assert substeps_named(exc) > 4
-        return
+def test_tenth_of_a_millimetre_boxes_are_refused_at_4_substeps_and_stand_at_the_substeps_named():
+    """0.1 mm boxes at dt 1/60 s (before solver v2 the column collapsed: top box ~10 widths
+    sideways): refused at World() with "body 0 is 0.0001 m thick: its contacts would need 249 Hz
+    ... Use substeps >= 34 (or dt <= 0.00201 s), or larger bodies"; at exactly that many they stand
+    (measured: moved 1.3e-12 widths, deepest overlap 4.5e-9 widths in 3 s), and one fewer is still
+    refused."""
+    with pytest.raises(ValueError, match="substeps") as refused:
+        world(scenes.size_stack(1e-4))
+    n = substeps_named(refused.value)
+    with pytest.raises(ValueError):
+        world(scenes.size_stack(1e-4), substeps=n - 1)
+    w = world(scenes.size_stack(1e-4), substeps=n)
     start = start_of(w)
-    w.step(180)
+    worst, _ = deepest_overlap_over(w, 180)
     assert_stands(w, start)
+    assert worst < 1e-6 * 1e-4 and np.abs(w.positions - start[0]).max() < 1e-6 * 1e-4
 
 
 def test_millimetre_boxes_are_refused_at_4_substeps_and_stand_at_the_substeps_named():

@@ -92,8 +92,8 @@ DETERMINATE = {
 # so a box that lands on a corner can end short of where `off` lets it rock and slide. Which
 # figure shows it depends on how the landing falls in the steps: seed_fig1's body C missed by
 # 2.9 cm with the solver before soft step (0.7 mm now); seed_fig2's body A by 2.3 cm before the
-# impact sweeps (soft_step.IMPACT_SWEEP_SPEED), 7.1 mm now, inside this test's 1 cm. A scene
-# listed here is a strict xfail: if the model changes and it passes, the entry must go.
+# impact sweeps (soft_step.IMPACT_SWEEP_SPEED), 8.3 mm now (extended 9.5 mm), inside its 1 cm.
+# A scene listed here is a strict xfail: if the model changes and it passes, the entry must go.
 PAPER_MISSES = set()
 
 
@@ -115,11 +115,23 @@ PAPER_MISSES = set()
     ],
 )
 def test_final_poses_match_off(name, policy):
+    bound, turn_bound = POSE_BOUND.get(name, (1e-6, 1e-6))
     ref = sim.World(DETERMINATE[name]()).step(300)
     world = sim.World(DETERMINATE[name](), freeze=policy).step(300)
-    assert np.linalg.norm(world.positions - ref.positions, axis=1).max() < 0.01
+    assert np.linalg.norm(world.positions - ref.positions, axis=1).max() < bound
     turn = np.angle(np.exp(1j * (world.angles - ref.angles)))
-    assert np.abs(turn).max() < 0.01
+    assert np.abs(turn).max() < turn_bound
+
+
+#: (m, rad) bounds on the final pose's distance from off's, where a body moves before it rests.
+#: Measured (2026-12-06, worst policy): a scene placed at rest 1.2e-7 m (the default bound, 1e-6);
+#: sliding_box 0.16 mm (paper); seed_fig1 0.68 mm and 7.4e-4 rad (paper); seed_fig2 9.5 mm
+#: (extended: A lands on a corner, and where it ends depends on the landing's steps; paper 8.3 mm)
+POSE_BOUND = {
+    "sliding_box": (1e-3, 1e-5),
+    "seed_fig1": (3e-3, 3e-3),
+    "seed_fig2": (0.01, 1e-3),
+}
 
 
 @pytest.mark.parametrize("policy", FROZEN_POLICIES)

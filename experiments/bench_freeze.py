@@ -6,7 +6,8 @@ system stop solving a resting scene, and does freezing slow down scenes where no
 Four parts, one long-form table (column ``part``), each answering one of the issue's targets:
 
 1. ``frozen_cost`` — rest_row(5000) once fully frozen: ms/step under sim-off (the reference,
-   nothing frozen), sim-sleep, sim-paper, sim-extended and pymunk-sleep; and rest_row(500) with
+   nothing frozen), sim-sleep, sim-paper, sim-extended, pymunk-sleep and box2d-sleep; and
+   rest_row(500) with
    the same systems plus pybullet-sleep (Bullet steps ~25 ms per awake 500-box row, and needs its
    fixed 2 s of deactivation time before any body sleeps, so it is timed on the smaller row). Each
    freezing system is stepped one step at a time until no body is solved (counted, see "frozen"
@@ -32,8 +33,9 @@ Four parts, one long-form table (column ``part``), each answering one of the iss
    <= 0.02), the RMS and largest residual and R^2, and b(extended)/b(off). The awake bodies are
    the cheapest kind: no contacts, and slow (dropped from rest they reached 57 m/s, and sim's
    continuous stage swept each every step, 1.1-1.8 us of its a; see experiments/fig_scaling.py).
-3. ``time_to_freeze`` — steps until every body is frozen/asleep, for sim-sleep, sim-paper,
-   sim-extended, pymunk-sleep and pybullet-sleep on rest_row(50), drop(30, seed 0..2), pyramid(10),
+3. ``time_to_freeze`` — steps until every body is frozen/asleep, for every system that freezes
+   (study.systems.FREEZING: sim-sleep, sim-paper, sim-extended, pymunk-sleep, pybullet-sleep and
+   box2d-sleep) on rest_row(50), drop(30, seed 0..2), pyramid(10),
    pyramid(20) and stack(5), capped at 30 s of simulated time: a system that does not get there is
    reported as NaN with flag "never", with the number still awake at the cap. Also recorded: how
    many bodies are awake 1 s after all froze (a freeze that does not hold), and the largest
@@ -57,10 +59,13 @@ with the garbage collector paused, interleaved round-robin over all systems comp
 reversed on every other repeat); reported per step are the median and min over repeats (default
 7), in ms. All systems use dt 1/60 s and each engine's own default solver
 settings (study.peers.DEFAULT_ITERATIONS): sim its soft step with 4 substeps per step and
-1 biased + 1 relax sweep per substep, pymunk 10 iterations per step, pybullet 50; slop (sim) and
-collision_slop (pymunk) 0.005 m. Every system's full settings (``runner.settings``) are in the
-metadata's ``system_settings``. In part 1, K is chosen per system so that a repeat
-lasts about 0.1 s (a frozen sim step costs microseconds: a short repeat would time the call).
+1 biased + 1 relax sweep per substep, pymunk 10 iterations per step, pybullet 50; slop (sim)
+0.005 m, a cap that scales down with small bodies, and pymunk's collision_slop matched to each
+scene's smallest body (``study.common.comparable_slop``; each scene's in the metadata's
+``scenes``). Every system's full settings (``runner.settings``, on a probe scene) are in the
+metadata's ``system_settings``. In part 1, K is chosen per system so that a repeat lasts about
+0.1 s (``study.common.calibrate``; a frozen sim step costs nanoseconds, and its repeats last a few
+ms, the call under 1% of them).
 
 Columns: part, scene, system, bodies, n_awake, n_frozen, metric, value, unit, flag. n_awake and
 n_frozen are measured counts (part 1: before timing; part 3: when all froze, or at the cap), except
@@ -562,7 +567,7 @@ def main(argv=None, data_dir=None):
         "drift": {"speed": DRIFT_SPEED, "spread": DRIFT_SPREAD, "seed": SEED},
         "freeze_hold_s": FREEZE_HOLD_S,
         "frozen_means": (
-            "sim: World awake_slot < 0 (out of the awake list); pymunk/pybullet: asleep"
+            "sim: World awake_slot < 0 (out of the awake list); pymunk/pybullet/box2d: asleep"
         ),
         "system_settings": settings,
     }

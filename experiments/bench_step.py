@@ -21,8 +21,11 @@ Scenes
   Labelled "drop(200)", its seeds in ``seeds``.
 
 Systems: each at its own defaults (study.peers.DEFAULT_ITERATIONS), so the comparison is
-fair by construction: same scene, same start state, dt 1/60 s, slop 0.005 m, no sleeping, each
-system's settings recorded. sim: the soft step with 4 substeps per step, 1 biased solve sweep and
+fair by construction: same scene, same start state, dt 1/60 s, sim's slop 0.005 m (a cap: it
+scales down with small bodies) and pymunk's collision_slop matched to the scene's smallest body
+(``study.common.comparable_slop``: 0.08-0.23 mm on drop(200); the metadata's ``scenes`` give each
+scene's), no sleeping, each system's settings recorded (``system_settings``: from a probe scene).
+sim: the soft step with 4 substeps per step, 1 biased solve sweep and
 1 relax sweep per substep (8 sweeps over the contacts per step); pymunk: 10 iterations per step;
 box2d: 8 velocity and 3 position iterations per step (Box2D 2.3's testbed defaults).
 The columns ``substeps``, ``iterations`` and ``contact_sweeps_per_step``

@@ -7,11 +7,12 @@ does that grow with the number of bodies?
 Scenes (sim/scenes.py): ``rest_row(n)`` for n in {100, 300, 1000, 3000, 10000} (unit boxes on the
 floor, 0.5 m apart: nothing touches but the floor) and ``pyramid(base)`` for base in {5, 10, 20,
 40} (15 to 820 boxes, each carried by the two below). Systems: sim-off, sim-sleep, sim-paper,
-sim-extended, pymunk, pymunk-sleep, pybullet, pybullet-sleep (study/peers; dt 1/60 s; each
-engine at its own default solver settings, study.peers.DEFAULT_ITERATIONS: sim its soft step
-with 4 substeps per step and 1 biased + 1 relax sweep per substep, pymunk 10 iterations per step,
-pybullet 50; slop (sim) and collision_slop (pymunk) 0.005 m; every system's full settings,
-``runner.settings``, are in the metadata's ``system_settings``).
+sim-extended, pymunk, pymunk-sleep, pybullet, pybullet-sleep, box2d, box2d-sleep (study/peers;
+dt 1/60 s; each engine at its own default solver settings, study.peers.DEFAULT_ITERATIONS: sim
+its soft step with 4 substeps per step and 1 biased + 1 relax sweep per substep, pymunk 10
+iterations per step, pybullet 50, Box2D 8 and 3; slop (sim) and collision_slop (pymunk) 0.005 m,
+unit boxes' slop; every system's full settings, ``runner.settings``, are in the metadata's
+``system_settings``).
 
 pybullet is run only up to PYBULLET_MAX_BODIES = 1000 bodies: Bullet costs ~40 ms per step per
 1000 awake boxes here (~95 ms on pyramid(40)), so rest_row(3000) and rest_row(10000) would cost
@@ -27,7 +28,8 @@ Method, per scene: every system is built, then
      (a system that never freezes the whole scene is timed as it is: sim-paper freezes only the
      two lowest rows of a pyramid, and that is a result, not a failure of the run);
   2. 10 untimed warm-up steps; a repeat length calibrated to last ~0.1 s (a frozen sim step costs
-     microseconds: a short repeat would time the call);
+     nanoseconds: a short repeat would time the call; ``study.common.calibrate``: a frozen sim
+     repeat lasts a few ms, the call under 1% of it);
   3. timed: 7 repeats, interleaved round-robin over all systems of the scene (order reversed on
      every other repeat), the garbage collector paused (study/timing.py); the Numba kernels
      are compiled before anything is timed.

@@ -22,8 +22,10 @@ under paper a pivoting or sliding body leaves FREE but stays awake). The runs ar
 untimed, so they go to the local process pool (study/executor.py). Each engine at its own
 default solver settings (study.peers.DEFAULT_ITERATIONS): sim its soft step with 4 substeps
 per step and 1 biased + 1 relax sweep per substep, pymunk 10 iterations per step, pybullet 50; slop
-(sim) and collision_slop (pymunk) 0.005 m; every system's full settings (``runner.settings``) are
-in the metadata's ``system_settings``.
+(sim) 0.005 m, a cap that scales down with small bodies, and pymunk's collision_slop matched to each
+scene's smallest body (``study.common.comparable_slop``; each scene's in the metadata's
+``scenes``); every system's full settings (``runner.settings``, on a probe scene) are in the
+metadata's ``system_settings``.
 
 Also, for sim-extended on every scene (``certificate_cost``, timed here after compilation): how
 often the rest certificate runs and what it costs, part "certificate": metrics certificates (tried

@@ -46,8 +46,8 @@ from tqdm import tqdm
 
 import sim
 from study.cli import first_paragraph, or_default, positive_int
-from study.common import data_folder
-from study.timing import timed
+from study.common import build, data_folder
+from study.timing import interleaved
 from study.metadata import code_state, collect, write_results
 from study.peers import PybulletRunner, make_runner, solver_summary
 from study.scenarios import world_vertices
@@ -222,7 +222,7 @@ POSE_TOLERANCE = {"single_box": 0.005, "sliding_box": 0.06, "stack5": 0.01, "tip
 
 def run_case(system, scene, seconds, record_heights=False):
     """Run one system on one scene; returns the trajectory dict the metrics read."""
-    runner = make_runner(system, scene, dt=DT)
+    runner = build(system, scene, dt=DT)
     try:
         steps = int(round(seconds / DT))
         t = {"scene": scene, "start_pos": runner.positions, "start_angle": runner.angles}
@@ -319,16 +319,12 @@ def agreement_rows(sizes, progress=None):
 def cost_rows(base, repeats, steps, progress=None):
     """ms per step of every system on pyramid(base), interleaved repeat by repeat."""
     scene = sim.scenes.pyramid(base)
-    runners = [make_runner(system, scene, dt=DT) for system in SYSTEMS]
+    runners = [build(system, scene, dt=DT) for system in SYSTEMS]
     try:
         for r in runners:
             r.step(WARMUP_STEPS)  # first steps excluded (contacts, caches)
-        times = [[] for _ in runners]
-        for _ in range(repeats):
-            for k, r in enumerate(runners):
-                times[k].append(1e3 * timed(r, steps) / steps)
-                if progress is not None:
-                    progress.update()
+        # round-robin, the order reversed every other repeat, as every benchmark (study.timing)
+        times = interleaved(runners, [steps] * len(runners), repeats, progress)
         moved = [float(np.hypot(*(r.positions - runners[0].positions).T).max()) for r in runners]
     finally:
         for r in runners:

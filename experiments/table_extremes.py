@@ -17,9 +17,10 @@ its bodies exactly touching unless said otherwise; unit boxes, density 1 kg/m^2,
   the stacked pose. 3 s.
 - ``size_small`` / ``size_large``: a column of 3 square boxes of side 1, 0.1, 0.01 m and, past the
   issue's 1 cm, 1 mm and 0.1 mm; resp. 1, 10, 100 m. Same gravity (9.81 m/s^2) and the same
-  solver settings passed to every size (sim's slop 5 mm and speculative distance 2 cm, pymunk's
-  collision_slop 5 mm). pymunk's slop stays absolute; sim takes its settings as caps and scales
-  its tolerances down with the smaller body's size (``sim.tolerances``), and refuses a body too
+  solver settings passed to every size (sim's slop 5 mm and speculative distance 2 cm as caps;
+  pymunk's collision_slop matched to the scene's smallest body, ``study.common.comparable_slop``:
+  0.5 mm at 0.1 m, 0.05 mm at 1 cm; each scene's in the metadata's ``scenes``); sim scales its
+  tolerances down with the smaller body's size (``sim.tolerances``), and refuses a body too
   small for its step with a ValueError naming the substeps (or dt) that would resolve it: at dt
   1/60 s and 4 substeps, 1 mm boxes need substeps >= 11 and 0.1 mm boxes >= 34, so both are
   refused ("rejected" cells, not failures). 3 s.
@@ -79,8 +80,9 @@ its bodies exactly touching unless said otherwise; unit boxes, density 1 kg/m^2,
   grows as cosh(3.2 t) here, from 1e-9 rad it falls in ~7 s). 10 s.
 
 Systems: sim-off, sim-sleep, sim-paper, sim-extended (default policy parameters), pymunk,
-pymunk-sleep, pybullet, pybullet-sleep (study.common.SYSTEMS; sim slop and pymunk
-collision_slop 5 mm; each engine's default iterations, sim's default substeps), plus, on the
+pymunk-sleep, pybullet, pybullet-sleep, box2d, box2d-sleep (study.common.SYSTEMS; sim slop 5 mm
+as a cap, pymunk's collision_slop matched to each scene; each engine's default iterations, sim's
+default substeps), plus, on the
 placed axes only (PLACED_AXES: the scenes that start with bodies resting on one another, where
 sim's presolve puts them in equilibrium before step 1: mass_heavy_on_light, mass_light_on_heavy,
 size_small, size_large, plank_flat, plank_upright, polygon_vertices, collinear, projectile_stack,

@@ -10,8 +10,8 @@ slow_sliding, slope_creep, impact_on_stack, load_on_overhang, wake_cascade, thre
 for its own duration (3-7 s); a projectile that must arrive after everything froze arrives at
 3.5 s (after Bullet's fixed 2 s of deactivation time).
 
-Systems: all eight (sim-off, sim-sleep, sim-paper, sim-extended, pymunk, pymunk-sleep, pybullet,
-pybullet-sleep) at dt 1/60 s, each engine at its own default solver settings
+Systems: all ten (sim-off, sim-sleep, sim-paper, sim-extended, pymunk, pymunk-sleep, pybullet,
+pybullet-sleep, box2d, box2d-sleep) at dt 1/60 s, each engine at its own default solver settings
 (study.peers.DEFAULT_ITERATIONS): sim's soft step with 4 substeps per step and 1 biased
 + 1 relax sweep per substep; pymunk 10 iterations per step; pybullet 50 per step. Sim slop and
 pymunk collision_slop 0.005 m, every freezing/sleeping parameter at its default
@@ -163,12 +163,20 @@ def observe(task):
         runner.close()
 
 
-class _Batch:
+class Batch:
     """K runners of the same scenario stepped back to back, so that one timed repeat lasts long
     enough (see ``time_scenario``) and is still a whole run of each."""
 
     def __init__(self, runners):
         self.runners = runners
+
+    @property
+    def engine_seconds(self):
+        """s: the runners' engine time summed, when every runner keeps one (``timing.timed``
+        then times the engines alone, as for a single runner: Box2D's per-step motion-cap read
+        and pybullet-sleep's pose read are the runner's work); else None (timed whole)."""
+        kept = [getattr(r, "engine_seconds", None) for r in self.runners]
+        return None if any(k is None for k in kept) else sum(kept)
 
     def step(self, n):
         for r in self.runners:
@@ -204,7 +212,7 @@ def time_scenario(name, systems, repeats, target_s, progress):
     for r in range(repeats):
         for system in systems if r % 2 == 0 else systems[::-1]:
             progress.set_postfix_str(f"{name} {system} x{k_runs[system]}")
-            batch = _Batch([build(system, scene) for _ in range(k_runs[system])])
+            batch = Batch([build(system, scene) for _ in range(k_runs[system])])
             try:
                 batch.step(1)  # excluded: the first step creates the contacts
                 walls[system].append(timed(batch, steps - 1) / k_runs[system])

@@ -160,11 +160,22 @@ def _sha256(data):
 
 # ---- pieces ------------------------------------------------------------------------------------
 def _describe_scenes(scene_or_scenes):
+    """Each scene's name, params and body count, and the setting every runner takes from it:
+    pymunk's collision_slop is matched to the scene's smallest body (``study.common.build``), so
+    the ``system_settings`` a script records from one probe scene do not say what ran on the
+    others."""
+    from study.common import comparable_slop  # (study.common imports this module)
+
     if scene_or_scenes is None:
         return []
     scenes = [scene_or_scenes] if hasattr(scene_or_scenes, "bodies") else list(scene_or_scenes)
     return [
-        {"name": s.name, "params": jsonable(dict(s.params)), "bodies": len(s.bodies)}
+        {
+            "name": s.name,
+            "params": jsonable(dict(s.params)),
+            "bodies": len(s.bodies),
+            "pymunk_collision_slop_m": comparable_slop(s),
+        }
         for s in scenes
     ]
 

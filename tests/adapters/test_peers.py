@@ -495,3 +495,16 @@ def test_pymunk_slop_is_sims_for_the_scenes_smallest_body(size):
     sink = size / 2 - runner.positions[0, 1]
     runner.close()
     assert sink <= 0.005 * size * (1 + 1e-3)
+
+
+def test_results_metadata_records_the_slop_pymunk_ran_with_on_each_scene():
+    # a script records its runners' settings from one probe scene; pymunk's slop follows each
+    # scene (build, comparable_slop), so the metadata's scenes carry it, scene by scene
+    from study.metadata import collect
+
+    scenes = [sim.scenes.stack(2), sim.scenes.drop(20, seed=0)]
+    described = collect(scenes, {}, script="test")["scenes"]
+    for scene, entry in zip(scenes, described):
+        with build("pymunk", scene) as runner:
+            assert entry["pymunk_collision_slop_m"] == runner.settings["collision_slop"]
+    assert described[1]["pymunk_collision_slop_m"] < described[0]["pymunk_collision_slop_m"]

@@ -127,3 +127,40 @@ def test_deferred_leaves_the_programs_own_handler_alone():
         assert signal.getsignal(signal.SIGINT) is own
     finally:
         signal.signal(signal.SIGINT, previous)
+
+
+def test_compiled_shares_its_entries_and_never_serves_another_types_entry(monkeypatch):
+    """A second ``Compiled`` (a new World) finds the entry the first one typed, without
+    ``numba.typeof``; arguments whose types differ in any part (dtype, layout, a read-only
+    array, an int beyond int64) are typed, never served the shared entry."""
+    out = np.zeros(1)
+    _weighted(1, _state(np.float64), out)  # compiled (a call that compiles shares nothing)
+    assert Compiled(_weighted)(1, _state(np.float64), out) == 8  # typed and shared
+    typed = []
+    original = sim.calls.numba.typeof
+    monkeypatch.setattr(sim.calls.numba, "typeof", lambda a: typed.append(1) or original(a))
+    fresh = Compiled(_weighted)
+    assert fresh(2, _state(np.float64), out) == 8 and out[0] == 12.0
+    assert typed == []  # served from the shared entries
+    # another dtype: its own entry (itemsize 4), never the float64 one
+    assert Compiled(_weighted)(1, _state(np.int32), out) == 4 and out[0] == 6.0
+    assert sim.calls._type_key(_state(np.int32)) != sim.calls._type_key(_state(np.float64))
+    strided = State(np.arange(8, dtype=np.float64)[::2], np.ones(8)[::2])
+    assert Compiled(_weighted)(1, strided, out) == 8 and out[0] == 12.0
+    assert sim.calls._type_key(strided) != sim.calls._type_key(_state(np.float64))
+    frozen = _state(np.float64)
+    frozen.values.flags.writeable = False
+    assert sim.calls._type_key(frozen) != sim.calls._type_key(_state(np.float64))
+    assert sim.calls._type_key(2**63) is None and sim.calls._type_key(2**63 - 1) is int
+    assert sim.calls._type_key((1, "a")) is None  # a member it cannot tell: not shared
+
+
+def test_a_second_world_does_not_type_its_state_again(monkeypatch):
+    scene = sim.scenes.drop(20, seed=1)
+    sim.World(scene).step(2)  # typed (or compiled) once
+    typed = []
+    original = sim.calls.numba.typeof
+    monkeypatch.setattr(sim.calls.numba, "typeof", lambda a: typed.append(1) or original(a))
+    again = sim.World(scene).step(2)
+    assert typed == []
+    np.testing.assert_array_equal(again.positions, sim.World(scene).step(2).positions)

@@ -58,6 +58,11 @@ CELL ?=
 .PHONY: all venv lint test test-fast reproduce figures paper glance recordings trace trace-list lock \
         clean distclean FORCE $(ALL)
 
+# Serial even under `make -j`: the benchmarks time on a quiet machine, and the sweeps already fill
+# every core through their own process pool (study/executor.py); a benchmark run beside a sweep
+# would time the contention.
+.NOTPARALLEL:
+
 all: test
 
 # The virtual environment is rebuilt whenever the pins change.

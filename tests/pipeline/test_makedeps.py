@@ -234,3 +234,12 @@ def test_every_experiment_with_an_analysis_is_in_the_pipeline():
     assert set(_make_list("ALL")) == pairs
     assert {"bench_step", "fig_speedup", "table_failures", "table_extremes"} <= pairs
     assert "bench_setup" not in pairs  # a standalone benchmark: no analysis, not in reproduce
+
+
+def test_make_runs_serially_even_when_asked_for_jobs():
+    # `make -j reproduce` ran benchmarks beside the pool's sweeps, timing the contention: the
+    # Makefile declares itself serial (.NOTPARALLEL), which make's own database must show
+    database = subprocess.run(
+        ["make", "-pnq", "-j2", "venv"], cwd=ROOT, capture_output=True, text=True
+    ).stdout
+    assert re.search(r"^\.NOTPARALLEL:", database, re.M)

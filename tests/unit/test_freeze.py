@@ -148,8 +148,10 @@ def test_chaotic_scenes_keep_their_outcome(policy):
     for w in (ref, world):
         assert np.all((w.positions[:, 0] > walls[0]) & (w.positions[:, 0] < walls[1]))
         assert np.all(w.positions[:, 1] > 0.0)
-    # the pile's height agrees within one body size
-    assert abs(world.positions[:, 1].max() - ref.positions[:, 1].max()) < 0.8
+    # the pile's height agrees with off's. Measured (2026-12-06): within 0.1 mm (sleep), 0.2 mm
+    # (extended), 0.19 m (paper: its pile takes another path; bodies are ~0.8 m at most)
+    bound = 0.4 if policy == "paper" else 0.01
+    assert abs(world.positions[:, 1].max() - ref.positions[:, 1].max()) < bound
 
 
 @pytest.mark.parametrize("policy", ("off",) + FROZEN_POLICIES)
@@ -227,8 +229,9 @@ def test_extended_wakes_the_whole_stack_in_the_step_of_the_impact():
 def test_extended_matches_off_when_a_frozen_stack_is_hit():
     ref = sim.World(knocked_stack()).step(120)
     world = sim.World(knocked_stack(), freeze="extended").step(120)
-    # momentum goes into the stack (woken before the solve), not reflected off frozen bodies
-    np.testing.assert_allclose(world.positions, ref.positions, atol=0.05)
+    # momentum goes into the stack (woken before the solve), not reflected off frozen bodies;
+    # measured (2026-12-06): every body within 4.3e-5 m of off's
+    np.testing.assert_allclose(world.positions, ref.positions, atol=1e-3)
 
 
 def test_extended_slow_push_wakes_a_frozen_box():

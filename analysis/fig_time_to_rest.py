@@ -8,6 +8,9 @@ hold (bodies awake again 1 s later) is marked with a red cross.
 paper/generated/fig_time_to_rest.csv: scene x system, steps (or "never (k awake)"). The numbers:
 per system, the steps for every scene, how many scenes it never froze (and which), the median
 steps over the scenes it did freeze; the cap; the piles' larger seed sample (``_seed_sample``).
+paper/generated/fig_time_to_rest_presolve.csv: the scenes placed at rest, each sim system with
+and without its presolve (an advantage no peer has, reported apart) beside the peers;
+``without_presolve`` in the numbers.
 """
 
 import math
@@ -23,6 +26,8 @@ from analysis import style
 from study import systems
 
 NAME = "fig_time_to_rest"
+#: the table of the placed scenes with and without sim's presolve (``_presolve_table``)
+PRESOLVE_TABLE = NAME + "_presolve"
 FREEZING = systems.FREEZING
 
 
@@ -132,11 +137,60 @@ def draw(table, meta):
     style.save_figure(fig, NAME)
 
     style.write_table(_paper_table(runs, scenes, systems), NAME)
+    without = _without_presolve(table)
+    if without is not None:
+        style.write_table(_presolve_table(runs, without, systems), PRESOLVE_TABLE)
     return {
         **_numbers(runs, scenes, systems, cap, dt),
         "certificate": _certificate(table),
         "reference": _reference(table),
         "seed_sample": _seed_sample(table),
+        "without_presolve": None if without is None else _presolve_numbers(without),
+    }
+
+
+def _without_presolve(table):
+    """The runs of part "without_presolve" (``runs_of``), or None when the table has none."""
+    if "part" not in table or not (table["part"] == "without_presolve").any():
+        return None
+    return runs_of(table, "without_presolve")
+
+
+def _presolve_table(runs, without, shown):
+    """Scenes placed at rest x systems: each sim system with its presolve (as in the figure) and
+    then without it, then the peers; cells as the figure's table's."""
+    both = pd.concat([runs[runs["scene"].isin(set(without["scene"]))], without])
+    columns = []
+    for system in shown:
+        columns.append(system)
+        variant = system + systems.NO_PRESOLVE
+        if variant in set(without["system"]):
+            columns.append(variant)
+    return _paper_table(both, list(dict.fromkeys(without["scene"])), columns)
+
+
+def _presolve_numbers(without):
+    """Per no-presolve system: steps per scene, the scenes never frozen, per scene family the
+    median steps (``_per_system``)."""
+    return {system: _per_system(s) for system, s in without.groupby("system", sort=False)}
+
+
+def _per_system(s):
+    """One system's runs (rows of ``runs_of``): steps per scene (None: never), the scenes it never
+    froze, and per scene family (drop seeds, stacks...) the median steps, a run that never froze
+    counting as beyond the cap (an order statistic: exact unless it is one of them, then None),
+    and how many never froze."""
+    families = s.groupby(s["scene"].str.split("(").str[0], sort=False)
+    return {
+        "steps": {
+            r.scene: (None if r.never else int(r.steps_to_all_frozen)) for r in s.itertuples()
+        },
+        "never": [r.scene for r in s.itertuples() if r.never],
+        "family_median_steps": {
+            family: median_beyond_cap(g["steps_to_all_frozen"], g["never"])
+            for family, g in families
+        },
+        "family_never": {family: int(g["never"].sum()) for family, g in families},
     }
 
 
@@ -295,27 +349,13 @@ def _numbers(runs, scenes, systems, cap, dt):
         s = runs[runs["system"] == system]
         froze = s[~s["never"]]
         out[system] = {
-            "steps": {
-                r.scene: (None if r.never else int(r.steps_to_all_frozen)) for r in s.itertuples()
-            },
-            "never": [r.scene for r in s.itertuples() if r.never],
+            **_per_system(s),
             "n_never": int(s["never"].sum()),
             "awake_at_cap": {r.scene: int(r.n_awake_at_end) for r in s.itertuples() if r.never},
             "median_steps_when_frozen": (
                 float(np.median(froze["steps_to_all_frozen"])) if len(froze) else math.nan
             ),
             "did_not_hold": [r.scene for r in s.itertuples() if r.n_awake_1s_after > 0],
-            # per scene family (drop seeds, stacks...): median steps, a run that never froze
-            # counting as beyond the cap (an order statistic: exact unless it is one of them,
-            # then None), and how many never froze
-            "family_median_steps": {
-                family: median_beyond_cap(g["steps_to_all_frozen"], g["never"])
-                for family, g in s.groupby(s["scene"].str.split("(").str[0], sort=False)
-            },
-            "family_never": {
-                family: int(g["never"].sum())
-                for family, g in s.groupby(s["scene"].str.split("(").str[0], sort=False)
-            },
         }
     fastest = {}
     for scene in scenes:

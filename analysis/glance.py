@@ -11,6 +11,7 @@ from pathlib import Path
 
 from analysis.style import fmt
 from study import paths
+from study.systems import NO_PRESOLVE
 from study.cli import first_paragraph
 
 START, END = "<!-- glance:start -->", "<!-- glance:end -->"
@@ -187,6 +188,7 @@ def time_to_rest_line(ttr):
     return (
         f"- **Time to rest** (steps of 1/{round(1 / ttr['dt'])} s). Placed at rest ({rr}): "
         + ", ".join(f"{s} {ttr[s]['steps'][rr]}" for s in TTR_SYSTEMS if s in ttr)
+        + _without_presolve(ttr)
         + f". Piles dropped into a bin ({piles[0].split(',')[0]})), median over {len(piles)} "
         "seeds: "
         + ", ".join(f"{s} {pile(s)}" for s in TTR_SYSTEMS if s in ttr)
@@ -195,6 +197,33 @@ def time_to_rest_line(ttr):
         + ". `extended`'s certificate of rest costs "
         f"{fmt(cert['median_us_per_certificate'], 2)} µs per certificate (median over the "
         f"scenes; at most {fmt(cert['max_us_per_certificate'], 2)} µs)."
+    )
+
+
+def _without_presolve(ttr):
+    """The placed scenes without sim's presolve (fig_time_to_rest's without_presolve), on the
+    largest pyramid: each sim system's steps with its presolve and without, beside the peers'
+    (which have none)."""
+    without = ttr.get("without_presolve")
+    pyramids = [s for s in ttr["scenes"] if s.startswith("pyramid")]
+    if not without or not pyramids:
+        return ""
+    scene = pyramids[-1]
+
+    def steps(v):
+        return "never" if v is None else f"{v}"
+
+    sims = [s for s in TTR_SYSTEMS if s + NO_PRESOLVE in without]
+    peers = [s for s in TTR_SYSTEMS if s in ttr and s not in sims]
+    return (
+        f"; on {scene}, with / without sim's presolve of the start pose (no peer has one): "
+        + ", ".join(
+            f"{s} {steps(ttr[s]['steps'][scene])} / "
+            f"{steps(without[s + NO_PRESOLVE]['steps'][scene])}"
+            for s in sims
+        )
+        + ", against "
+        + ", ".join(f"{s} {steps(ttr[s]['steps'][scene])}" for s in peers)
     )
 
 

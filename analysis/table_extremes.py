@@ -31,14 +31,8 @@ from matplotlib.patches import Patch
 from analysis import style
 from study.metadata import ResultsError, rerun_hint
 from study.common import REFERENCE, SYSTEMS
-from study.extremes.axes import (
-    AXES,
-    NO_PRESOLVE,
-    NO_PRESOLVE_SYSTEMS,
-    SIM_ONLY_AXES,
-    applies,
-    runner_system,
-)
+from study.extremes.axes import AXES, SIM_ONLY_AXES, applies
+from study.systems import NO_PRESOLVE, NO_PRESOLVE_SYSTEMS, runner_system
 
 NAME = "table_extremes"
 FIGURE = "fig_extremes"

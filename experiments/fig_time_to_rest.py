@@ -51,8 +51,16 @@ tens of steps with any change to the solver (a step's rounding sends a body anot
 figure's five piles are checked against drop(30) seeds 0-99, run exactly as above (the first five
 are the figure's piles again). --quick: drop(10) seeds 0-3.
 
-Columns (long form, bench_freeze's): part ("time_to_freeze", "seed_sample", "certificate" or
-"reference"),
+And without sim's presolve (part "without_presolve"; ``WITHOUT_PRESOLVE``): sim's presolve
+(``World(initial_iterations=...)``, on by default) solves the start pose's contact impulses before
+step 1, so a scene placed at rest starts in equilibrium; no peer has one, and a rest test then
+finds the scene at rest from its first step. So the scenes with bodies placed in contact (every
+scene but the piles, which start in the air) run again under sim-sleep, sim-paper and
+sim-extended with ``initial_iterations=0``, named "sim-sleep (no presolve)" etc.
+(``study.systems.NO_PRESOLVE``), exactly as above: the advantage only sim has, reported apart.
+
+Columns (long form, bench_freeze's): part ("time_to_freeze", "seed_sample", "certificate",
+"reference" or "without_presolve"),
 scene, system,
 bodies, n_awake,
 n_frozen (at the freeze, or at the cap), metric (steps_to_all_frozen, time_to_all_frozen,
@@ -73,12 +81,18 @@ import sim
 from study.common import DT, FROZEN_MEANS, SLOP, build, compile_kernels, entry, label
 from study.executor import run_tasks
 from study.protocols import FREEZE_HOLD_S, FREEZING, freeze_run, freeze_tasks, long_row
+from study.peers import engine_of
+from study.systems import NO_PRESOLVE_SETTINGS, no_presolve
 
 NAME = "fig_time_to_rest"
 SYSTEMS = FREEZING
 #: the seed sample's systems (see the module's docstring)
 SAMPLE_SYSTEMS = ("sim-sleep", "sim-extended")
 SEED_FIGS = (("seed_fig1", {}), ("seed_fig2", {}), ("seed_fig3", {}))
+#: the sim systems again without their presolve, on the scenes placed at rest (module docstring)
+WITHOUT_PRESOLVE = tuple(no_presolve(s) for s in SYSTEMS if engine_of(s) == "sim")
+#: builders whose scenes start in the air (no contact for a presolve to solve)
+DROPPED = ("drop",)
 #: m/s: sleep's sleep_speed, extended's rest_speed, and a creep (``reference_motion``)
 REFERENCE_SPEEDS = (0.05, 0.02, 0.001)
 
@@ -133,6 +147,13 @@ def run(config, args):
         for rows in run_tasks(freeze_run, tasks, desc=f"{NAME} seed sample")
         for row in rows
     ]
+    placed = [(name, params) for name, params in config["scenes"] if name not in DROPPED]
+    tasks = freeze_tasks(placed, config["cap_s"], WITHOUT_PRESOLVE)
+    rows += [
+        {**row, "part": "without_presolve"}
+        for rows in run_tasks(freeze_run, tasks, desc=f"{NAME} without presolve")
+        for row in rows
+    ]
     scenes = [sim.scenes.BUILDERS[name](**params) for name, params in config["scenes"]]
     rows += [row for scene in scenes for row in certificate_cost(scene, config["cap_s"])]
     rows += [row for scene in scenes for row in reference_motion(scene, config["cap_s"])]
@@ -156,6 +177,11 @@ def run(config, args):
             "systems": SAMPLE_SYSTEMS,
         },
         "system_settings": settings,
+        "without_presolve": {
+            "systems": WITHOUT_PRESOLVE,
+            "settings": NO_PRESOLVE_SETTINGS,
+            "scenes": [label(sim.scenes.BUILDERS[n](**p)) for n, p in placed],
+        },
     }
     return pd.DataFrame(rows), scenes, parameters
 

@@ -202,15 +202,8 @@ from study import common
 from study.common import DT, SYSTEMS
 from study.executor import run_tasks
 from study.extremes import rules
-from study.extremes.axes import (
-    AXES,
-    ALL_SYSTEMS,
-    NO_PRESOLVE_SETTINGS,
-    NO_PRESOLVE_SYSTEMS,
-    PLACED_AXES,
-    SIM_ONLY_AXES,
-    applies,
-)
+from study.extremes.axes import AXES, ALL_SYSTEMS, PLACED_AXES, SIM_ONLY_AXES, applies
+from study.systems import NO_PRESOLVE_SETTINGS, NO_PRESOLVE_SYSTEMS
 from study.extremes.judge import KNIFE_TURN, STAND_MOVE, STAND_TURN
 from study.extremes.record import Measurement, Row
 from study.extremes.runs import (

@@ -313,8 +313,9 @@ def per_body_cost(
 
 # ---- freeze runs: steps until everything is frozen -------------------------------------------
 class FreezeTask(NamedTuple):
-    """One freeze run: the scene (a sim.scenes builder and its keyword arguments), the system, and
-    the most simulated time to wait for the freeze."""
+    """One freeze run: the scene (a sim.scenes builder and its keyword arguments), the system (or
+    a sim system's variant, study.systems: "sim-extended (no presolve)"), and the most simulated
+    time to wait for the freeze."""
 
     builder: str
     params: dict
@@ -327,15 +328,16 @@ def freeze_run(task):
     every body is frozen/asleep or the cap, then (if it froze) FREEZE_HOLD_S more to see whether
     the freeze holds; returns the run's rows. Module-level and self-contained, so sweeps can hand
     it to ``study.executor.run_tasks``."""
-    system = task.system
+    system = task.system  # the rows' name: a variant keeps its own
     scene = sim.scenes.BUILDERS[task.builder](**task.params)
     tag = label(scene)
     n = len(scene.bodies)
     cap = int(round(task.cap_s / DT))
     hold = int(round(FREEZE_HOLD_S / DT))
-    with build(system, scene) as runner:
+    runs_as = systems.runner_system(system)
+    with build(runs_as, scene, **systems.system_settings(system)) as runner:
         start = runner.positions
-        is_sim = engine_of(system) == "sim"
+        is_sim = engine_of(runs_as) == "sim"
         frozen_at = observable_at = None
         while runner.step_count < cap:
             runner.step(1)

@@ -82,6 +82,35 @@ def engine_of(name):
     return get(name).engine
 
 
+# ---- variants: a sim system run without an advantage only sim has ---------------------------
+#: sim's presolve (``World(initial_iterations=...)``) solves the start pose's contact impulses to
+#: convergence before step 1, so a scene placed at rest starts in equilibrium; no peer has one.
+#: Where that start matters (scenes placed at rest), the sim systems run again without it, named
+#: "sim-off (no presolve)" etc., and are reported beside the others, never instead of them.
+NO_PRESOLVE = " (no presolve)"
+NO_PRESOLVE_SETTINGS = {"initial_iterations": 0}
+NO_PRESOLVE_SYSTEMS = tuple(s.name + NO_PRESOLVE for s in REGISTRY if s.engine == "sim")
+
+
+def no_presolve(name):
+    """The no-presolve variant of the sim system ``name`` ("sim-extended" -> "sim-extended (no
+    presolve)"); ValueError for a peer's (a peer has no presolve to leave out)."""
+    if engine_of(name) != "sim":
+        raise ValueError(f"{name} has no presolve: only sim's systems have a no-presolve variant")
+    return name + NO_PRESOLVE
+
+
+def runner_system(system):
+    """The runner's system name of a system or a variant ("sim-off (no presolve)" -> "sim-off")."""
+    return system[: -len(NO_PRESOLVE)] if system.endswith(NO_PRESOLVE) else system
+
+
+def system_settings(system):
+    """The runner settings that make ``system`` (a system or a variant) what it is, beyond its
+    runner's name."""
+    return dict(NO_PRESOLVE_SETTINGS) if system.endswith(NO_PRESOLVE) else {}
+
+
 def style(name):
     """Matplotlib style of a system: color, marker, linestyle (grey dots for a name not in the
     registry, e.g. a derived row)."""

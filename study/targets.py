@@ -34,14 +34,8 @@ import sim
 from sim.arguments import positive
 from study import common, scenarios
 from study.common import DT
-from study.extremes.axes import (
-    AXES,
-    ALL_SYSTEMS,
-    NO_PRESOLVE_SYSTEMS,
-    applies,
-    runner_system,
-    system_settings,
-)
+from study.extremes.axes import AXES, ALL_SYSTEMS, applies
+from study.systems import NO_PRESOLVE_SYSTEMS, runner_system, system_settings
 from study.extremes.runs import run_task
 from study.extremes.scenes import scene_of
 from study.extremes.threshold import find_threshold

@@ -10,11 +10,10 @@ from dataclasses import dataclass
 
 from study.common import SYSTEMS
 from study.peers import engine_of
+from study.systems import NO_PRESOLVE_SYSTEMS, runner_system
 
-#: the sim systems again with the presolve off (table_extremes' docstring, "Systems")
-NO_PRESOLVE = " (no presolve)"
-NO_PRESOLVE_SETTINGS = {"initial_iterations": 0}
-NO_PRESOLVE_SYSTEMS = tuple(s + NO_PRESOLVE for s in SYSTEMS if engine_of(s) == "sim")
+#: every system, and the sim systems again with the presolve off (study.systems, NO_PRESOLVE;
+#: table_extremes' docstring, "Systems")
 ALL_SYSTEMS = SYSTEMS + NO_PRESOLVE_SYSTEMS
 
 #: what an axis's value can vary besides the scene's argument (``Axis.knob``)
@@ -283,13 +282,3 @@ def applies(axis, system):
     if axis in SIM_ONLY_AXES and engine_of(base) != "sim":
         return False
     return system == base or axis in PLACED_AXES
-
-
-def runner_system(system):
-    """The runner's system name of one of ALL_SYSTEMS ("sim-off (no presolve)" -> "sim-off")."""
-    return system[: -len(NO_PRESOLVE)] if system.endswith(NO_PRESOLVE) else system
-
-
-def system_settings(system):
-    """The runner settings that make ``system`` what it is, beyond its runner's name."""
-    return dict(NO_PRESOLVE_SETTINGS) if system.endswith(NO_PRESOLVE) else {}

@@ -13,7 +13,8 @@ import time
 import numpy as np
 
 from study.common import DT, build
-from study.extremes.axes import AXES, runner_system, system_settings
+from study.extremes.axes import AXES
+from study.systems import runner_system, system_settings
 from study.extremes.geometry import Shapes
 from study.extremes.judge import Judge
 from study.extremes.record import Measurement

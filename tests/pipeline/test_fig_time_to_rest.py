@@ -15,7 +15,8 @@ import pytest
 
 import sim
 from analysis import fig_time_to_rest as analysis
-from study import paths
+from study import paths, systems
+from study.common import label
 from experiments import fig_time_to_rest
 
 
@@ -188,3 +189,39 @@ def test_the_seed_sample_reruns_the_piles_over_more_seeds(quick_run):
     ext = got["systems"]["sim-extended"]["median_steps"]
     slp = got["systems"]["sim-sleep"]["median_steps"]
     assert got["extended_over_sleep"] == pytest.approx(ext / slp)
+
+
+def test_the_placed_scenes_run_again_without_the_presolve(quick_run):
+    """Part "without_presolve": every scene placed at rest (not the piles, which start in the
+    air) under each sim freezing system with initial_iterations=0, named as its variant; the
+    runs are the World's without the presolve (a stack of five then settles before extended can
+    certify it: measured 10 steps without, 1 with), and the table sets each variant beside its
+    system. The peers have no presolve and no variant."""
+    table, numbers, folder = quick_run
+    rows = _steps(table, "without_presolve")
+    placed = [
+        sim.scenes.BUILDERS[name](**params)
+        for name, params in fig_time_to_rest.QUICK["scenes"]
+        if name not in fig_time_to_rest.DROPPED
+    ]
+    expected = {
+        (label(scene), system) for scene in placed for system in fig_time_to_rest.WITHOUT_PRESOLVE
+    }
+    assert set(zip(rows["scene"], rows["system"])) == expected and len(rows) == len(expected)
+    assert fig_time_to_rest.WITHOUT_PRESOLVE == (
+        "sim-sleep (no presolve)",
+        "sim-paper (no presolve)",
+        "sim-extended (no presolve)",
+    )
+    without = numbers["without_presolve"]["sim-extended (no presolve)"]["steps"]
+    world = sim.World(sim.scenes.stack(5), freeze="extended", initial_iterations=0)
+    while world.n_awake:
+        world.step(1)
+    assert without["stack(5)"] == world.step_count > numbers["sim-extended"]["steps"]["stack(5)"]
+    shown = pd.read_csv(folder / "generated" / "fig_time_to_rest_presolve.csv")
+    assert list(shown["scene"]) == [label(scene) for scene in placed]
+    columns = list(shown.columns)
+    for system in fig_time_to_rest.WITHOUT_PRESOLVE:
+        base = systems.runner_system(system)
+        assert columns.index(system) == columns.index(base) + 1
+    assert "pymunk-sleep" in columns and "pymunk-sleep (no presolve)" not in columns

@@ -11,7 +11,7 @@ import pytest
 
 import sim
 from analysis import table_extremes as analysis
-from study import paths
+from study import paths, systems
 from experiments import table_extremes as T
 from study.common import DT, SYSTEMS
 from study.extremes import axes, geometry, rules, runs, scenes
@@ -75,7 +75,7 @@ def test_every_cell_once_with_the_columns(quick_run):
     it = table[(table["axis"] == "iterations") & (table["status"] != "not run")]
     assert (it["iterations"] == it["value"]).all()
     # the no-presolve runs are sim's four policies with initial_iterations=0, placed axes only
-    nop = table[table["system"].isin(axes.NO_PRESOLVE_SYSTEMS)]
+    nop = table[table["system"].isin(systems.NO_PRESOLVE_SYSTEMS)]
     assert set(nop["axis"]) == set(axes.PLACED_AXES) & set(T.QUICK["axes"])
     assert meta["parameters"]["no_presolve"]["settings"] == {"initial_iterations": 0}
 
@@ -115,7 +115,12 @@ def test_physical_facts(quick_run):
             assert r.ref_outcome == "stands", r
     # a light box on heavy ones stands in sim under every policy, with nothing measurable lost,
     # with or without the presolve
-    for system in ("sim-off", "sim-sleep", "sim-paper", "sim-extended") + axes.NO_PRESOLVE_SYSTEMS:
+    for system in (
+        "sim-off",
+        "sim-sleep",
+        "sim-paper",
+        "sim-extended",
+    ) + systems.NO_PRESOLVE_SYSTEMS:
         r = _row(table, "mass_light_on_heavy", 0.001, system)
         assert r.status == "stable" and r.outcome == "stands", r
     # sim refuses nothing at 1 cm; a refusal is a ValueError with its message, and only ever
@@ -167,13 +172,13 @@ def test_analysis_outputs(quick_run):
     text = svg.read_text()
     for system in SYSTEMS:
         assert system in text
-    for system in axes.NO_PRESOLVE_SYSTEMS:
+    for system in systems.NO_PRESOLVE_SYSTEMS:
         assert system in text
     summary = pd.read_csv(paper / "generated" / f"{T.NAME}.csv", keep_default_na=False)
-    assert list(summary.columns) == ["axis", "value", *SYSTEMS, *axes.NO_PRESOLVE_SYSTEMS]
+    assert list(summary.columns) == ["axis", "value", *SYSTEMS, *systems.NO_PRESOLVE_SYSTEMS]
     assert len(summary) == len(table.drop_duplicates(["axis", "value"]))
     # not applicable is written as such, never as a mark
-    for system in axes.NO_PRESOLVE_SYSTEMS:
+    for system in systems.NO_PRESOLVE_SYSTEMS:
         marks = set(summary[system])
         assert analysis.NOT_APPLICABLE in marks and len(marks) > 1
     assert json.loads((paper / "generated" / f"{T.NAME}.json").read_text())[
@@ -182,7 +187,7 @@ def test_analysis_outputs(quick_run):
     # the default systems and the no-presolve ones are counted apart, and every cell once
     nop = numbers["no_presolve"]
     assert set(numbers["counts"]) == set(SYSTEMS)
-    assert set(nop["counts"]) == set(axes.NO_PRESOLVE_SYSTEMS)
+    assert set(nop["counts"]) == set(systems.NO_PRESOLVE_SYSTEMS)
     assert sum(sum(c.values()) for c in numbers["counts"].values()) == numbers["cells"]
     assert sum(sum(c.values()) for c in nop["counts"].values()) == nop["cells"]
     assert numbers["cells"] + nop["cells"] == len(table)
@@ -417,13 +422,13 @@ def test_a_reference_refused_at_its_step_gets_more_substeps():
 
 def test_systems_and_axes_that_apply():
     """The no-presolve systems run the placed axes only; the sim-only axes have no peer cell."""
-    assert axes.NO_PRESOLVE_SYSTEMS == tuple(f"{s} (no presolve)" for s in SYSTEMS[:4])
+    assert systems.NO_PRESOLVE_SYSTEMS == tuple(f"{s} (no presolve)" for s in SYSTEMS[:4])
     for axis in axes.AXES:
         for system in SYSTEMS:
             assert axes.applies(axis, system) == (
                 axis not in axes.SIM_ONLY_AXES or system.startswith("sim-")
             )
-        for system in axes.NO_PRESOLVE_SYSTEMS:
+        for system in systems.NO_PRESOLVE_SYSTEMS:
             assert axes.applies(axis, system) == (axis in axes.PLACED_AXES)
     assert set(axes.PLACED_AXES) <= set(axes.AXES) and set(axes.SIM_ONLY_AXES) <= set(axes.AXES)
     # the dropped columns start with nothing touching: no presolve to switch off
@@ -511,7 +516,7 @@ def test_the_headline_takes_placed_axes_from_the_fair_rows():
     on a placed axis the fair rows (sim without presolve, same peers) decide, elsewhere the
     systems as run."""
     values = {"stack_height": [10, 50], "dt": [1 / 60, 1 / 15]}
-    nop = "sim-off" + axes.NO_PRESOLVE
+    nop = "sim-off" + systems.NO_PRESOLVE
     table = _cells(
         [
             ("stack_height", 10, "sim-off", "stable", ""),

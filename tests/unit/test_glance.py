@@ -205,3 +205,33 @@ def test_provenance_names_every_commit_that_made_a_result():
         "commit `aaaaaaaaaa` (`z` from commit `0000000000+dirty`; `w` from commit `unknown`)"
     )
     assert provenance_text(provenance({"x": {"git": clean}})) == "commit `aaaaaaaaaa`"
+
+
+def test_the_time_to_rest_bullet_sets_sims_presolve_apart():
+    """sim's presolve puts a placed scene in equilibrium before step 1, which no peer has: the
+    bullet gives each sim system's steps on the largest pyramid with and without it, beside the
+    peers' (which have only the one)."""
+    scenes = ["rest_row(50)", "pyramid(10)", "pyramid(20)", "drop(30,seed=0)"]
+    ttr = {
+        "dt": 1 / 60,
+        "scenes": scenes,
+        "sim-extended": _system(dict(zip(scenes, [1, 1, 1, 120]))),
+        "sim-sleep": _system(dict(zip(scenes, [30, 30, 30, 150]))),
+        "pymunk-sleep": _system(dict(zip(scenes, [31, 40, 90, 200]))),
+        "certificate": {"median_us_per_certificate": 3.51, "max_us_per_certificate": 9.46},
+        "without_presolve": {
+            "sim-extended (no presolve)": _system(
+                {"rest_row(50)": 1, "pyramid(10)": 47, "pyramid(20)": 469}
+            ),
+            "sim-sleep (no presolve)": _system(
+                {"rest_row(50)": 30, "pyramid(10)": 42, "pyramid(20)": None}
+            ),
+        },
+    }
+    line = time_to_rest_line(ttr)
+    assert (
+        "; on pyramid(20), with / without sim's presolve of the start pose (no peer has one): "
+        "sim-extended 1 / 469, sim-sleep 30 / never, against pymunk-sleep 90." in line
+    )
+    del ttr["without_presolve"]
+    assert "presolve" not in time_to_rest_line(ttr)  # older results: nothing said

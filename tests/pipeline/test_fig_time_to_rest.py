@@ -225,3 +225,26 @@ def test_the_placed_scenes_run_again_without_the_presolve(quick_run):
         base = systems.runner_system(system)
         assert columns.index(system) == columns.index(base) + 1
     assert "pymunk-sleep" in columns and "pymunk-sleep (no presolve)" not in columns
+
+
+def test_the_certificate_cost_is_the_median_of_whole_repeated_runs(monkeypatch):
+    """certificate_cost runs the scene CERTIFICATE_REPEATS times whole (the same steps and
+    certificates) and reports the median of the rest-test stage's time: here each run's stage is
+    made to take (its number) ms a step, so the median run is the third of five."""
+    real = sim.World.profile
+    worlds = []
+
+    def scripted(self, n=1):
+        out = real(self, n)
+        if self not in worlds:
+            worlds.append(self)
+        return {**out, "freeze_after": float(worlds.index(self) + 1)}
+
+    monkeypatch.setattr(sim.World, "profile", scripted)
+    rows = fig_time_to_rest.certificate_cost(sim.scenes.stack(3), 1.0, repeats=5)
+    value = {r["metric"]: r["value"] for r in rows}
+    assert len(worlds) == 5
+    busy, tried = value["steps_certifying"], value["certificates"]
+    assert tried > 0 and value["freeze_after_per_certificate"] == pytest.approx(
+        1e3 * 3 * busy / tried
+    )

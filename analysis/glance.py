@@ -100,6 +100,7 @@ def lines():
         + ", ".join(f"{s} {n}" for s, n in tf["failures_by_freezing"].items())
         + f". Every system gets {' and '.join(tf['scenarios_all_right'])} right. "
         + slow_cases_line(tf)
+        + presolve_failures_line(tf)
     )
     out.append(extremes_line(ex))
     out += ["", "| figure / table | what it shows | make target |", "| --- | --- | --- |"]
@@ -166,6 +167,28 @@ def slow_cases_line(tf):
         + ("; ".join(broke) if broke else "none")
         + (f"; none under {', '.join(clean)}" if clean else "")
         + "."
+    )
+
+
+def presolve_failures_line(tf):
+    """The catalogue's sim systems without the presolve of the start pose (table_failures'
+    ``without_presolve``): the outcomes freezing changes then, and the outcomes the presolve
+    changes; "" for results without them."""
+    wp = tf.get("without_presolve")
+    if not wp:
+        return ""
+    changes = [
+        f"{c['scenario']} under {c['system']} ({c['with']} / {c['without']})"
+        for c in wp["outcome_changes"]
+    ]
+    return (
+        " Without sim's presolve of the start pose (no peer has one), freezing changes: "
+        + ", ".join(f"{s} {n}" for s, n in wp["failures_by_freezing"].items())
+        + (
+            "; the presolve changes the outcome of " + ", ".join(changes) + " (with / without)."
+            if changes
+            else "; the presolve changes no outcome."
+        )
     )
 
 

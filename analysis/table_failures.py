@@ -11,7 +11,8 @@ Writes
 - paper/figures/table_failures.svg: the same catalogue as a grid (green right, red wrong by
   freezing, grey wrong as the engine itself), each cell labelled with its outcome and speed-up;
 - the numbers the text quotes (failure counts per system, which scenarios break which system,
-  speed-ups, whether each danger met frozen bodies).
+  speed-ups, whether each danger met frozen bodies; and sim's without its presolve of the start
+  pose, which no peer has: ``without_presolve``).
 """
 
 import matplotlib.pyplot as plt
@@ -237,8 +238,37 @@ def draw(table, meta):
             for s in freezing
         },
         "repeats": int(table["repeats"].iloc[0]) if "repeats" in table else None,
+        "without_presolve": _without_presolve(table, freezing),
     }
     return numbers
+
+
+def _without_presolve(table, freezing):
+    """sim's systems run again without the presolve (experiments.table_failures' no-presolve
+    columns): per sim freezing system the outcomes freezing changed, wrongly, and which; and
+    every (scenario, sim system) whose outcome the presolve changes. None for results without
+    the columns."""
+    if "outcome_no_presolve" not in table:
+        return None
+    sim = table[table["outcome_no_presolve"].notna()].copy()
+    for col in ("changed_no_presolve", "right_no_presolve"):
+        sim[col] = _bool(sim[col])
+    broken = sim[sim["changed_no_presolve"] & ~sim["right_no_presolve"]]
+    sim_freezing = [s for s in freezing if s in set(sim["system"])]
+    return {
+        "failures_by_freezing": {s: int((broken["system"] == s).sum()) for s in sim_freezing},
+        "broken_by": {s: list(broken.loc[broken["system"] == s, "scenario"]) for s in sim_freezing},
+        "outcome_changes": [
+            {
+                "scenario": r.scenario,
+                "system": r.system,
+                "with": r.outcome,
+                "without": r.outcome_no_presolve,
+            }
+            for r in sim.itertuples()
+            if r.outcome != r.outcome_no_presolve
+        ],
+    }
 
 
 main = style.entry(NAME, draw)

@@ -62,6 +62,14 @@ Per scenario x system (one row each):
   this process. The untimed runs (truth, and each system stepped one step at a time to sample
   ``asleep``) go through study.executor.run_tasks.
 
+Without sim's presolve: sim solves the start pose's contact impulses to convergence before step 1
+(``World(initial_iterations=...)``, on by default), so a body placed at rest starts in equilibrium;
+no peer has that. Each sim system's untimed run is repeated without it (``initial_iterations=0``,
+the variants "sim-off (no presolve)" etc., ``study.systems.NO_PRESOLVE``), judged the same way
+against "sim-off (no presolve)": columns ``outcome_no_presolve``, ``changed_no_presolve`` and
+``right_no_presolve`` of the sim rows (empty for the peers). The timed runs are the defaults'
+only.
+
 Choices: the whole scenario is the timed unit (its speed-up is what freezing buys on *that* run,
 danger included; these scenes have 1-10 bodies, so per-step overheads weigh heavily and speed-ups
 are small: the scaling study measures large scenes). ``right`` is judged on labels, whose
@@ -71,7 +79,8 @@ Columns: scenario, system, reference, bodies, seconds, steps, event_s, expected,
 truth_is_expected, outcome, right, changed, engine_right, measure_name, measure, truth_measure,
 pose_error_m, pose_error_rad, pose_error_all_m, truth_error_m, frozen_fraction, key_ever_frozen,
 asleep_at_event, wall_ms_median, wall_ms_min, ms_per_step, speedup, speedup_min, repeats,
-runs_per_repeat, timed_pose_diff_m.
+runs_per_repeat, timed_pose_diff_m; for sim, outcome_no_presolve, changed_no_presolve,
+right_no_presolve.
 
     python -m experiments.table_failures [--quick] [--repeats R] [--only NAME[,NAME...]]
 writes results/data/table_failures.csv and table_failures.json (with --only, results/only/: part
@@ -86,7 +95,7 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from study import cli, common, scenarios
+from study import cli, common, scenarios, systems
 from study.common import DT, REFERENCE, SYSTEMS, build, compile_kernels, pose_error, sweep_store
 from study.executor import run_tasks
 from study.timing import timed
@@ -135,7 +144,8 @@ def observe(task):
     event_s = scenario.event_time(scene)
     event_step = None if event_s is None else _steps(event_s - EVENT_LEAD_S, dt)
     settings = {} if iterations is None else {"iterations": iterations}
-    runner = build(system, scene, dt=dt, **settings)
+    settings.update(systems.system_settings(system))  # a variant's (no presolve)
+    runner = build(systems.runner_system(system), scene, dt=dt, **settings)
     try:
         frozen_steps = 0  # body-steps frozen
         ever = np.zeros(len(scene.bodies), dtype=bool)
@@ -233,6 +243,7 @@ def run(config, args):
     # untimed: the truth and every system's observed run, in parallel
     tasks = [(n, TRUTH_SYSTEM, truth_dt, config["truth_iterations"]) for n in names]
     tasks += [(n, s, DT, None) for n in names for s in SYSTEMS]
+    tasks += [(n, s, DT, None) for n in names for s in systems.NO_PRESOLVE_SYSTEMS]
     store, header = sweep_store(NAME, args, config)
     results = dict(
         zip(
@@ -274,6 +285,7 @@ def run(config, args):
             timed_diff = max(
                 pose_error(p, a, obs["positions"], obs["angles"])[0] for p, a in poses[system]
             )
+            without = _without_presolve(results, n, system, truth)
             rows.append(
                 {
                     "scenario": n,
@@ -308,6 +320,7 @@ def run(config, args):
                     "repeats": repeats,
                     "runs_per_repeat": k_runs[system],
                     "timed_pose_diff_m": timed_diff,
+                    **without,
                 }
             )
     table = pd.DataFrame(rows)
@@ -338,11 +351,37 @@ def run(config, args):
             "settings": results[(names[0], "truth")]["settings"],
         },
         "event_lead_s": EVENT_LEAD_S,
+        "without_presolve": {
+            "systems": list(systems.NO_PRESOLVE_SYSTEMS),
+            "settings": systems.NO_PRESOLVE_SETTINGS,
+            "columns": list(_without_presolve({}, None, "pymunk", None)),
+        },
         "system_settings": {s: results[(names[0], s)]["settings"] for s in SYSTEMS},
         "frozen_means": "the runner's asleep: sim World.frozen (out of the awake list); "
         "pymunk body.is_sleeping; pybullet velocities exactly 0 and pose unchanged",
     }
     return table, scenes, parameters
+
+
+def _without_presolve(results, scenario, system, truth):
+    """The no-presolve columns of a row: for a sim system, its variant's outcome, whether it
+    differs from the outcome of "sim-off (no presolve)" (freezing changed it) and whether it is
+    the truth's; None for a peer's (no presolve to leave out)."""
+    columns = ("outcome_no_presolve", "changed_no_presolve", "right_no_presolve")
+    if systems.engine_of(system) != "sim":
+        return dict.fromkeys(columns)
+    obs = results[(scenario, systems.no_presolve(system))]
+    ref = results[(scenario, systems.no_presolve(REFERENCE[system]))]
+    return dict(
+        zip(
+            columns,
+            (
+                obs["outcome"],
+                obs["outcome"] != ref["outcome"],
+                obs["outcome"] == truth["outcome"],
+            ),
+        )
+    )
 
 
 def scenario_names(text):

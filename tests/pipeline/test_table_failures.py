@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 
 from analysis import table_failures as analysis
-from study import paths, scenarios
+from study import paths, scenarios, systems
 from experiments import table_failures
 from study.common import REFERENCE, SYSTEMS
 from study.timing import timed
@@ -52,6 +52,9 @@ COLUMNS = [
     "repeats",
     "runs_per_repeat",
     "timed_pose_diff_m",
+    "outcome_no_presolve",
+    "changed_no_presolve",
+    "right_no_presolve",
 ]
 
 
@@ -194,3 +197,36 @@ def test_a_batch_of_runners_is_timed_on_their_engines_alone():
     assert timed(both, 1) == 2.0
     mixed = table_failures.Batch([Runner(True), Runner(False)])
     assert timed(mixed, 1) < 1.0  # timed whole: the wall time
+
+
+def test_sims_runs_without_the_presolve_are_judged_apart(quick_run, monkeypatch, tmp_path):
+    """Each sim row also carries its run without the presolve of the start pose (no peer has
+    one), judged against sim-off without it; the peers' rows leave those columns empty. Measured
+    (2026-12-06): the presolve changes unstable_equilibrium under sleep and paper (the box placed
+    on its balance point starts in equilibrium, is still while the timer runs and is frozen
+    upright: "balanced"; from zero impulses it moves at once and tips off, as sim-off does)."""
+    table, meta, folder = quick_run
+    sims = table[table["system"].map(systems.engine_of) == "sim"]
+    peers = table[table["system"].map(systems.engine_of) != "sim"]
+    assert sims["outcome_no_presolve"].notna().all()
+    assert peers[["outcome_no_presolve", "changed_no_presolve"]].isna().all().all()
+    row = table.loc[("unstable_equilibrium", "sim-sleep")]
+    assert (row["outcome"], row["outcome_no_presolve"]) == ("balanced", "tipped off")
+    assert meta["parameters"]["without_presolve"]["settings"] == {"initial_iterations": 0}
+    monkeypatch.setattr(paths, "DATA", folder)
+    monkeypatch.setattr(paths, "FIGURES", tmp_path / "figures")
+    monkeypatch.setattr(paths, "GENERATED", tmp_path / "generated")
+    without = analysis.main([])["without_presolve"]
+    assert {
+        "scenario": "unstable_equilibrium",
+        "system": "sim-sleep",
+        "with": "balanced",
+        "without": "tipped off",
+    } in without["outcome_changes"]
+    changed = sims[sims["changed_no_presolve"].astype(str) == "True"]
+    wrong = changed[changed["right_no_presolve"].astype(str) == "False"]
+    for system, n in without["failures_by_freezing"].items():
+        assert n == (wrong["system"] == system).sum()
+        assert without["broken_by"][system] == list(
+            wrong.loc[wrong["system"] == system, "scenario"]
+        )

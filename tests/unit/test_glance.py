@@ -5,6 +5,7 @@ from analysis.glance import (
     frozen_cost_line,
     provenance_text,
     slow_cases_line,
+    presolve_failures_line,
     time_to_rest_line,
 )
 from analysis.fig_time_to_rest import median_beyond_cap
@@ -235,3 +236,28 @@ def test_the_time_to_rest_bullet_sets_sims_presolve_apart():
     )
     del ttr["without_presolve"]
     assert "presolve" not in time_to_rest_line(ttr)  # older results: nothing said
+
+
+def test_the_failures_bullet_sets_sims_presolve_apart():
+    tf = {
+        "without_presolve": {
+            "failures_by_freezing": {"sim-sleep": 5, "sim-paper": 5, "sim-extended": 0},
+            "broken_by": {},
+            "outcome_changes": [
+                {
+                    "scenario": "unstable_equilibrium",
+                    "system": "sim-sleep",
+                    "with": "balanced",
+                    "without": "tipped off",
+                }
+            ],
+        }
+    }
+    assert presolve_failures_line(tf) == (
+        " Without sim's presolve of the start pose (no peer has one), freezing changes: "
+        "sim-sleep 5, sim-paper 5, sim-extended 0; the presolve changes the outcome of "
+        "unstable_equilibrium under sim-sleep (balanced / tipped off) (with / without)."
+    )
+    tf["without_presolve"]["outcome_changes"] = []
+    assert presolve_failures_line(tf).endswith("; the presolve changes no outcome.")
+    assert presolve_failures_line({}) == ""  # older results: nothing said

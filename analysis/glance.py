@@ -178,14 +178,14 @@ def presolve_failures_line(tf):
     if not wp:
         return ""
     changes = [
-        f"{c['scenario']} under {c['system']} ({c['with']} / {c['without']})"
+        f"{c['scenario']} under {c['system']} ({c['with']} with it, {c['without']} without)"
         for c in wp["outcome_changes"]
     ]
     return (
         " Without sim's presolve of the start pose (no peer has one), freezing changes: "
         + ", ".join(f"{s} {n}" for s, n in wp["failures_by_freezing"].items())
         + (
-            "; the presolve changes the outcome of " + ", ".join(changes) + " (with / without)."
+            "; the presolve changes the outcome of " + ", ".join(changes) + "."
             if changes
             else "; the presolve changes no outcome."
         )

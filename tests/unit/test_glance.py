@@ -256,7 +256,7 @@ def test_the_failures_bullet_sets_sims_presolve_apart():
     assert presolve_failures_line(tf) == (
         " Without sim's presolve of the start pose (no peer has one), freezing changes: "
         "sim-sleep 5, sim-paper 5, sim-extended 0; the presolve changes the outcome of "
-        "unstable_equilibrium under sim-sleep (balanced / tipped off) (with / without)."
+        "unstable_equilibrium under sim-sleep (balanced with it, tipped off without)."
     )
     tf["without_presolve"]["outcome_changes"] = []
     assert presolve_failures_line(tf).endswith("; the presolve changes no outcome.")

@@ -179,6 +179,11 @@ def before_solve(settings, counters, bodies, contacts, activity):
     frozen body wakes (and, through the support graph, all it carries) if the estimates, over its
     mass, add up to more than ``impact_speed`` (an impact), or if its load plus the estimated push
     breaks its equilibrium (a push, or tipping). Returns the number of bodies woken."""
+    if counters[N_AWAKE] == settings.n_dynamic:
+        # nothing is frozen, so nothing can be disturbed: the walk below would find no frozen
+        # body on any contact (a scene where nothing rests paid it every step: 3.4 us of 330 on
+        # drift(1000), bench_freeze's in-flight overhead)
+        return 0
     # the work arrays here; the walk over contacts in a lean kernel (no reference counting:
     # sim/jit), for a kernel that allocates counts every array its inlined helpers are passed
     touched = np.empty(min(2 * counters[N_ACTIVE], settings.n_dynamic) + 1, np.int64)
@@ -297,7 +302,8 @@ def _candidates(settings, counters, bodies, contacts, activity, touched, queue):
     count = counters[N_ACTIVE]
     # ---- 1. pushes and tipping: frozen bodies touched by awake bodies ----------------------------
     n_touched = 0
-    for kk in range(count):
+    # (with nothing frozen there is no such body: the walk is skipped, see before_solve)
+    for kk in range(count if counters[N_AWAKE] < n_dyn else 0):
         c = contacts.active[kk]
         a = ci[c, BODY_A]
         b = ci[c, BODY_B]

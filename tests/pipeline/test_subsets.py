@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 from experiments import table_failures
-from study import common, scenarios
+from study import common, scenarios, systems
 from study.common import SYSTEMS
 
 
@@ -78,6 +78,8 @@ def test_only_one_scenario_end_to_end(tmp_path):
     assert set(part["scenario"]) == {"slope_creep"} and len(part) == len(SYSTEMS)
     meta = json.loads((tmp_path / "only" / "table_failures.json").read_text())
     assert list(meta["parameters"]["scenarios"]) == ["slope_creep"]
-    # the store keeps the scenario's runs (truth + every system) for the whole table's run
+    # the store keeps the scenario's runs (truth + every system + sim's systems without the
+    # presolve) for the whole table's run
     store = tmp_path / "partial" / "table_failures-quick.jsonl"
-    assert len(store.read_text().splitlines()) == 1 + 1 + len(SYSTEMS)
+    runs = 1 + len(SYSTEMS) + len(systems.NO_PRESOLVE_SYSTEMS)
+    assert len(store.read_text().splitlines()) == 1 + runs

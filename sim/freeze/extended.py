@@ -179,13 +179,15 @@ def before_solve(settings, counters, bodies, contacts, activity):
     frozen body wakes (and, through the support graph, all it carries) if the estimates, over its
     mass, add up to more than ``impact_speed`` (an impact), or if its load plus the estimated push
     breaks its equilibrium (a push, or tipping). Returns the number of bodies woken."""
-    if counters[N_AWAKE] == settings.n_dynamic:
-        # nothing is frozen, so nothing can be disturbed: the walk below would find no frozen
-        # body on any contact (a scene where nothing rests paid it every step: 3.4 us of 330 on
-        # drift(1000), bench_freeze's in-flight overhead)
-        return 0
     # the work arrays here; the walk over contacts in a lean kernel (no reference counting:
-    # sim/jit), for a kernel that allocates counts every array its inlined helpers are passed
+    # sim/jit), for a kernel that allocates counts every array its inlined helpers are passed.
+    # The walk runs even when nothing is frozen (it then finds nothing). Skipping it then, and
+    # after_solve's walk for touched frozen bodies, was tried (2026-12-06: 3.4 + 2.5 us of a
+    # 320 us step on drift(1000), bench_freeze's in-flight overhead 1.058 -> 1.039): a step
+    # with no frozen body became a few us cheaper than one with any, a step at N_frozen = 0
+    # that fig_scaling's linear model (a N_awake + b N_frozen + c) reads as the frozen bodies'
+    # cost (b/a 0.0042 -> 0.0079 and 0.022 in two runs). Reverted: the cost of having frozen
+    # bodies at all is paid by every scene under extended, and b stays the marginal cost.
     touched = np.empty(min(2 * counters[N_ACTIVE], settings.n_dynamic) + 1, np.int64)
     queue = np.empty(settings.n_dynamic, np.int64)
     return _impacts(settings, counters, bodies, contacts, activity, touched, queue)
@@ -302,8 +304,7 @@ def _candidates(settings, counters, bodies, contacts, activity, touched, queue):
     count = counters[N_ACTIVE]
     # ---- 1. pushes and tipping: frozen bodies touched by awake bodies ----------------------------
     n_touched = 0
-    # (with nothing frozen there is no such body: the walk is skipped, see before_solve)
-    for kk in range(count if counters[N_AWAKE] < n_dyn else 0):
+    for kk in range(count):
         c = contacts.active[kk]
         a = ci[c, BODY_A]
         b = ci[c, BODY_B]

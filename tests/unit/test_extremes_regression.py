@@ -213,11 +213,18 @@ def test_dropped_1000_to_1_stack_stands_with_under_5_percent_final_penetration(p
 # ---- without the presolve ----------------------------------------------------------------------
 @pytest.mark.parametrize("policy", POLICIES)
 def test_50_box_column_without_presolve_stands(policy):
-    # measured (5 s, initial_iterations=0): the column settles onto its contacts and stands; the
-    # most any box moved is 0.5 mm (off), 21 mm (sleep), 0 (paper), 14 mm (extended) (2026-12-06)
+    # measured (5 s, initial_iterations=0, 2026-12-06): the column settles onto its contacts and
+    # stands, ending 0.5 mm (off), 21 mm (sleep), 0 (paper), 14 mm (extended) from its pose. On
+    # the way its top box sinks 0.35 m (0.24 under paper) by step 30, while the soft contacts take
+    # up the load, and comes back (pymunk and pybullet let it fall over, Box2D 2.3 sinks 1.56 m
+    # and ends 0.82 m low)
     w = world(scenes.column(50), policy, initial_iterations=0)
     start = start_of(w)
-    run_checked(w, 300)
+    deepest = 0.0
+    for _ in range(300):
+        run_checked(w, 1)
+        deepest = max(deepest, float(np.hypot(*(w.positions - start[0]).T).max()))
+    assert deepest < 0.4, f"sank {deepest:.3g} m on the way"
     assert_stands(w, start, within=0.03)
 
 

@@ -19,7 +19,7 @@ Every runner's ``contacts()`` gives the last step's contact points in one conven
 B) and ``normal_impulse`` (N s, the impulse that pushes B along the normal); ``impulse_vectors``
 turns them into the impulse each point gives the pair's dynamic body of higher index, which is
 what the recordings draw (the engines' own pair orders differ: a box on the floor came out as the
-floor's impulse in pymunk and Box2D, the box's in sim and pybullet).
+floor's impulse in pymunk, the box's in sim, pybullet and Box2D).
 A runner that does work of its own around the engine's steps (Box2dRunner: its motion-cap check;
 PybulletRunner with sleeping: the pose before the last step) also has ``engine_seconds``, the wall
 time spent inside the engine's step calls, which benchmarks time (study.timing.timed).

@@ -12,9 +12,16 @@ Matching sim's conventions
   on the polygon grown by that radius, so a box given as is would rest 1.5 cm above the floor
   (skin 0.02 m minus b2_linearSlop). Every polygon is therefore inset by the radius: the contact
   surface is then the scene's polygon itself, with corners rounded by 0.01 m (as the pybullet
-  runner insets its meshes by Bullet's margin). The floor is a thick static box (FLOOR_THICKNESS
-  m, wider than the scene by its own extent plus 1 km on each side, like the other peers'
-  floors) whose skin's top is at ``floor_y``; static bodies are static polygons.
+  runner insets its meshes by Bullet's margin). The floor is a static chain of straight edges
+  FLOOR_SEGMENT m long (wider than the scene by its own extent plus 1 km on each side, like the
+  other peers' floors) whose skin's top is at ``floor_y``; static bodies are static polygons.
+  Not one wide box: in float32, a box 2 km wide made Box2D's contacts with it imprecise (its
+  vertices 1 km from a body it touches): a box slid to a stop on it jolted 2 s later (8 cm/s,
+  tilted 2.6 mrad), a placed stack(5) moved at 2 cm/s or faster for 188 of 1200 steps and a
+  stack(10) for 910 (none with a floor 24 m wide, as with the chain); stack(10) sank 3.1 cm
+  instead of 2.0 in 5 s. A chain's edges near a body have vertices near it at any distance from
+  the scene, and its ghost vertices make it one smooth surface (no internal corners to catch on,
+  as tiled boxes would have).
 - Box2D integrates semi-implicitly (velocity first, then position with the new velocity), once
   per step, as Bullet does: free fall from rest gives y0 - g dt^2 n (n+1)/2 after n steps.
 - Box2D computes in float32: positions, velocities, masses carry a relative round-off of ~6e-8
@@ -53,8 +60,9 @@ Measured deviations from sim (tests/adapters/test_box2d_runner.py pins them; dt 
 - Angular momentum in a free collision drifts (+1.5 % in one test; linear momentum keeps to
   float32): the position iterations move overlapping bodies apart without touching their
   velocities (pymunk -1.4 %, pybullet -6 %, sim exact).
-- Contact points: Box2D clips a face contact two skins beyond the incident corners, so a 1 m box
-  on the floor reports points at x = +-0.51 m (``contacts()``); corners are rounded by 1 cm.
+- Contact points: Box2D clips a face contact between two polygons two skins beyond the incident
+  corners, so a 1 m box on a static box reports points at x = +-0.51 m (``contacts()``); on the
+  floor's edges the points are its inset corners, x = +-0.49 m. Corners are rounded by 1 cm.
 - A box tipped back onto its base rocks longer: settled after 6 s (sim 5 s).
 - Slides stop where the discrete answer says, as in Bullet (1.12185 m for 3 m/s on mu 0.4).
 
@@ -84,8 +92,9 @@ from .pybullet_urdf import inset
 #: Box2D's testbed defaults (b2World::Step's velocityIterations, positionIterations).
 DEFAULT_ITERATIONS = 8
 DEFAULT_POSITION_ITERATIONS = 3
-#: Thickness of the floor box under floor_y, m.
-FLOOR_THICKNESS = 1.0
+#: Length of the floor chain's edges, m: a body touches edges whose vertices lie within this of
+#: it, so float32 places its contacts to ~1e-6 m (see the module docstring)
+FLOOR_SEGMENT = 10.0
 #: Most vertices Box2D accepts in a polygon, as this build of Box2D was compiled.
 MAX_POLYGON_VERTICES = int(Box2D.b2_maxPolygonVertices)
 #: Skin around every polygon, m; polygons are inset by it.
@@ -270,9 +279,9 @@ class Box2dRunner:
             "floor": None
             if self.floor_span is None
             else {
-                "shape": "box",
+                "shape": "chain",
                 "top_y": scene.floor_y,
-                "thickness": FLOOR_THICKNESS,
+                "segment_m": FLOOR_SEGMENT,
                 "x_span": list(self.floor_span),
             },
         }
@@ -337,23 +346,22 @@ class Box2dRunner:
             reach = float(np.max(np.hypot(local[:, 0], local[:, 1])))
             x_lo, x_hi = min(x_lo, com[0] - reach), max(x_hi, com[0] + reach)
 
-        self.floor_span = None  # (x_min, x_max) m of the floor box
+        self.floor_span = None  # (x_min, x_max) m of the floor chain
         if scene.floor_y is not None:
-            # Wider than anything travels in a run, as the other peers' floors. A box, not an
-            # edge: a thick floor cannot be tunnelled through and has one well-defined top face.
+            # Wider than anything travels in a run, as the other peers' floors; a chain of short
+            # edges, not one wide box (module docstring). Its body sits at the scene's centre,
+            # its edges' line one skin below floor_y, so that the skin's top is floor_y (to
+            # float32 round-off).
             margin = (x_hi - x_lo) + 1000.0
-            self.floor_span = (x_lo - margin, x_hi + margin)
-            half_w = 0.5 * (self.floor_span[1] - self.floor_span[0]) - POLYGON_RADIUS
-            half_h = 0.5 * FLOOR_THICKNESS - POLYGON_RADIUS
-            centre = (
-                0.5 * (self.floor_span[0] + self.floor_span[1]),
-                scene.floor_y - 0.5 * FLOOR_THICKNESS,
-            )
-            # Its skin's top is floor_y (to float32 round-off: the box's top face is centre +
-            # half_h = floor_y - skin).
-            floor = world.CreateStaticBody(position=centre)
+            n_edges = math.ceil((x_hi - x_lo + 2.0 * margin) / FLOOR_SEGMENT)
+            half = 0.5 * n_edges * FLOOR_SEGMENT
+            centre = 0.5 * (x_lo + x_hi)
+            self.floor_span = (centre - half, centre + half)
+            floor = world.CreateStaticBody(position=(centre, scene.floor_y - POLYGON_RADIUS))
             floor.CreateFixture(
-                shape=Box2D.b2PolygonShape(box=(half_w, half_h)),
+                shape=Box2D.b2ChainShape(
+                    vertices_chain=[(-half + k * FLOOR_SEGMENT, 0.0) for k in range(n_edges + 1)]
+                ),
                 density=0.0,
                 friction=float(scene.floor_friction),
                 restitution=float(scene.floor_restitution),

@@ -56,7 +56,8 @@ from .pose import com_pose
 
 #: First shape id given out by the space: above every vertex index a sim polygon can have.
 SHAPE_ID_START = MAX_VERTICES
-#: Thickness of the floor box under floor_y, m (the pybullet and Box2D runners' floors too).
+#: Thickness of the floor box under floor_y, m (the pybullet runner's floor too; Box2D's is a
+#: chain of edges, see box2d_runner).
 FLOOR_THICKNESS = 1.0
 #: s a body must stay idle before its group may sleep, when sleeping and none is given (Chipmunk's
 #: own default is infinity: never)

@@ -11,6 +11,9 @@ steps over the scenes it did freeze; the cap; the piles' larger seed sample (``_
 paper/generated/fig_time_to_rest_presolve.csv: the scenes placed at rest, each sim system with
 and without its presolve (an advantage no peer has, reported apart) beside the peers;
 ``without_presolve`` in the numbers.
+paper/generated/fig_time_to_rest_reference.csv: over the piles, each freezing system's median
+steps until all froze beside how long its own reference (the same engine with nothing frozen)
+still moved them at each reference speed (``_reference_table``); ``reference`` in the numbers.
 """
 
 import math
@@ -28,6 +31,8 @@ from study import systems
 NAME = "fig_time_to_rest"
 #: the table of the placed scenes with and without sim's presolve (``_presolve_table``)
 PRESOLVE_TABLE = NAME + "_presolve"
+#: the table of the piles' time to rest against each engine's own reference (``_reference_table``)
+REFERENCE_TABLE = NAME + "_reference"
 FREEZING = systems.FREEZING
 
 
@@ -140,10 +145,14 @@ def draw(table, meta):
     without = _without_presolve(table)
     if without is not None:
         style.write_table(_presolve_table(runs, without, systems), PRESOLVE_TABLE)
+    numbers = _numbers(runs, scenes, systems, cap, dt)
+    reference = _reference(table)
+    if reference is not None:
+        style.write_table(_reference_table(numbers, reference, systems), REFERENCE_TABLE)
     return {
-        **_numbers(runs, scenes, systems, cap, dt),
+        **numbers,
         "certificate": _certificate(table),
-        "reference": _reference(table),
+        "reference": reference,
         "seed_sample": _seed_sample(table),
         "without_presolve": None if without is None else _presolve_numbers(without),
     }
@@ -222,13 +231,50 @@ def _seed_sample(table, first=5):
 
 def _reference(table):
     """How long each scene moves with freezing off (experiments.fig_time_to_rest,
-    reference_motion): per scene and speed (m/s, as a string key) the last step at which a body
-    moved at least that fast (0 never), the speeds at which it still moved at the cap, and over
-    the piles (drop seeds) the median of those steps per speed (None if any pile still moved
-    then at the cap)."""
+    reference_motion), per reference system (sim-off, each peer with its sleeping off):
+    ``_reference_of`` each. None when the table has no such rows."""
     if "part" not in table or not (table["part"] == "reference").any():
         return None
     t = table[table["part"] == "reference"]
+    return {system: _reference_of(s) for system, s in t.groupby("system", sort=False)}
+
+
+def _reference_table(numbers, reference, shown):
+    """Over the piles (drop seeds): per freezing system, the median steps until all froze
+    (``family_median_steps``; "never" when that median is a pile that never froze), its
+    reference, and how long that reference still moved a body at each speed (median steps; "at
+    cap" when a pile still moved then at the cap). Empty when the runs have no piles."""
+    rows = []
+    for system in shown:
+        ref = reference.get(systems.REFERENCE[system])
+        if (
+            ref is None
+            or ref["pile_median_steps"] is None
+            or "drop" not in numbers[system].get("family_median_steps", {})
+        ):
+            continue
+        frozen = numbers[system]["family_median_steps"]["drop"]
+        row = {
+            "system": system,
+            "all frozen (median step)": "never" if frozen is None else f"{frozen:g}",
+            "reference": systems.REFERENCE[system],
+        }
+        for speed, step in ref["pile_median_steps"].items():
+            label = (
+                f"{float(speed) * 100:g} cm/s"
+                if float(speed) >= 0.01
+                else f"{float(speed) * 1000:g} mm/s"
+            )
+            row[f"moving at {label} until"] = "at cap" if step is None else f"{step:g}"
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def _reference_of(t):
+    """One reference system's rows: per scene and speed (m/s, as a string key) the last step at
+    which a body moved at least that fast (0 never), the speeds at which it still moved at the
+    cap, and over the piles (drop seeds) the median of those steps per speed (None if any pile
+    still moved then at the cap)."""
     speed_of = {m: m[len("moving_until_") :] for m in t["metric"].unique()}
     steps = {}
     at_cap = {}
@@ -343,13 +389,14 @@ def _paper_table(runs, scenes, systems):
     return pd.DataFrame(rows)
 
 
-def _numbers(runs, scenes, systems, cap, dt):
+def _numbers(runs, scenes, shown, cap, dt):
     out = {"cap_steps": int(cap), "cap_s": cap * dt, "dt": dt, "scenes": scenes}
-    for system in systems:
+    for system in shown:
         s = runs[runs["system"] == system]
         froze = s[~s["never"]]
         out[system] = {
             **_per_system(s),
+            "reference": systems.REFERENCE[system],  # the same engine with nothing frozen
             "n_never": int(s["never"].sum()),
             "awake_at_cap": {r.scene: int(r.n_awake_at_end) for r in s.itertuples() if r.never},
             "median_steps_when_frozen": (

@@ -272,18 +272,30 @@ def _seed_sample(sample):
 
 
 def _reference_piles(ref):
-    """How long the same piles move with freezing off (fig_time_to_rest's reference): the
-    median last step at which a body moved at extended's rest speed or faster, and at a creep."""
-    if not ref or not ref.get("pile_median_steps"):
+    """How long the same piles move with freezing off (fig_time_to_rest's reference, per
+    engine): under sim-off the median last step at which a body moved at extended's rest speed
+    or faster, and at a creep; under each peer with its sleeping off, at that rest speed."""
+    sim_off = (ref or {}).get("sim-off") or {}
+    med = sim_off.get("pile_median_steps")
+    if not med:
         return ""
-    med = ref["pile_median_steps"]
 
-    def at(speed):
-        return "past the cap" if med.get(speed) is None else f"{med[speed]:g}"
+    def at(pile_median, speed):
+        return "past the cap" if pile_median.get(speed) is None else f"{pile_median[speed]:g}"
 
+    peers = [
+        f"{system} {at(r['pile_median_steps'], '0.02')}"
+        for system, r in ref.items()
+        if system != "sim-off" and r.get("pile_median_steps")
+    ]
     return (
-        f"; with freezing off the same piles move at 2 cm/s or faster until step {at('0.02')} "
-        f"(median) and creep at 1 mm/s or faster until step {at('0.001')}"
+        f"; with freezing off the same piles move at 2 cm/s or faster until step "
+        f"{at(med, '0.02')} (median) and creep at 1 mm/s or faster until step {at(med, '0.001')}"
+        + (
+            " (each peer with its sleeping off: 2 cm/s or faster until " + ", ".join(peers) + ")"
+            if peers
+            else ""
+        )
     )
 
 

@@ -37,14 +37,16 @@ run, what the scene waits for once it is still: from the first step in which no 
 until every body is frozen, the awake body-steps by the reason the rest test gave
 (waiting_<reason>, body-steps, one per reason of ``sim.World.AWAKE_REASONS``).
 
-And how long the reference itself moves (``reference_motion``, part "reference", system sim-off):
-each scene run with freezing off to the cap, and for each speed in ``REFERENCE_SPEEDS`` the last
-step at which its fastest body moved at least that fast (|v| + |w| r, r the body's largest vertex
-distance from its centre of mass, the measure of extended's rest test; metric
-``moving_until_<speed>``, 0 if never, flag "at cap" when still moving at the cap). A system that
-freezes a whole pile before the reference stops moving has frozen motion (or a pile that took
-another path, since piles are chaotic): so this is how soon a pile *can* be frozen whole without
-freezing what the solver still moves.
+And how long the reference itself moves (``reference_motion``, part "reference"): each scene
+run with freezing off to the cap, under each freezing system's reference (``REFERENCE_SYSTEMS``:
+sim-off, and each peer with its sleeping off, since a peer's sleep freezes what *its* solver
+moves, not sim's), and for each speed in ``REFERENCE_SPEEDS`` the last step at which its fastest
+body moved at least that fast (|v| + |w| r, r the body's largest vertex distance from its centre
+of mass, the measure of extended's rest test; metric ``moving_until_<speed>``, 0 if never, flag
+"at cap" when still moving at the cap). A system that freezes a whole pile before its reference
+stops moving has frozen motion (or a pile that took another path, since piles are chaotic): so
+this is how soon a pile *can* be frozen whole without freezing what the engine's solver still
+moves. The runs are untimed and go to the process pool.
 
 And the same piles over more seeds (``SAMPLE``, part "seed_sample", sim-sleep and sim-extended
 only, the two rest rules of one solver): piles are chaotic, and the median of five seeds moves by
@@ -83,7 +85,7 @@ from study.common import DT, FROZEN_MEANS, SLOP, build, compile_kernels, entry, 
 from study.executor import run_tasks
 from study.protocols import FREEZE_HOLD_S, FREEZING, freeze_run, freeze_tasks, long_row
 from study.peers import engine_of
-from study.systems import NO_PRESOLVE_SETTINGS, no_presolve
+from study.systems import NO_PRESOLVE_SETTINGS, REFERENCE, get, no_presolve
 
 NAME = "fig_time_to_rest"
 SYSTEMS = FREEZING
@@ -98,6 +100,9 @@ DROPPED = ("drop",)
 CERTIFICATE_REPEATS = 5
 #: m/s: sleep's sleep_speed, extended's rest_speed, and a creep (``reference_motion``)
 REFERENCE_SPEEDS = (0.05, 0.02, 0.001)
+#: the references of the freezing systems, each engine with nothing frozen: sim-off and the
+#: peers with their sleeping off (``reference_motion``)
+REFERENCE_SYSTEMS = tuple(dict.fromkeys(REFERENCE[s] for s in SYSTEMS))
 
 FULL = {
     "scenes": (
@@ -159,7 +164,14 @@ def run(config, args):
     ]
     scenes = [sim.scenes.BUILDERS[name](**params) for name, params in config["scenes"]]
     rows += [row for scene in scenes for row in certificate_cost(scene, config["cap_s"])]
-    rows += [row for scene in scenes for row in reference_motion(scene, config["cap_s"])]
+    tasks = [
+        (name, params, config["cap_s"], system)
+        for name, params in config["scenes"]
+        for system in REFERENCE_SYSTEMS
+    ]
+    rows += [
+        row for rows in run_tasks(_reference_task, tasks, desc=f"{NAME} references") for row in rows
+    ]
     settings = {}
     probe = sim.scenes.single_box()
     for system in SYSTEMS:
@@ -173,6 +185,7 @@ def run(config, args):
         "systems": SYSTEMS,
         "frozen_means": FROZEN_MEANS,
         "reference_speeds_m_per_s": REFERENCE_SPEEDS,
+        "reference_systems": REFERENCE_SYSTEMS,
         "certificate_repeats": CERTIFICATE_REPEATS,
         "seed_sample": {
             "scene": "drop",
@@ -247,32 +260,51 @@ def certificate_cost(scene, cap_s, repeats=None):
     ]
 
 
-def reference_motion(scene, cap_s, speeds=REFERENCE_SPEEDS):
-    """How long ``scene`` moves with freezing off (sim-off, the study's runner): stepped to the
-    cap, for each speed in ``speeds`` (m/s) the last step at which its fastest body's speed
-    |v| + |w| r (r: the body's largest vertex distance from its centre of mass, m) was at least
-    that (0 if never; flag "at cap" if that was the cap's step). Rows of part "reference"."""
+def _reference_task(task):
+    """``reference_motion`` of one (builder name, params, cap_s, system) task."""
+    name, params, cap_s, system = task
+    return reference_motion(sim.scenes.BUILDERS[name](**params), cap_s, system=system)
+
+
+def reach(scene):
+    """(N,) m: each body's largest vertex distance from its centre of mass (from sim's World,
+    which places each body's centre of mass: the same geometry every engine is given)."""
+    world = sim.World(scene, initial_iterations=0)
+    return np.array(
+        [
+            np.linalg.norm(world.vertices(i) - world.positions[i], axis=1).max()
+            for i in range(world.n_bodies)
+        ]
+    )
+
+
+def reference_motion(scene, cap_s, speeds=REFERENCE_SPEEDS, system="sim-off"):
+    """How long ``scene`` moves with freezing off under ``system`` (a system with nothing frozen:
+    sim-off, or a peer with its sleeping off; the study's runner at its comparable settings):
+    stepped to the cap, for each speed in ``speeds`` (m/s) the last step at which its fastest
+    body's speed |v| + |w| r (r: the body's largest vertex distance from its centre of mass, m;
+    ``reach``) was at least that (0 if never; flag "at cap" if that was the cap's step). Rows of
+    part "reference"."""
+    if get(system).freezes:  # (get: a clear error for a name that is no system)
+        raise ValueError(
+            f"reference_motion: {system!r} freezes bodies; the reference runs are the systems "
+            f"with nothing frozen: {', '.join(REFERENCE_SYSTEMS)}"
+        )
     cap = int(round(cap_s / DT))
     last = dict.fromkeys(speeds, 0)
-    with build("sim-off", scene) as runner:
-        world = runner.world
-        reach = np.array(
-            [
-                np.linalg.norm(world.vertices(i) - world.positions[i], axis=1).max()
-                for i in range(world.n_bodies)
-            ]
-        )
-        while world.step_count < cap:
-            world.step(1)
-            v = np.linalg.norm(world.velocities, axis=1)
-            fastest = float((v + np.abs(world.angular_velocities) * reach).max())
+    r = reach(scene)
+    with build(system, scene) as runner:
+        for step in range(1, cap + 1):
+            runner.step(1)
+            v = np.linalg.norm(runner.velocities, axis=1)
+            fastest = float((v + np.abs(runner.angular_velocities) * r).max())
             for speed in speeds:
                 if fastest >= speed:
-                    last[speed] = world.step_count
+                    last[speed] = step
     common = {
         "part": "reference",
         "scene": label(scene),
-        "system": "sim-off",
+        "system": system,
         "bodies": len(scene.bodies),
         "n_aw": len(scene.bodies),
         "n_fr": 0,

@@ -112,12 +112,17 @@ def test_the_time_to_rest_bullet_says_how_long_the_reference_piles_move():
         "scenes": scenes,
         "sim-extended": _system(dict(zip(scenes, [1, 120]))),
         "certificate": {"median_us_per_certificate": 3.51, "max_us_per_certificate": 9.46},
-        "reference": {"pile_median_steps": {"0.05": 90.0, "0.02": 101.0, "0.001": None}},
+        "reference": {
+            "sim-off": {"pile_median_steps": {"0.05": 90.0, "0.02": 101.0, "0.001": None}},
+            "pymunk": {"pile_median_steps": {"0.05": 300.0, "0.02": 421.0, "0.001": 436.0}},
+            "box2d": {"pile_median_steps": {"0.05": 200.0, "0.02": None, "0.001": None}},
+        },
     }
     line = time_to_rest_line(ttr)
     assert (
         "with freezing off the same piles move at 2 cm/s or faster until step 101 (median) and "
-        "creep at 1 mm/s or faster until step past the cap" in line
+        "creep at 1 mm/s or faster until step past the cap (each peer with its sleeping off: "
+        "2 cm/s or faster until pymunk 421, box2d past the cap)" in line
     )
 
 

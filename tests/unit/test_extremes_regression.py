@@ -217,7 +217,7 @@ def test_50_box_column_without_presolve_stands(policy):
     # stands, ending 0.5 mm (off), 21 mm (sleep), 0 (paper), 14 mm (extended) from its pose. On
     # the way its top box sinks 0.35 m (0.24 under paper) by step 30, while the soft contacts take
     # up the load, and comes back (pymunk and pybullet let it fall over, Box2D 2.3 sinks 1.56 m
-    # and ends 0.82 m low)
+    # and ends 0.80 m low)
     w = world(scenes.column(50), policy, initial_iterations=0)
     start = start_of(w)
     deepest = 0.0

@@ -15,13 +15,18 @@ Matching sim's conventions
   runner insets its meshes by Bullet's margin). The floor is a static chain of straight edges
   FLOOR_SEGMENT m long (wider than the scene by its own extent plus 1 km on each side, like the
   other peers' floors) whose skin's top is at ``floor_y``; static bodies are static polygons.
-  Not one wide box: in float32, a box 2 km wide made Box2D's contacts with it imprecise (its
-  vertices 1 km from a body it touches): a box slid to a stop on it jolted 2 s later (8 cm/s,
+  Not one wide box: Box2D's polygon-polygon contacts with a float32 box 2 km wide (its vertices
+  1 km from the bodies on it) misbehaved: a box slid to a stop on it jolted 2 s later (8 cm/s,
   tilted 2.6 mrad), a placed stack(5) moved at 2 cm/s or faster for 188 of 1200 steps and a
-  stack(10) for 910 (none with a floor 24 m wide, as with the chain); stack(10) sank 3.1 cm
-  instead of 2.0 in 5 s. A chain's edges near a body have vertices near it at any distance from
-  the scene, and its ghost vertices make it one smooth surface (no internal corners to catch on,
-  as tiled boxes would have).
+  stack(10) for 910, and stack(10) sank 3.1 cm instead of 2.0 in 5 s; none of it on a box 24 m
+  wide, on the chain, or on one edge 4 km long (measured 2026-12-06). Edges are also how Box2D's
+  own testbed builds its grounds. The chain keeps every edge's vertices within FLOOR_SEGMENT of
+  the bodies on it, and its ghost vertices make it one smooth surface (no internal corners to
+  catch on, as tiled boxes would have). On an edge the contact is the polygon's flat part, its
+  rounded corners left out (points at x = +-0.49 m for a 1 m box), where against a static box
+  Box2D clips two skins beyond the corners (+-0.51 m): a plank standing on its end on the floor
+  has a base 4 cm narrower than on a static box (table_extremes' plank upright drifted 8 % of
+  its width at 30:1 on the chain, and stood on the wide box).
 - Box2D integrates semi-implicitly (velocity first, then position with the new velocity), once
   per step, as Bullet does: free fall from rest gives y0 - g dt^2 n (n+1)/2 after n steps.
 - Box2D computes in float32: positions, velocities, masses carry a relative round-off of ~6e-8
@@ -92,8 +97,8 @@ from .pybullet_urdf import inset
 #: Box2D's testbed defaults (b2World::Step's velocityIterations, positionIterations).
 DEFAULT_ITERATIONS = 8
 DEFAULT_POSITION_ITERATIONS = 3
-#: Length of the floor chain's edges, m: a body touches edges whose vertices lie within this of
-#: it, so float32 places its contacts to ~1e-6 m (see the module docstring)
+#: Length of the floor chain's edges, m: an edge's vertices are never farther than this from a
+#: body on it (float32; see the module docstring)
 FLOOR_SEGMENT = 10.0
 #: Most vertices Box2D accepts in a polygon, as this build of Box2D was compiled.
 MAX_POLYGON_VERTICES = int(Box2D.b2_maxPolygonVertices)

@@ -24,9 +24,10 @@ Matching sim's conventions
   the bodies on it, and its ghost vertices make it one smooth surface (no internal corners to
   catch on, as tiled boxes would have). On an edge the contact is the polygon's flat part, its
   rounded corners left out (points at x = +-0.49 m for a 1 m box), where against a static box
-  Box2D clips two skins beyond the corners (+-0.51 m): a plank standing on its end on the floor
-  has a base 4 cm narrower than on a static box (table_extremes' plank upright drifted 8 % of
-  its width at 30:1 on the chain, and stood on the wide box).
+  Box2D clips two skins beyond the corners (+-0.51 m). A plank 1/30 m wide placed on its end
+  sinks 2.7 mm into the chain, within the b2_linearSlop Box2D leaves (5 mm), where it stayed put
+  on the box; 1/10 m wide and wider stays put on both (table_extremes' plank upright: 30:1 drifts
+  8 % of its width, degraded, on the chain).
 - Box2D integrates semi-implicitly (velocity first, then position with the new velocity), once
   per step, as Bullet does: free fall from rest gives y0 - g dt^2 n (n+1)/2 after n steps.
 - Box2D computes in float32: positions, velocities, masses carry a relative round-off of ~6e-8

@@ -94,8 +94,9 @@ class Settings(NamedTuple):
     QUIET_ARMED,
     N_IMPACT_BATCHES,
     N_DEEP_BATCHES,
-) = range(30)
-N_COUNTERS = 30
+    PRESOLVE_CONVERGED,
+) = range(31)
+N_COUNTERS = 31
 # GROW_NEEDED bits: which buffer the kernel found too small (the World grows it and retries)
 GROW_CONTACTS, GROW_AWAKE_GRID, GROW_RESTING_GRID, GROW_SOLVER = 1, 2, 4, 8
 

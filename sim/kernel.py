@@ -49,6 +49,7 @@ from .data import (
     N_QUIET,
     N_REBUILDS,
     QUIET_ARMED,
+    PRESOLVE_CONVERGED,
     PRESOLVE_SWEEPS,
     RESTING_DIRTY,
     STAGE_ARMS,
@@ -446,7 +447,8 @@ def presolve(
     steps. A point approaching faster than IMPACT_SWEEP_SPEED is an impact in the making, not a
     load, and keeps no impulse: warm started (each substep repeats the warm start), the impulse
     its speculative row took stopped a box fired at the floor at 1e4 m/s 0.38 m in the air, and
-    at 1e6 m/s sent it 43 m up. Returns OK or GROW."""
+    at 1e6 m/s sent it 43 m up. Returns OK or GROW; counters[PRESOLVE_SWEEPS] is the sweeps
+    spent, counters[PRESOLVE_CONVERGED] 1 if it stopped on the tolerance."""
     if not broadphase(
         settings,
         counters,
@@ -478,9 +480,11 @@ def presolve(
     )
     before = np.zeros(n_batches * LANES)
     done = 0
+    counters[PRESOLVE_CONVERGED] = 0
     while done < n_iterations:
         _lane_impulses(n_batches, solver.wide, before)
-        for _ in range(min(10, n_iterations - done)):
+        rounds = min(10, n_iterations - done)
+        for _ in range(rounds):
             relax(
                 n_colours,
                 solver.colour_batches,
@@ -491,9 +495,10 @@ def presolve(
                 1.0 / h,
                 np.bool_(False),  # not a literal (sim/jit, LITERALS)
             )
-        done += 10
+        done += rounds
         change, largest = _impulse_change(n_batches, solver.wide, before)
         if change <= tolerance * largest:
+            counters[PRESOLVE_CONVERGED] = 1
             break
     # the converged load is carried from the start; impacts are not loads (see above)
     store(counters, contacts, solver, 1.0, IMPACT_SWEEP_SPEED)

@@ -21,19 +21,25 @@ def contact_points(contacts, counters, position):
     slots = c.active[: int(counters[D.N_ACTIVE])]
     n_pts = c.contact_int[slots, D.POINT_COUNT]
     rows = np.repeat(slots, n_pts)
-    cols = np.concatenate([np.arange(k) for k in n_pts]) if len(slots) else np.zeros(0, int)
+    # each point's index within its contact: its place in the list less where its contact's
+    # points begin (one array operation: a Python loop over the contacts took 0.7 s of a World's
+    # set-up at 10^6 boxes)
+    first = np.cumsum(n_pts) - n_pts
+    cols = np.arange(len(rows)) - np.repeat(first, n_pts)
     b = c.contact_int[rows, D.BODY_B]
-    pf = c.point_float[rows, cols]
+    # field by field: gathering whole point rows first copied every column of every point (0.3
+    # GB at 10^6 boxes) to hand out a few
+    pf = c.point_float
     return {
-        "body_a": c.contact_int[rows, D.BODY_A].copy(),
-        "body_b": b.copy(),
-        "point": pf[:, [D.ANCHOR_BX, D.ANCHOR_BY]] + position[b],
-        "normal": c.contact_float[rows][:, [D.NORMAL_X, D.NORMAL_Y]].copy(),
-        "separation": pf[:, D.SEPARATION].copy(),
-        "end_separation": pf[:, D.END_SEPARATION].copy(),
-        "slop": c.contact_float[rows, D.SLOP].copy(),
-        "normal_impulse": pf[:, D.NORMAL_IMPULSE].copy(),
-        "tangent_impulse": pf[:, D.TANGENT_IMPULSE].copy(),
+        "body_a": c.contact_int[rows, D.BODY_A],
+        "body_b": b,
+        "point": pf[rows[:, None], cols[:, None], [D.ANCHOR_BX, D.ANCHOR_BY]] + position[b],
+        "normal": c.contact_float[rows[:, None], [D.NORMAL_X, D.NORMAL_Y]],
+        "separation": pf[rows, cols, D.SEPARATION],
+        "end_separation": pf[rows, cols, D.END_SEPARATION],
+        "slop": c.contact_float[rows, D.SLOP],
+        "normal_impulse": pf[rows, cols, D.NORMAL_IMPULSE],
+        "tangent_impulse": pf[rows, cols, D.TANGENT_IMPULSE],
     }
 
 
@@ -73,6 +79,7 @@ class Inspection:
                            body A of every lane cannot move, and the sweeps leave its terms out)
       resting_rebuilds     how many times the resting grid was rebuilt since the start
       presolve_sweeps      sweeps the initial-impulse solve took
+      presolve_converged   whether it stopped on its tolerance (False: on its sweep cap, or none)
       regrown              how many times a buffer the step loop outgrew was grown
       sweeps, impacts      fast bodies swept (stage ``continuous``), and cut back to an impact
       toi_pairs            pairs the sweeps measured at their end poses (a time-of-impact
@@ -112,6 +119,7 @@ class Inspection:
         self.batch_kinds = solver.batch_kind[: self.n_batches].copy()
         self.resting_rebuilds = int(c[D.N_REBUILDS])
         self.presolve_sweeps = int(c[D.PRESOLVE_SWEEPS])
+        self.presolve_converged = bool(c[D.PRESOLVE_CONVERGED])
         self.regrown = regrown
         self.sweeps = int(c[D.N_SWEPT])
         self.impacts = int(c[D.N_IMPACTS])

@@ -7,11 +7,15 @@ for what it accepts (each with the measurement behind it) are read here, in one 
 that the peer runners share (a count, a switch, a number) are ``sim.arguments``.
 """
 
+import difflib
+import inspect
+
 import numpy as np
 
 from . import soft_step
 from .arguments import count
 from .body import MAX_COORDINATE
+from .freeze import POLICY_NAMES, parameters_of, renamed_in
 
 #: Settings of the solver before soft step, refused with the reason.
 REMOVED = {
@@ -159,3 +163,29 @@ def check_initial_overlap(points, describe, overlap_tolerance):
             else f"{describe(a)} and {what_b} start overlapping by {depth:.4g} m"
         )
         raise ValueError(f"{what} (overlap_tolerance is {overlap_tolerance} m)")
+
+
+def check_policy_arguments(freeze, policy_parameters, init):
+    """ValueError for a keyword that is neither a World setting nor a parameter of the freeze
+    policy, saying both (a misspelt setting, ``iteratons=3``, read as the policy's fault); the
+    World's settings are the keywords of ``init`` (``World.__init__``)."""
+    if not isinstance(freeze, str) or freeze not in POLICY_NAMES:
+        return  # resolve names the unknown policy
+    takes = parameters_of(freeze)
+    unknown = sorted(set(policy_parameters) - set(takes))
+    for name in unknown:
+        if name in renamed_in(freeze):
+            raise ValueError(f"freeze={freeze!r} does not take {name}: {renamed_in(freeze)[name]}")
+    if unknown:
+        settings = [
+            p.name
+            for p in inspect.signature(init).parameters.values()
+            if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY) and p.name != "self"
+        ]
+        near = difflib.get_close_matches(unknown[0], settings + list(takes), n=1)
+        raise ValueError(
+            f"World got {', '.join(unknown)}: not a World setting "
+            f"({', '.join(s for s in settings if s != 'scene')}) nor a parameter of "
+            f"freeze={freeze!r} ({', '.join(takes) or 'it takes none'})"
+            + (f"; did you mean {near[0]}?" if near else "")
+        )

@@ -8,8 +8,6 @@ arrays the step loop works in (their sizes, and their growth when a step outgrow
 ``sim.reports`` the read-only reports (``contacts()``, ``inspect()``), ``sim.calls`` the call into
 the compiled step loop (Ctrl-C deferred, Numba's type dispatch skipped)."""
 
-import difflib
-import inspect
 import time
 
 import numpy as np
@@ -21,11 +19,11 @@ from .arguments import count, flag, positive
 from .activity import CAUSES, initial_activity
 from .broadphase import grid_buffers
 from .calls import Compiled, Deferred
-from . import geometry
+from . import geometry, presolve
 from .buffers import grown, new_bodies, new_contacts, new_geometry, new_solver
 from .clock import ticks_per_second
 from .contacts import sort_awake
-from .freeze import POLICY_NAMES, parameters_of, renamed_in, resolve
+from .freeze import POLICY_NAMES, resolve
 from .freeze.extended_layout import WAIT_NAMES, WAIT_NONE, WAITING
 from .narrowphase import update_manifolds
 from .packing import pack
@@ -41,14 +39,11 @@ from .validation import (
     REMOVED,
     check_initial_overlap,
     check_mass_properties,
+    check_policy_arguments,
     check_range,
     fast_path_names,
     mixed_masses,
 )
-
-#: Initial-impulse solve stops when no contact's impulse changes by more than this fraction of the
-#: largest over 10 sweeps.
-INITIAL_TOLERANCE = 1e-6
 
 #: Room for this many contacts per body (and grid entries per body) when a World is built; the
 #: step loop reports a buffer it outgrows and the World grows it (tests set it small).
@@ -111,7 +106,10 @@ class World:
       initial_iterations    most sweeps spent once, before step 1, solving the initial contact
                             impulses to convergence (nothing moves; stops early when converged;
                             0 disables; default 5000, or 0 without warm_starting, which it
-                            needs): a scene placed at rest starts in equilibrium.
+                            needs): a scene placed at rest starts in equilibrium. The default
+                            also spends at most ``sim.presolve.WORK`` contact-sweeps (1-2 s),
+                            and warns if that leaves it unconverged (tall stacks of
+                            10^5 bodies); ``inspect()`` reports the sweeps and convergence.
       fast_paths            True (default), False, or a collection of names from
                             ``sim.validation.FAST_PATHS``: work skipped when the scene does not
                             need it, each exact ("friction": no friction rows for batches of
@@ -155,7 +153,7 @@ class World:
             raise ValueError(f"scene must be a sim.Scene, got {type(scene).__name__}")
         for name in sorted(set(policy_parameters) & set(REMOVED)):
             raise ValueError(f"World does not take {name}: {REMOVED[name]}")
-        self._check_policy_arguments(freeze, policy_parameters)
+        check_policy_arguments(freeze, policy_parameters, World.__init__)
         # A copy taken now (validated): the steps, the reports (potential_energy, the names in
         # messages) and ``world.scene`` all see the scene as it was when the World was built.
         # Holding the caller's object, a later edit was half-seen: potential_energy() used the
@@ -217,9 +215,14 @@ class World:
         self._diverged = None  # why the World cannot step any more, once it diverged
         self._detect()
         self._check_initial_overlap()
-        if self.initial_iterations:
-            while K.presolve(self.initial_iterations, INITIAL_TOLERANCE, *self._state()) == K.GROW:
-                self._grow()
+        n_contacts = int(self._counters[D.N_ACTIVE])
+        cap = presolve.sweep_cap(self.initial_iterations, initial_iterations is None, n_contacts)
+        while cap and K.presolve(cap, presolve.TOLERANCE, *self._state()) == K.GROW:
+            self._grow()
+        c = self._counters
+        presolve.warn_if_cut(
+            self.initial_iterations, cap, c[D.PRESOLVE_SWEEPS], c[D.PRESOLVE_CONVERGED], n_contacts
+        )
 
     # ---- set-up -----------------------------------------------------------------------------
     def _build(self, scene, p):
@@ -349,33 +352,6 @@ class World:
             "was built from), or from its state (positions, angles, velocities, "
             "angular_velocities) put into a new sim.Scene"
         )
-
-    @staticmethod
-    def _check_policy_arguments(freeze, policy_parameters):
-        """ValueError for a keyword that is neither a World setting nor a parameter of the freeze
-        policy, saying both (a misspelt setting, ``iteratons=3``, read as the policy's fault)."""
-        if not isinstance(freeze, str) or freeze not in POLICY_NAMES:
-            return  # resolve names the unknown policy
-        takes = parameters_of(freeze)
-        unknown = sorted(set(policy_parameters) - set(takes))
-        for name in unknown:
-            if name in renamed_in(freeze):
-                raise ValueError(
-                    f"freeze={freeze!r} does not take {name}: {renamed_in(freeze)[name]}"
-                )
-        if unknown:
-            settings = [
-                p.name
-                for p in inspect.signature(World.__init__).parameters.values()
-                if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY) and p.name != "self"
-            ]
-            near = difflib.get_close_matches(unknown[0], settings + list(takes), n=1)
-            raise ValueError(
-                f"World got {', '.join(unknown)}: not a World setting "
-                f"({', '.join(s for s in settings if s != 'scene')}) nor a parameter of "
-                f"freeze={freeze!r} ({', '.join(takes) or 'it takes none'})"
-                + (f"; did you mean {near[0]}?" if near else "")
-            )
 
     def _describe(self, i):
         dynamic, static = self._names

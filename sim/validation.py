@@ -146,16 +146,16 @@ def mixed_masses(inv_mass):
     return bool(movable.size and movable.max() > soft_step.HARD_RATIO * movable.min())
 
 
-def check_initial_overlap(points, describe, overlap_tolerance):
+def check_initial_overlap(deepest, describe, overlap_tolerance):
     """Refuse scenes whose bodies start interpenetrated beyond ``overlap_tolerance`` (m): the
-    contacts would launch them apart and the run would measure nothing real. ``points`` are the
-    start poses' contact points (``reports.contact_points``); ``describe(i)`` names body i."""
-    if not len(points["separation"]):
+    contacts would launch them apart and the run would measure nothing real. ``deepest`` is the
+    start poses' deepest contact point, (separation, body_a, body_b) or None
+    (``reports.deepest_point``); ``describe(i)`` names body i."""
+    if deepest is None:
         return
-    k = int(np.argmin(points["separation"]))
-    depth = -float(points["separation"][k])
+    separation, a, b = deepest
+    depth = -separation
     if depth > overlap_tolerance:
-        a, b = int(points["body_a"][k]), int(points["body_b"][k])
         what_b = describe(b)
         what = (
             f"{what_b} starts {depth:.4g} m below the floor"

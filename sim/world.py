@@ -27,7 +27,7 @@ from .freeze import POLICY_NAMES, resolve
 from .freeze.extended_layout import WAIT_NAMES, WAIT_NONE, WAITING
 from .narrowphase import update_manifolds
 from .packing import pack
-from .reports import Inspection, contact_points
+from .reports import Inspection, contact_points, deepest_point
 from .scene import Scene
 from .state import State
 from .tolerances import check_step
@@ -342,7 +342,8 @@ class World:
     def _check_initial_overlap(self):
         """Refuse scenes whose bodies start interpenetrated beyond ``overlap_tolerance``: the
         contacts would launch them apart and the run would measure nothing real."""
-        check_initial_overlap(self._points(), self._describe, self.overlap_tolerance)
+        deepest = deepest_point(self._contacts, self._counters)
+        check_initial_overlap(deepest, self._describe, self.overlap_tolerance)
 
     def __reduce_ex__(self, protocol):
         # copy.copy shared the World's arrays (stepping the copy moved the original) and

@@ -805,3 +805,50 @@ def test_a_remembered_polygon_does_not_hide_a_later_edit():
         geometry.validate_polygon, almost, "e"
     )
     assert message(lambda: sim.Body(vertices=almost, name="e")) is not None
+
+
+# ---- one polygon shared by every body -----------------------------------------------------------
+def _as_dict(packed):
+    return {name: getattr(packed, name) for name in Packed._fields}
+
+
+def _bits_equal(a, b):
+    for name in Packed._fields:
+        x, y = np.asarray(getattr(a, name)), np.asarray(getattr(b, name))
+        assert x.shape == y.shape and x.dtype == y.dtype, name
+        assert x.tobytes() == y.tobytes(), name  # -0.0 and 0.0 differ here
+
+
+def test_a_shared_polygon_is_computed_once_with_the_same_bits():
+    # 50 copies of a box with collinear vertices (dropped once, for all), turned and placed each
+    # its own way, beside static bodies of their own shapes: packed sharing the polygon, the
+    # arrays are those of packing it body by body, to the bit
+    rng = np.random.default_rng(7)
+    scene = sim.Scene.from_arrays(
+        np.array(SPLIT_BOX),
+        rng.uniform(-20.0, 20.0, (50, 2)) + (0.0, 30.0),
+        angle=rng.uniform(-3.0, 3.0, 50),
+        density=2.5,
+        static_bodies=[
+            sim.Body.box(0.5, 6.0, position=(-30.0, 3.0), angle=0.1),
+            sim.Body.regular(7, 1.0, position=(30.0, 1.0)),
+        ],
+    )
+    shared, alone = pack(scene), pack(scene, share=False)
+    _bits_equal(shared, alone)
+    assert len(shared.local_verts) == 50 * 4 + 4 + 7  # each split box a box again: 4 corners
+    # (slow_pack keeps collinear vertices: test_pack_equals_the_per_body_loop compares a shared
+    # polygon with it on pyramid, whose boxes all share one)
+
+
+def test_bodies_that_differ_in_one_bit_or_density_are_not_shared():
+    box = np.array(BOX, float)
+    other = box.copy()
+    other[0, 0] = np.nextafter(other[0, 0], 0.0)
+    for vertices, density in (
+        (np.stack([box, other, box]), 1.0),  # one coordinate one ulp apart
+        (np.stack([box, box, box]), [1.0, 1.0, 2.0]),  # one density apart
+    ):
+        scene = sim.Scene.from_arrays(vertices, [(0, 1), (3, 1), (6, 1)], density=density)
+        _bits_equal(pack(scene), pack(scene, share=False))
+        assert pack(scene).mass[2] != pack(scene).mass[0] or density == 1.0

@@ -1,8 +1,7 @@
-"""Table "bench_step": the solver's cost per step against pymunk and Box2D 2.3 with nothing frozen
-(sim-off), for
-the paper's set-up section, and where sim's step spends its time.
+"""Table "bench_step": the solver's cost per step against pymunk, Box2D 2.3 and Box2D v3 with
+nothing frozen (sim-off), for the paper's set-up section, and where sim's step spends its time.
 
-Writes paper/generated/bench_step.csv (ms per step per scene, pymunk/sim, box2d/sim),
+Writes paper/generated/bench_step.csv (ms per step per scene, pymunk/sim, box2d/sim, box2d3/sim),
 bench_step_profile.csv
 (sim's step by stage, ms, one column per scene) and bench_step.json: the ratios per scene, the
 issue's target (sim at least 3x pymunk's step rate on pyramid(40), rest_row(5000), drop(200)
@@ -12,7 +11,7 @@ profile of the target scenes."""
 from analysis import style
 
 NAME = "bench_step"
-PEERS = ("pymunk", "box2d")  # the peers timed (experiments/bench_step.py SYSTEMS)
+PEERS = ("pymunk", "box2d", "box2d3")  # the peers timed (experiments/bench_step.py SYSTEMS)
 PROFILE = "bench_step_profile"
 
 
@@ -63,14 +62,14 @@ def draw(table, meta):
                 "pymunk_over_sim",
                 "box2d_ms",
                 "box2d_over_sim",
+                "box2d3_ms",
+                "box2d3_over_sim",
             ]
         ].round(
             {
                 "sim_off_ms": 4,
-                "pymunk_ms": 4,
-                "pymunk_over_sim": 2,
-                "box2d_ms": 4,
-                "box2d_over_sim": 2,
+                **{f"{p}_ms": 4 for p in PEERS},
+                **{f"{p}_over_sim": 2 for p in PEERS},
             }
         ),
         NAME,
@@ -86,23 +85,19 @@ def draw(table, meta):
     largest = out.loc[out.groupby("scene")["bodies"].idxmax()]
     stages = profile[profile["stage"] != "total"]
     return {
-        "pymunk_over_sim": {r.label: r.pymunk_over_sim for r in out.itertuples()},
-        "box2d_over_sim": {r.label: r.box2d_over_sim for r in out.itertuples()},
+        **{f"{p}_over_sim": dict(zip(out["label"], out[f"{p}_over_sim"])) for p in PEERS},
         "ms_per_step": {
-            r.label: {"sim-off": r.sim_off_ms, "pymunk": r.pymunk_ms, "box2d": r.box2d_ms}
-            for r in out.itertuples()
+            r["label"]: {"sim-off": r["sim_off_ms"], **{p: r[f"{p}_ms"] for p in PEERS}}
+            for _, r in out.iterrows()
         },
         "largest": {
-            r.scene: {
-                "scene": r.label,
-                "bodies": int(r.bodies),
-                "sim_off_ms": r.sim_off_ms,
-                "pymunk_ms": r.pymunk_ms,
-                "pymunk_over_sim": r.pymunk_over_sim,
-                "box2d_ms": r.box2d_ms,
-                "box2d_over_sim": r.box2d_over_sim,
+            r["scene"]: {
+                "scene": r["label"],
+                "bodies": int(r["bodies"]),
+                "sim_off_ms": r["sim_off_ms"],
+                **{k: r[k] for p in PEERS for k in (f"{p}_ms", f"{p}_over_sim")},
             }
-            for r in largest.itertuples()
+            for _, r in largest.iterrows()
         },
         "target_ratio": target,
         "targets": targets,
@@ -110,8 +105,7 @@ def draw(table, meta):
         "settling_seeds": settling_seeds(table),
         "targets_met": bool(targets) and all(t["met"] for t in targets.values()),
         "sim": _settings(table, "sim-off"),
-        "pymunk": _settings(table, "pymunk"),
-        "box2d": _settings(table, "box2d"),
+        **{p: _settings(table, p) for p in PEERS},
         "profile_ms": {
             lbl: {r.stage: r.ms_per_step for r in g.itertuples()}
             for lbl, g in profile.groupby("label", sort=False)

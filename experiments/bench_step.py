@@ -1,11 +1,13 @@
-"""Table "bench_step": milliseconds per step, sim (freeze off) vs pymunk and Box2D 2.3 (sleeping
-off), nothing frozen, and where sim's step spends its time.
+"""Table "bench_step": milliseconds per step, sim (freeze off) vs pymunk, Box2D 2.3 and Box2D v3
+(sleeping off), nothing frozen, and where sim's step spends its time.
 
 Question (issue "Solver v2", done when): before any freezing, how fast is sim's solver against an
 established engine on the same scenes? Target: sim-off at least 3x pymunk's step rate on
 pyramid(40), rest_row(5000) and drop(200) while it settles, in one run; with the phase profile of
-sim's step and the number of substeps and iterations used. This fixes the baseline that every
-later speed-up is measured from, and shows how each system's cost grows with the body count.
+sim's step and the number of substeps and iterations used; beyond it, Box2D v3's speed (the
+solver sim's soft step follows, the state of the art the issue names). This fixes the baseline
+that every later speed-up is measured from, and shows how each system's cost grows with the body
+count.
 
 Scenes
 - resting: rest_row(n) for n in 10, 100, 1000, 5000 (independent boxes on the floor: contacts with
@@ -27,7 +29,13 @@ scales down with small bodies) and pymunk's collision_slop matched to the scene'
 scene's), no sleeping, each system's settings recorded (``system_settings``: from a probe scene).
 sim: the soft step with 4 substeps per step, 1 biased solve sweep and
 1 relax sweep per substep (8 sweeps over the contacts per step); pymunk: 10 iterations per step;
-box2d: 8 velocity and 3 position iterations per step (Box2D 2.3's testbed defaults).
+box2d: 8 velocity and 3 position iterations per step (Box2D 2.3's testbed defaults); box2d3:
+Box2D v3 with 4 substeps, 1 biased and 1 relax sweep per substep, as sim (its testbed's
+defaults; ``study.peers.box2d3_runner``). Box2D v3 is a benchmark-only system
+(``study.systems.BENCH_ONLY``): timed here, compared on outcomes nowhere. Its build (the pyb2d3
+wheel) is SSE2, 4-wide, one thread, where sim's kernels are compiled for the machine they run on
+(AVX-512 on the study's): an advantage sim has that Box2D v3 compiled for AVX2 would partly
+share; ``system_settings`` records it (``simd``).
 The columns ``substeps``, ``iterations`` and ``contact_sweeps_per_step``
 (``study.peers.solver_summary``) say so on every row; the metadata holds every setting of
 both (``system_settings``).
@@ -41,7 +49,8 @@ one profiled step, so profiling compiles nothing either).
   timed: sim's includes its initial-impulse solve) and times the same window, steps 1..WINDOW, in
   one call per system, interleaved as above.
 Reported per step: median and min over repeats, ms; on the sim rows the ratio peer/sim of
-medians (``speedup_vs_pymunk``, ``speedup_vs_box2d``: > 1 means sim is faster).
+medians (``speedup_vs_pymunk``, ``speedup_vs_box2d``, ``speedup_vs_box2d3``: > 1 means sim is
+faster).
 ``max_displacement_m`` (largest distance any body moved from its start) guards resting scenes
 against a blow-up or collapse looking fast;
 ``bodies_in_bin`` (settling scene: bodies between the walls, below their top, at the end of the
@@ -118,7 +127,7 @@ SETTLING = ("drop",)  # timed from the start, fresh builds
 TARGETS = (("pyramid", 40), ("rest_row", 5000), ("drop", 200))
 
 #: Systems timed, by their study.peers name, each at its own default settings.
-SYSTEMS = ("sim-off", "pymunk", "box2d")
+SYSTEMS = ("sim-off", "pymunk", "box2d", "box2d3")
 
 
 def max_displacement(runner, start):

@@ -33,6 +33,7 @@ PACKAGES = (
     "pymunk",
     "pybullet",
     "box2d",
+    "pyb2d3",
     "pandas",
     "matplotlib",
     "rerun-sdk",

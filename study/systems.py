@@ -52,11 +52,17 @@ REGISTRY = (
     *_peer("pybullet", "#D55E00", "P"),
     *_peer("box2d", "#0072B2", "X"),
 )
-BY_NAME = {s.name: s for s in REGISTRY}
-#: every system name, in the registry's order
-SYSTEMS = tuple(BY_NAME)
+#: systems only the benchmarks run (experiments/bench_step): timed against sim, but outside the
+#: study's comparisons (no figure or table of outcomes loops over them). Box2D v3 is the solver
+#: sim's soft step follows; its runner is study/peers/box2d3_runner.py.
+BENCH_ONLY = (System("box2d3", "box2d3", "off", "#0072B2", "*", "-."),)
+BY_NAME = {s.name: s for s in (*REGISTRY, *BENCH_ONLY)}
+#: every system name of the study's comparisons, in the registry's order
+SYSTEMS = tuple(s.name for s in REGISTRY)
 #: the engines, sim first
 ENGINES = tuple(dict.fromkeys(s.engine for s in REGISTRY))
+#: the benchmarks' systems beyond the study's (BENCH_ONLY)
+BENCH_SYSTEMS = tuple(s.name for s in BENCH_ONLY)
 #: the peers' engines
 PEERS = tuple(e for e in ENGINES if e != "sim")
 #: system -> its reference (the same engine, nothing frozen)
@@ -74,11 +80,14 @@ def get(name):
     try:
         return BY_NAME[name]
     except KeyError:
-        raise ValueError(f"unknown system {name!r}; choose one of {', '.join(SYSTEMS)}") from None
+        raise ValueError(
+            f"unknown system {name!r}; choose one of {', '.join((*SYSTEMS, *BENCH_SYSTEMS))}"
+        ) from None
 
 
 def engine_of(name):
-    """ "sim", "pymunk", "pybullet" or "box2d" for a system name; ValueError for an unknown one."""
+    """ "sim", "pymunk", "pybullet", "box2d" (or "box2d3", benchmarks only) for a system name;
+    ValueError for an unknown one."""
     return get(name).engine
 
 

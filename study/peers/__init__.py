@@ -7,6 +7,9 @@ A system is named by a string (``SYSTEMS``); ``make_runner(system, scene, ...)``
     pybullet, pybullet-sleep                     Bullet, 2D by planar joints (PybulletRunner)
     box2d, box2d-sleep                           Box2D 2.3 (float32), sleeping off / on
                                                  (Box2dRunner)
+    box2d3                                       Box2D v3 (float32), sleeping off; benchmarks
+                                                 only, outside the study's comparisons
+                                                 (Box2d3Runner, study.systems.BENCH_ONLY)
 
 Every runner has ``step(n=1)`` and the observables ``positions`` (N,2) m (centres of mass, row i =
 scene body i), ``angles`` (N,) rad CCW, ``velocities`` (N,2) m/s, ``angular_velocities`` (N,)
@@ -33,6 +36,8 @@ import numpy as np
 
 from study import systems
 
+from .box2d3_runner import ITERATIONS as BOX2D3_ITERATIONS
+from .box2d3_runner import Box2d3Runner
 from .box2d_runner import DEFAULT_ITERATIONS as BOX2D_DEFAULT_ITERATIONS
 from .box2d_runner import Box2dRunner
 from .pybullet_runner import DEFAULT_ITERATIONS as PYBULLET_DEFAULT_ITERATIONS
@@ -56,11 +61,13 @@ SYSTEMS = systems.SYSTEMS
 #:             and a base-40 one collapses; see ``pybullet_runner``)
 #:   box2d     8 velocity iterations per step (Box2D's testbed default), plus 3 position
 #:             iterations (a runner setting, ``position_iterations``)
+#:   box2d3    Box2D v3: 1 biased and 1 relax sweep per substep, fixed (4 substeps, a setting)
 DEFAULT_ITERATIONS = {
     "sim": SIM_DEFAULT_ITERATIONS,
     "pymunk": 10,
     "pybullet": PYBULLET_DEFAULT_ITERATIONS,
     "box2d": BOX2D_DEFAULT_ITERATIONS,
+    "box2d3": BOX2D3_ITERATIONS,
 }
 
 
@@ -144,9 +151,10 @@ def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
                 these are biased sweeps per substep; its substeps (default 4) are a setting.
     settings    passed to the runner: sim.World's keywords (slop, the policy's parameters...),
                 PymunkRunner's (collision_slop, sleep_time, idle_speed), PybulletRunner's
-                (sleep_threshold, restitution_threshold) or Box2dRunner's
-                (position_iterations, warm_starting, continuous). Sleeping is chosen by the
-                name; a sleep option given without it is refused (it would change nothing).
+                (sleep_threshold, restitution_threshold), Box2dRunner's
+                (position_iterations, warm_starting, continuous) or Box2d3Runner's (substeps).
+                Sleeping is chosen by the name; a sleep option given without it is refused (it
+                would change nothing).
     """
     engine = engine_of(system)
     if "sleeping" in settings or "freeze" in settings:
@@ -162,6 +170,8 @@ def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
     sleeping = system.endswith("-sleep")
     if engine == "pymunk":
         return PymunkRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
+    if engine == "box2d3":
+        return Box2d3Runner(scene, dt=dt, iterations=iterations, **settings)
     if engine == "box2d":
         return Box2dRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
     return PybulletRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
@@ -181,4 +191,5 @@ __all__ = [
     "PymunkRunner",
     "PybulletRunner",
     "Box2dRunner",
+    "Box2d3Runner",
 ]

@@ -90,9 +90,10 @@ import numpy as np
 from sim.arguments import count, flag, positive
 from sim.scene import Scene
 
+from .lifetime import ClosesOnExit
 from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
-from .pose import com_pose
+from .pose import body_label, com_pose
 from .pybullet_urdf import inset
 
 #: Box2D's testbed defaults (b2World::Step's velocityIterations, positionIterations).
@@ -116,11 +117,6 @@ BOX2D_SLEEP = {
 }
 #: Relative round-off of a float32, with room for a few operations.
 FLOAT32_TOL = 8 * float(np.finfo(np.float32).eps)
-
-
-def _where(kind, i, name):
-    """ "body 3 (name)" for messages; "body 3" for an unnamed body (named "body 3" by sim)."""
-    return f"{kind} {i}" + (f" ({name})" if name and name != f"{kind} {i}" else "")
 
 
 def _distance_to_boundary(points, polygon):
@@ -174,7 +170,7 @@ def _check_hull(shape, wanted, where):
         )
 
 
-class Box2dRunner:
+class Box2dRunner(ClosesOnExit):
     """Run ``scene`` in Box2D 2.3.
 
     dt                   step, s
@@ -314,7 +310,7 @@ class Box2dRunner:
         # the floor -1.
         x_lo, x_hi = math.inf, -math.inf
         for i, b in enumerate(scene.bodies):
-            where = _where("body", i, b.name)
+            where = body_label("body", i, b.name)
             com, local, mass, inertia = com_pose(b)
             v0, w0 = math.hypot(*b.velocity), abs(b.angular_velocity)
             if v0 >= self.max_speed or w0 >= self.max_angular_speed:
@@ -344,7 +340,7 @@ class Box2dRunner:
             x_lo, x_hi = min(x_lo, com[0] - reach), max(x_hi, com[0] + reach)
 
         for j, b in enumerate(scene.static_bodies):
-            where = _where("static body", j, b.name)
+            where = body_label("static body", j, b.name)
             com, local, _, _ = com_pose(b)
             body = world.CreateStaticBody(position=com, angle=float(b.angle))
             self._fixture(body, local, b.friction, b.restitution, where)
@@ -405,7 +401,7 @@ class Box2dRunner:
         )
         if fast.size:
             i = int(fast[0])
-            where = _where("body", i, self.scene.body_name(i))
+            where = body_label("body", i, self.scene.body_name(i))
             raise RuntimeError(
                 f"box2d: {where} reached Box2D's per-step motion limit at "
                 f"step {self.step_count} ({speed[i]:.4g} m/s, {spin[i]:.4g} "
@@ -483,12 +479,6 @@ class Box2dRunner:
         """Drop the Box2D world (idempotent); pybox2d frees it with its last reference."""
         self._bodies = []
         self.world = None
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def __repr__(self):
         return (

@@ -19,3 +19,8 @@ def com_pose(body):
         body.position[1] + s * centroid[0] + c * centroid[1],
     )
     return com, np.asarray(body.vertices, dtype=np.float64) - centroid, mass, inertia
+
+
+def body_label(kind, i, name):
+    """ "body 3 (name)" for messages; "body 3" for an unnamed body (sim names it "body 3")."""
+    return f"{kind} {i}" + (f" ({name})" if name and name != f"{kind} {i}" else "")

@@ -84,6 +84,7 @@ import sim
 from sim.arguments import count, flag, positive
 from sim.scene import Scene
 
+from .lifetime import ClosesOnExit
 from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
 from .pose import com_pose
@@ -135,7 +136,7 @@ def restitution_values(scene):
     return stored, env_value, exact
 
 
-class PybulletRunner:
+class PybulletRunner(ClosesOnExit):
     """Run ``scene`` in pybullet, one DIRECT client per runner (``close()`` disconnects).
 
     dt               step, s                 iterations   numSolverIterations (default 50)
@@ -553,12 +554,6 @@ class PybulletRunner:
                 pb.disconnect(physicsClientId=client)
             except Exception:  # already gone, or pybullet torn down at exit
                 pass
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def __del__(self):
         self.close()

@@ -50,6 +50,7 @@ from sim.arguments import count, flag, positive
 from sim.geometry import MAX_VERTICES
 from sim.scene import Scene
 
+from .lifetime import ClosesOnExit
 from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
 from .pose import com_pose
@@ -90,7 +91,7 @@ def _max_restitution(arbiter, space, data):
     arbiter.restitution = max(a.elasticity, b.elasticity)
 
 
-class PymunkRunner:
+class PymunkRunner(ClosesOnExit):
     """Run ``scene`` in pymunk.
 
     dt              step, s                 iterations   Chipmunk solver iterations per step
@@ -327,12 +328,6 @@ class PymunkRunner:
     def close(self):
         """Nothing to release (the space is freed with the runner); here so every runner can be
         closed alike."""
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def __repr__(self):
         return (

@@ -19,6 +19,7 @@ import inspect
 import sim
 from sim.soft_step import DYNAMIC_CAP
 
+from .lifetime import ClosesOnExit
 from .bullets import bullets
 
 _DEFAULTS = inspect.signature(sim.World).parameters
@@ -49,7 +50,7 @@ _WORLD_SETTINGS = (
 )
 
 
-class SimRunner:
+class SimRunner(ClosesOnExit):
     """Run ``scene`` in ``sim.World(scene, dt, iterations, freeze, **world_settings)``;
     ``iterations=None`` is the World's default."""
 
@@ -142,12 +143,6 @@ class SimRunner:
 
     def close(self):
         """Nothing to release; here so every runner can be closed alike."""
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
 
     def __repr__(self):
         return f"SimRunner({self.world!r})"

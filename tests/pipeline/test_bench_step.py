@@ -31,7 +31,7 @@ def test_quick_run_writes_every_row_and_the_metadata(quick):
         for p in q[scene]
         for system in bench_step.SYSTEMS
     }
-    assert bench_step.SYSTEMS == ("sim-off", "pymunk", "box2d")
+    assert bench_step.SYSTEMS == ("sim-off", "pymunk", "box2d", "box2d3")
     assert set(zip(table["scene"], table["param"], table["system"])) == expected
     assert len(table) == len(expected)
     for column in ("ms_per_step_median", "ms_per_step_min"):
@@ -44,8 +44,9 @@ def test_quick_run_writes_every_row_and_the_metadata(quick):
     assert (settling["steps_per_repeat"] == q["window"]).all()
     assert settling["mode"].str.startswith("settling").all()
     sim_rows = table[table["system"] == "sim-off"]
-    assert (sim_rows["speedup_vs_pymunk"] > 0).all()
-    assert table.loc[table["system"] == "pymunk", "speedup_vs_pymunk"].isna().all()
+    for peer in bench_step.SYSTEMS[1:]:
+        assert (sim_rows[f"speedup_vs_{peer}"] > 0).all()
+        assert table.loc[table["system"] != "sim-off", f"speedup_vs_{peer}"].isna().all()
     assert (resting["max_displacement_m"] < 0.5).all()  # resting scenes stayed put
     assert (settling["bodies_in_bin"] == settling["param"]).all()  # the drop stayed in its bin
     assert (sim_rows["contacts"] > 0).all() and (sim_rows["batches"] > 0).all()
@@ -67,7 +68,7 @@ def test_quick_run_writes_every_row_and_the_metadata(quick):
         assert key in meta
     assert meta["script"] == "bench_step"
     assert {"commit", "dirty"} <= set(meta["git"])
-    assert meta["packages"]["pymunk"] == "7.3.1"
+    assert meta["packages"]["pymunk"] == "7.3.1" and meta["packages"]["pyb2d3"] == "0.11.1"
     repeats = meta["parameters"]["repeats"]
     assert len(meta["scenes"]) == len(q["rest_row"]) + len(q["pyramid"]) + len(q["drop"]) * repeats
     # the settling scene drops one seed per repeat, the same for every system (drop(20) seeds 0-2
@@ -104,6 +105,11 @@ def test_each_system_runs_at_its_own_defaults_and_the_rows_say_so(quick):
     assert settings["sim-off"]["substeps"] == SIM_DEFAULT_SUBSTEPS
     assert settings["sim-off"]["iterations"] == DEFAULT_ITERATIONS["sim"]
     assert settings["pymunk"]["iterations"] == DEFAULT_ITERATIONS["pymunk"]
+    # Box2D v3 steps as sim's soft step does: 4 substeps, one biased and one relax sweep each
+    v3_rows = table[table["system"] == "box2d3"]
+    assert (v3_rows["substeps"] == 4).all() and (v3_rows["iterations"] == 1).all()
+    assert (v3_rows["contact_sweeps_per_step"] == sim_rows["contact_sweeps_per_step"].iloc[0]).all()
+    assert settings["box2d3"]["simd"].startswith("SSE2")
 
 
 def test_profile_has_every_stage_of_every_scene_and_adds_up(quick):

@@ -60,6 +60,7 @@ def lines():
     ttr = numbers("fig_time_to_rest")["numbers"]
     tf = numbers("table_failures")["numbers"]
     ex = numbers("table_extremes")["numbers"]
+    bs = numbers("bench_step")["numbers"]
     row, pyr = sp["rest_row"], sp["pyramid"]
     out = [
         "## Results at a glance",
@@ -103,6 +104,7 @@ def lines():
         + presolve_failures_line(tf)
     )
     out.append(extremes_line(ex))
+    out.append(solver_line(bs))
     out += ["", "| figure / table | what it shows | make target |", "| --- | --- | --- |"]
     for name, what in FIGURES:
         target = "table_extremes" if name == "fig_extremes" else name
@@ -297,6 +299,50 @@ def _reference_piles(ref):
             else ""
         )
     )
+
+
+#: the peers the solver bullet quotes, and how it names them
+SOLVER_PEERS = (("pymunk", "pymunk"), ("box2d3", "Box2D v3"), ("box2d", "Box2D 2.3"))
+
+
+def solver_line(bs):
+    """The solver's own speed with nothing frozen (bench_step, same run): what every speed-up above
+    starts from, against each peer on the largest scene of each kind, and the issue's target."""
+    largest = bs["largest"]
+    kinds = [k for k in ("rest_row", "pyramid", "drop") if k in largest]
+    parts = []
+    for peer, title in SOLVER_PEERS:
+        ratios = ", ".join(
+            f"{largest[k][f'{peer}_over_sim']:.2f}× on {largest[k]['scene']}" for k in kinds
+        )
+        parts.append(f"{title} {ratios}")
+    targets = bs.get("targets", {})
+    missed = [
+        f"{lbl} ({t['speedup_vs_pymunk']:.2f}×)" for lbl, t in targets.items() if not t["met"]
+    ]
+    target = (
+        f"The target of {bs['target_ratio']:g}× pymunk is met on every target scene."
+        if targets and not missed
+        else f"The target of {bs['target_ratio']:g}× pymunk is not met on "
+        + ", ".join(missed)
+        + "."
+        if missed
+        else ""
+    )
+    v3 = bs.get("box2d3", {})
+    if "drop" in largest and missed:
+        d = largest["drop"]
+        target += (
+            f" Box2D v3 itself runs {d['scene']} at "
+            f"{d['pymunk_over_sim'] / d['box2d3_over_sim']:.2f}× pymunk's rate."
+        )
+    return (
+        "- **The solver, nothing frozen** (`bench_step`, sim-off's step rate over each peer's, "
+        "> 1: sim faster): "
+        + "; ".join(parts)
+        + f". Box2D v3 is the solver sim's soft step follows, timed here only (its wheel: SSE2, "
+        f"{v3.get('substeps', 4)} substeps; sim's kernels are compiled for this machine). " + target
+    ).rstrip()
 
 
 def extremes_line(ex):

@@ -6,6 +6,7 @@ from analysis.glance import (
     provenance_text,
     slow_cases_line,
     presolve_failures_line,
+    solver_line,
     time_to_rest_line,
 )
 from analysis.fig_time_to_rest import median_beyond_cap
@@ -266,3 +267,43 @@ def test_the_failures_bullet_sets_sims_presolve_apart():
     tf["without_presolve"]["outcome_changes"] = []
     assert presolve_failures_line(tf).endswith("; the presolve changes no outcome.")
     assert presolve_failures_line({}) == ""  # older results: nothing said
+
+
+def _bench(drop_pymunk=1.11, drop_v3=0.77, met=False):
+    def scene(name, pymunk, v3, b2):
+        return {
+            "scene": name,
+            "pymunk_over_sim": pymunk,
+            "box2d3_over_sim": v3,
+            "box2d_over_sim": b2,
+        }
+
+    return {
+        "largest": {
+            "rest_row": scene("rest_row(5000)", 3.4, 1.77, 4.67),
+            "pyramid": scene("pyramid(40)", 3.14, 1.44, 3.91),
+            "drop": scene("drop(200)", drop_pymunk, drop_v3, 1.6),
+        },
+        "target_ratio": 3.0,
+        "targets": {
+            "pyramid(40)": {"speedup_vs_pymunk": 3.14, "met": True},
+            "drop(200)": {"speedup_vs_pymunk": drop_pymunk, "met": met},
+        },
+        "box2d3": {"substeps": 4},
+    }
+
+
+def test_the_solver_bullet_quotes_every_peer_and_the_missed_target():
+    line = solver_line(_bench())
+    assert "pymunk 3.40× on rest_row(5000), 3.14× on pyramid(40), 1.11× on drop(200)" in line
+    assert "Box2D v3 1.77× on rest_row(5000), 1.44× on pyramid(40), 0.77× on drop(200)" in line
+    assert "Box2D 2.3 4.67× on rest_row(5000)" in line
+    assert "not met on drop(200) (1.11×)" in line
+    # what the state of the art does on the scene where the target is missed: 1.11 / 0.77
+    assert "Box2D v3 itself runs drop(200) at 1.44× pymunk's rate" in line
+
+
+def test_the_solver_bullet_says_when_the_target_is_met():
+    line = solver_line(_bench(drop_pymunk=3.2, drop_v3=1.5, met=True))
+    assert "met on every target scene" in line and "not met" not in line
+    assert "itself runs" not in line

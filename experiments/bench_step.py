@@ -33,9 +33,10 @@ box2d: 8 velocity and 3 position iterations per step (Box2D 2.3's testbed defaul
 Box2D v3 with 4 substeps, 1 biased and 1 relax sweep per substep, as sim (its testbed's
 defaults; ``study.peers.box2d3_runner``). Box2D v3 is a benchmark-only system
 (``study.systems.BENCH_ONLY``): timed here, compared on outcomes nowhere. Its build (the pyb2d3
-wheel) is SSE2, 4-wide, one thread, where sim's kernels are compiled for the machine they run on
-(AVX-512 on the study's): an advantage sim has that Box2D v3 compiled for AVX2 would partly
-share; ``system_settings`` records it (``simd``).
+wheel) is SSE2 (128-bit: 4 float32 contacts per instruction), one thread, where sim's kernels
+are compiled for the machine they run on (256-bit packed instructions here, 4 float64 contacts
+per instruction; ``bench_kernels``): wider registers that Box2D v3 compiled for AVX2 would take
+too; ``system_settings`` records its build (``simd``).
 The columns ``substeps``, ``iterations`` and ``contact_sweeps_per_step``
 (``study.peers.solver_summary``) say so on every row; the metadata holds every setting of
 both (``system_settings``).

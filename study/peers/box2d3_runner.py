@@ -26,10 +26,12 @@ Matching sim's conventions
   takes only the substep count).
 
 What this build of Box2D is (recorded in ``settings``)
-- pyb2d3 (nanobind bindings of Box2D >= 3.1) as its wheel ships it: compiled for SSE2 (4-wide
-  batches), one thread. Box2D v3 can also be compiled for AVX2 (8-wide); sim's kernels are
-  compiled by Numba for the machine they run on (AVX-512 on the study's machine). That is an
-  advantage sim has here which this Box2D could have too: benchmarks say so beside the number.
+- pyb2d3 (nanobind bindings of Box2D >= 3.1) as its wheel ships it: compiled for SSE2, one
+  thread: 128-bit packed instructions, 4 float32 contacts per instruction (Box2D v3 can also be
+  compiled for AVX2: 256-bit, 8 float32). sim's kernels are compiled by Numba for the machine they
+  run on: 256-bit packed instructions on the study's machine (``experiments/bench_kernels``), 4
+  float64 per instruction. So both solve 4 contacts per instruction here; sim's wider registers
+  are an advantage this build of Box2D does not take, and benchmarks say so beside the number.
 - float32 throughout, like Box2D 2.3.
 
 What it refuses (ValueError naming the body)

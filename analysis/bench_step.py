@@ -1,7 +1,8 @@
 """Table "bench_step": the solver's cost per step against pymunk, Box2D 2.3 and Box2D v3 with
 nothing frozen (sim-off), for the paper's set-up section, and where sim's step spends its time.
 
-Writes paper/generated/bench_step.csv (ms per step per scene, pymunk/sim, box2d/sim, box2d3/sim),
+Writes paper/generated/bench_step.csv (ms per step per scene, pymunk/sim, box2d/sim, box2d3/sim,
+and the piles in which a peer's body reached its engine's silent motion clamp),
 bench_step_profile.csv
 (sim's step by stage, ms, one column per scene) and bench_step.json: the ratios per scene, the
 issue's target (sim at least 3x pymunk's step rate on pyramid(40), rest_row(5000), drop(200)
@@ -27,6 +28,35 @@ def _ratios(table):
     return out.reset_index()
 
 
+#: the peers' names in the table's note on clamped piles
+PEER_NAMES = {"pymunk": "pymunk", "box2d": "Box2D 2.3", "box2d3": "Box2D v3"}
+
+
+def clamped(table):
+    """{label: {peer: {"piles": n, "of": repeats, "first": text}}} of the settling scenes on
+    which a peer's body reached its engine's silent motion clamp (bench_step's ``clamped_piles``
+    and ``clamps``; absent from a table written before them)."""
+    if "clamped_piles" not in table:
+        return {}
+    rows = table[(table["system"] != "sim-off") & (table["clamped_piles"].fillna(0) > 0)]
+    out = {}
+    for r in rows.itertuples():
+        out.setdefault(r.label, {})[r.system] = {
+            "piles": int(r.clamped_piles),
+            "of": int(r.repeats),
+            "first": str(r.clamps).split("; ")[0],
+        }
+    return out
+
+
+def _clamp_note(label, found):
+    """The table's cell on clamped piles: "Box2D 2.3: 1 of 7 piles", or ""."""
+    return ", ".join(
+        f"{PEER_NAMES.get(p, p)}: {c['piles']} of {c['of']} piles"
+        for p, c in found.get(label, {}).items()
+    )
+
+
 def settling_seeds(table):
     """{label: [seed, ...]} of the settling scenes (bench_step's ``seeds`` column: one pile per
     repeat); empty lists for a table written before the column existed."""
@@ -47,9 +77,12 @@ def _settings(table, system):
 
 def draw(table, meta):
     out = _ratios(table)
+    found = clamped(table)
     shown = out.assign(
         scene=out["label"],
         when=out["mode"].map(lambda m: "settling" if m.startswith("settling") else "resting"),
+        # a peer whose body reached its engine's silent clamp: its pile is not the scene's
+        clamped=out["label"].map(lambda lbl: _clamp_note(lbl, found)),
     )
     style.write_table(
         shown[
@@ -64,6 +97,7 @@ def draw(table, meta):
                 "box2d_over_sim",
                 "box2d3_ms",
                 "box2d3_over_sim",
+                "clamped",
             ]
         ].round(
             {
@@ -103,6 +137,8 @@ def draw(table, meta):
         "targets": targets,
         # the settling scene's piles: one seed per repeat, the same for every system
         "settling_seeds": settling_seeds(table),
+        # piles in which a peer's body reached its engine's silent motion clamp
+        "clamped": found,
         "targets_met": bool(targets) and all(t["met"] for t in targets.values()),
         "sim": _settings(table, "sim-off"),
         **{p: _settings(table, p) for p in PEERS},

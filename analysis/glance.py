@@ -336,6 +336,18 @@ def solver_line(bs):
             f" Box2D v3 itself runs {d['scene']} at "
             f"{d['pymunk_over_sim'] / d['box2d3_over_sim']:.2f}× pymunk's rate."
         )
+    titles = dict(SOLVER_PEERS)
+    clamps = [
+        f"{titles.get(peer, peer)} in {c['piles']} of {c['of']} piles of {lbl}"
+        for lbl, found in bs.get("clamped", {}).items()
+        for peer, c in found.items()
+    ]
+    if clamps:
+        target += (
+            " A body reached its engine's per-step motion clamp, which slows it silently, under "
+            + ", ".join(clamps)
+            + ": that time is of a pile that is no longer the scene's."
+        )
     return (
         "- **The solver, nothing frozen** (`bench_step`, sim-off's step rate over each peer's, "
         "> 1: sim faster): "

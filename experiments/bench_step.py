@@ -55,7 +55,12 @@ faster).
 ``max_displacement_m`` (largest distance any body moved from its start) guards resting scenes
 against a blow-up or collapse looking fast;
 ``bodies_in_bin`` (settling scene: bodies between the walls, below their top, at the end of the
-window; the fewest over the repeats' piles) guards the drop.
+window; the fewest over the repeats' piles) guards the drop. ``clamped_piles`` and ``clamps``
+(settling scene) say in how many piles, and where first, a body reached its engine's silent
+motion clamp (Box2D 2.3: 2 m and pi/2 rad per step; Box2D v3: 400 m/s and pi/4 rad per substep):
+Box2D slows such a body without a word, so its pile is no longer the scene's. The Box2D runners
+check this only at the end of a ``step`` call, so each timed window is replayed untimed one step
+per call (``first_clamp``; the replay must end bit for bit where the timed run did).
 
 Second output, ``bench_step_profile``: sim-off's step by stage (sim.data.STAGES, ``World.profile``),
 ms per step, each stage's median over R profiled repeats: on resting scenes R repeats of K steps
@@ -243,6 +248,8 @@ def bench_resting(scene, repeats, steps, progress=None):
             {
                 "max_displacement_m": moved[k],
                 "bodies_in_bin": np.nan,
+                "clamped_piles": np.nan,  # checked on the settling scene only
+                "clamps": "",
                 **(inspection if runner.name == "sim-off" else {}),
             },
         )
@@ -271,6 +278,33 @@ def build_all(scene):
     return runners, build_s
 
 
+def first_clamp(system, scene, window, timed_runner):
+    """Where a run of ``system`` on ``scene`` first reached its engine's silent motion clamp in
+    steps 1..``window``: "seed s, <the runner's message>", or "" when it never did. A runner that
+    checks its clamps only at the end of a ``step`` call (``checks_clamps_per_call``: the Box2D
+    runners, whose per-body reads through Python cost as much as their steps) cannot see a
+    clamp inside the timed window's one call: Box2D 2.3 spun a body of drop(200) seed 0 at its
+    limit at step 84, unseen by the 240-step call. So the window is replayed, untimed, one step
+    per call in a fresh build. The engines are deterministic: the replay must end where
+    ``timed_runner`` ended, or the bench stops (it would not be the run that was timed)."""
+    clamp = ""
+    with build(system, scene) as runner:
+        for _ in range(window):
+            try:
+                runner.step(1)
+            except RuntimeError as exc:  # the step was taken; only the check raised
+                clamp = clamp or f"seed {scene.params['seed']}, {exc}"
+        if not (
+            np.array_equal(runner.positions, timed_runner.positions)
+            and np.array_equal(runner.angles, timed_runner.angles)
+        ):
+            raise RuntimeError(
+                f"bench_step: {system}'s replay of {label(scene)} one step per call did not end "
+                f"where its timed run did: the clamp check would not describe the timed run"
+            )
+    return clamp
+
+
 def bench_settling(name, size, repeats, window, progress=None):
     """Time steps 1..``window`` of fresh systems on the settling scene ``name``(``size``), one
     seed per repeat from DROP_SEED on, interleaved; a seed that any system refuses to build is
@@ -279,6 +313,7 @@ def bench_settling(name, size, repeats, window, progress=None):
     times = {system: [] for system in SYSTEMS}
     build_s = {system: [] for system in SYSTEMS}
     in_bin = {system: [] for system in SYSTEMS}
+    clamps = {system: [] for system in SYSTEMS}
     last = {}
     scenes, skipped = [], []
     seed = DROP_SEED
@@ -308,6 +343,11 @@ def bench_settling(name, size, repeats, window, progress=None):
             last[system] = runner
             if progress is not None:
                 progress.update()
+        for system in SYSTEMS:  # after the repeat's timings, untimed
+            if getattr(runners[system], "checks_clamps_per_call", False):
+                clamp = first_clamp(system, scene, window, runners[system])
+                if clamp:
+                    clamps[system].append(clamp)
     inspection = _inspection(last["sim-off"].world)
     profiles = []
     for scene in scenes:
@@ -333,6 +373,9 @@ def bench_settling(name, size, repeats, window, progress=None):
                     "max_displacement_m": np.nan,
                     # the fewest of any repeat's pile: every pile stayed in its bin
                     "bodies_in_bin": min(in_bin[system]),
+                    # piles in which a body reached the engine's silent clamp (first_clamp)
+                    "clamped_piles": len(clamps[system]),
+                    "clamps": "; ".join(clamps[system]),
                     **named,
                     **(inspection if system == "sim-off" else {}),
                 },

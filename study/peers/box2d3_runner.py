@@ -102,6 +102,10 @@ class Box2d3Runner(ClosesOnExit):
     benchmarks time solvers with nothing frozen)."""
 
     name = "box2d3"
+    #: ``step`` checks Box2D's silent speed clamps at the end of each call only (one bulk read of
+    #: the velocities per call): a caller that must know of a clamp inside a long call steps one
+    #: at a time (experiments/bench_step.py replays its timed window so)
+    checks_clamps_per_call = True
 
     def __init__(self, scene, dt=1 / 60, iterations=ITERATIONS, substeps=DEFAULT_SUBSTEPS):
         if not isinstance(scene, Scene):

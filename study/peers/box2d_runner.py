@@ -182,6 +182,11 @@ class Box2dRunner(ClosesOnExit):
                          against static ones, sim's "bullet" bodies against every body)
     """
 
+    #: ``step`` checks Box2D's silent motion clamps at the end of each call only (see the module
+    #: docstring): a caller that must know of a clamp inside a long call steps one at a time
+    #: (experiments/bench_step.py replays its timed window so)
+    checks_clamps_per_call = True
+
     def __init__(
         self,
         scene,

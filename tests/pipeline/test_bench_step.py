@@ -202,3 +202,63 @@ def test_the_analysis_names_the_settling_piles(quick):
     assert settling_seeds(table.drop(columns="seeds")) == {
         f"drop({n})": [] for n in bench_step.QUICK["drop"]
     }
+
+
+def test_a_clamp_inside_the_timed_window_is_found_by_replaying_it_one_step_per_call():
+    """Box2D 2.3 spins body 167 of drop(200) seed 4 to its per-step rotation limit (pi/2 rad a
+    step, 94.25 rad/s) at step 84, and the pile settles: the timed window's one 240-step call
+    ends without a word, since the runner checks only at the end of a call. The replay names
+    the seed, the body and the step; seed 0 and Box2D v3 reach no clamp there."""
+    from study.common import build
+    from study.timing import timed
+
+    for seed, system, expected in (
+        (4, "box2d", "seed 4, box2d: body 167 reached Box2D's per-step motion limit at step 84"),
+        (0, "box2d", ""),
+        (4, "box2d3", ""),
+    ):
+        scene = sim.scenes.drop(200, seed=seed)
+        with build(system, scene) as runner:
+            assert runner.checks_clamps_per_call
+            timed(runner, 240)  # what bench_step times: one call, no error
+            clamp = bench_step.first_clamp(system, scene, 240, runner)
+        assert clamp.startswith(expected) if expected else clamp == ""
+
+
+def test_a_replay_that_does_not_end_where_the_timed_run_did_stops_the_bench():
+    from study.common import build
+
+    scene = sim.scenes.drop(20, seed=0)
+    with build("box2d", scene) as runner:
+        runner.step(29)  # one step short of the window replayed
+        with pytest.raises(RuntimeError, match="did not end where its timed run did"):
+            bench_step.first_clamp("box2d", scene, 30, runner)
+
+
+def test_clamped_piles_are_counted_on_the_settling_rows_and_shown_in_the_table(quick):
+    from analysis.bench_step import _clamp_note, clamped
+
+    table = pd.read_csv(quick / "bench_step.csv")
+    settling = table[table["scene"] == "drop"]
+    resting = table[table["scene"] != "drop"]
+    assert (settling["clamped_piles"] >= 0).all() and resting["clamped_piles"].isna().all()
+    # a table with one clamped pile under Box2D 2.3 (as the full run's drop(200) seed 4)
+    marked = table.assign(clamps=table["clamps"].fillna("").astype(str))  # CSV: empty is NaN
+    row = (marked["system"] == "box2d") & (marked["scene"] == "drop")
+    marked.loc[row, "clamped_piles"] = 1
+    marked.loc[row, "clamps"] = "seed 1, box2d: body 3 reached ...; seed 2, box2d: ..."
+    found = clamped(marked)
+    label = f"drop({bench_step.QUICK['drop'][0]})"
+    assert found == {
+        label: {
+            "box2d": {
+                "piles": 1,
+                "of": bench_step.QUICK["repeats"],
+                "first": "seed 1, box2d: body 3 reached ...",
+            }
+        }
+    }
+    assert _clamp_note(label, found) == f"Box2D 2.3: 1 of {bench_step.QUICK['repeats']} piles"
+    assert _clamp_note("pyramid(5)", found) == ""
+    # a table written before the columns existed
+    assert clamped(table.drop(columns=["clamped_piles", "clamps"])) == {}

@@ -307,3 +307,14 @@ def test_the_solver_bullet_says_when_the_target_is_met():
     line = solver_line(_bench(drop_pymunk=3.2, drop_v3=1.5, met=True))
     assert "met on every target scene" in line and "not met" not in line
     assert "itself runs" not in line
+
+
+def test_the_solver_bullet_names_a_peer_whose_pile_reached_its_engine_clamp():
+    bench = _bench()
+    assert "clamp" not in solver_line(bench)
+    bench["clamped"] = {"drop(200)": {"box2d": {"piles": 1, "of": 7, "first": "seed 4, ..."}}}
+    line = solver_line(bench)
+    assert (
+        "per-step motion clamp, which slows it silently, under Box2D 2.3 in 1 of 7 piles of "
+        "drop(200)" in line
+    )

@@ -273,6 +273,7 @@ class World:
             rest_acceleration=float(params.get("rest_acceleration", 0.0)),
             rest_steps=int(params.get("rest_steps", 1)),
             slip_speed=float(params.get("slip_speed", 0.0)),
+            opening_speed=float(params.get("opening_speed", 0.0)),
             friction_margin=float(params.get("friction_margin", 0.0)),
             tip_margin=float(params.get("tip_margin", 0.0)),
             mixed_masses=mixed_masses(p.inv_mass[:n]),

@@ -7,8 +7,8 @@ step it passes, with no timer (``rest_steps`` = 1):
   2. steady: over this step its velocity changed by less than ``rest_acceleration`` (m/s^2) times
      dt (|dv| + |dw| * extent), so the solver's impulses on it balance its weight: they are a
      witness of equilibrium (below);
-  3. settled: none of its contacts is deeper than twice its pair's slop (``sim.tolerances``; the
-     soft contact is still pushing it out otherwise);
+  3. settled: none of its contacts is deeper than twice its pair's slop (``sim.tolerances``)
+     and still opening faster than ``opening_speed`` (m/s): the soft contact is pushing it out;
   4. not sliding: none of its contacts has friction at its Coulomb limit (98%) while the surfaces
      slip faster than ``slip_speed`` (m/s). Motion the forces explain is not rest: a box gliding
      on ice is slow long before its friction stops it;
@@ -143,6 +143,7 @@ PARAMETERS = {
     "rest_acceleration": 0.1,
     "rest_steps": 1,
     "slip_speed": 1e-3,
+    "opening_speed": 1e-3,
     "friction_margin": 0.05,
     "tip_margin": 0.02,
 }
@@ -401,7 +402,7 @@ def _candidates(settings, counters, bodies, contacts, activity, touched, queue):
             or (0 <= b < n_dyn and body_int[b, MARK] == 1)
         ):
             continue
-        state = unsettled(c, settings.slip_speed, dt, bodies, contacts)
+        state = unsettled(c, settings.slip_speed, settings.opening_speed, dt, bodies, contacts)
         if state == SLIDING:
             for body in (a, b):
                 if 0 <= body < n_dyn:

@@ -82,10 +82,14 @@ def whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
 
 
 @inline_kernel
-def unsettled(c, slip_speed, dt, bodies, contacts):
+def unsettled(c, slip_speed, opening_speed, dt, bodies, contacts):
     """Is contact c still working? ``SLIDING``: its friction at the Coulomb limit while the
     surfaces slip faster than ``slip_speed`` (m/s); else ``DEEP``: a touching point deeper than
-    twice the pair's slop that opened faster than ``slip_speed`` over the step (dt, s); else 0."""
+    twice the pair's slop that opened faster than ``opening_speed`` (m/s) over the step (dt, s);
+    else 0. (One speed served both tests until 2026-12: raising slip_speed to let slow slides
+    through also switched the deep test off. Over 100 seeds of drop(30), piles froze whole at a
+    median step of 225.5 with both tests, 199 with the sliding test off, 204.5 with the deep one
+    off and 163 with both off, the last by freezing bodies in deep, opening contacts.)"""
     position, velocity, angular_velocity = bodies.position, bodies.velocity, bodies.angular_velocity
     ci = contacts.contact_int
     cf = contacts.contact_float
@@ -101,7 +105,7 @@ def unsettled(c, slip_speed, dt, bodies, contacts):
         # carries a load sits at a steady depth, which freezing keeps as it is)
         deep = deep or (
             pf[c, j, END_SEPARATION] < -2.0 * cf[c, SLOP]
-            and pf[c, j, END_SEPARATION] - pf[c, j, SEPARATION] > slip_speed * dt
+            and pf[c, j, END_SEPARATION] - pf[c, j, SEPARATION] > opening_speed * dt
         )
         if pf[c, j, END_SEPARATION] > cf[c, SLOP]:
             continue  # not touching

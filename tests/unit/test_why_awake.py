@@ -142,3 +142,24 @@ def test_only_extended_says_why_a_body_is_awake(policy):
     world = sim.World(sim.scenes.stack(2), freeze=policy)
     with pytest.raises(ValueError, match="only freeze='extended'"):
         world.why_awake()
+
+
+def test_the_deep_and_the_sliding_stage_each_have_their_own_speed():
+    """``opening_speed`` sets the deep stage (a contact deeper than twice its slop still opening
+    faster than it), ``slip_speed`` the sliding one. One speed served both until 2026-12: a
+    larger slip_speed, to let slow slides through, switched the deep stage off as well."""
+
+    def seen(**parameters):
+        world = sim.World(sim.scenes.drop(30, seed=0), freeze="extended", **parameters)
+        out = set()
+        for _ in range(200):
+            world.step()
+            out.update(world.why_awake().tolist())
+        return out
+
+    assert {"deep", "sliding"} <= seen()
+    off = 1e3  # m/s: no contact slips or opens this fast
+    only_deep = seen(slip_speed=off)
+    assert "deep" in only_deep and "sliding" not in only_deep
+    only_sliding = seen(opening_speed=off)
+    assert "deep" not in only_sliding and "sliding" in only_sliding

@@ -33,7 +33,8 @@ Settings that differ from pybullet's defaults, to match sim
   (default 50: 10 lets a base-20 pyramid creep and a base-40 one collapse; see below).
 - Damping: Bullet's multibodies default to linear and angular damping 0.04 (a quadratic drag: a
   falling body loses 13 % of its speed in 1 s); set to 0, as are joint damping and rolling and
-  spinning friction. The largest joint velocity (default 100) is raised to 1000.
+  spinning friction. The largest joint velocity (default 100, which Bullet enforces by clamping
+  silently) is raised to 1e15 (MAX_JOINT_VELOCITY).
 - Friction: Bullet multiplies the two coefficients; each shape stores sqrt(mu), so pairs mix by
   geometric mean exactly as in sim.
 - Restitution: Bullet multiplies too, and pybullet offers no per-pair override or contact callback,
@@ -106,8 +107,11 @@ DEACTIVATION_TIME = 2.0
 DEFAULT_SLEEP_THRESHOLD = 0.05
 #: Impacts slower than this do not bounce, m/s: sim.World's default restitution_threshold.
 RESTITUTION_THRESHOLD = inspect.signature(sim.World).parameters["restitution_threshold"].default
-#: Largest planar-joint velocity Bullet allows (its default, 100, could clip a long fall).
-MAX_JOINT_VELOCITY = 1000.0
+#: Largest planar-joint velocity Bullet allows, m/s along a slide and rad/s about the hinge.
+#: Bullet clamps a faster joint without a word: its default, 100, clipped a 12 s fall, and the
+#: 1000 used until 2026-12 turned a body launched at 1500 m/s (or spinning at 1500 rad/s) into
+#: one at 1000. So the cap lies beyond any motion a scene can have.
+MAX_JOINT_VELOCITY = 1e15
 #: Thickness of the floor box under floor_y, m.
 FLOOR_THICKNESS = 1.0
 

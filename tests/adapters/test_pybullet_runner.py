@@ -62,6 +62,19 @@ def test_long_fall_is_not_clipped_at_bullets_default_joint_speed():
     assert runner.velocities[0, 1] == pytest.approx(-G * 12.0, rel=1e-9)
 
 
+@pytest.mark.parametrize("velocity, spin", [((1500.0, 0.0), 0.0), ((0.0, 0.0), 1500.0)])
+def test_fast_motion_is_not_clipped_at_a_joint_speed_cap(velocity, spin):
+    """Bullet clamps a joint's velocity silently at its cap: at the cap of 1000 used until
+    2026-12, a box launched at 1500 m/s, or spinning at 1500 rad/s, went on at 1000. In zero
+    gravity it keeps its motion exactly."""
+    body = sim.Body.box(1.0, 1.0, position=(0.0, 5.0), velocity=velocity, angular_velocity=spin)
+    runner = PybulletRunner(sim.Scene([body], gravity=(0.0, 0.0), floor_y=None), dt=DT)
+    runner.step(3)
+    np.testing.assert_allclose(runner.velocities[0], velocity, rtol=1e-12)
+    assert runner.angular_velocities[0] == pytest.approx(spin, rel=1e-12)
+    runner.close()
+
+
 def _spin_fall(dt, w=2.0, seconds=1.0):
     scene = sim.Scene(
         [sim.Body.box(1.0, 1.0, position=(0.0, 10.0), angular_velocity=w)], floor_y=None

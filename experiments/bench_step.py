@@ -283,7 +283,7 @@ def first_clamp(system, scene, window, timed_runner):
     steps 1..``window``: "seed s, <the runner's message>", or "" when it never did. A runner that
     checks its clamps only at the end of a ``step`` call (``checks_clamps_per_call``: the Box2D
     runners, whose per-body reads through Python cost as much as their steps) cannot see a
-    clamp inside the timed window's one call: Box2D 2.3 spun a body of drop(200) seed 0 at its
+    clamp inside the timed window's one call: Box2D 2.3 spun a body of drop(200) seed 4 at its
     limit at step 84, unseen by the 240-step call. So the window is replayed, untimed, one step
     per call in a fresh build. The engines are deterministic: the replay must end where
     ``timed_runner`` ended, or the bench stops (it would not be the run that was timed)."""

@@ -24,7 +24,7 @@ from .buffers import grown, new_bodies, new_contacts, new_geometry, new_solver
 from .clock import ticks_per_second
 from .contacts import sort_awake
 from .freeze import POLICY_NAMES, resolve
-from .freeze.extended_layout import WAIT_NAMES, WAIT_NONE, WAITING
+from .freeze.extended_layout import TESTED, WAIT_NAMES, WAIT_NONE, WAITING
 from .narrowphase import update_manifolds
 from .packing import pack
 from .reports import Inspection, contact_points, deepest_point
@@ -472,18 +472,20 @@ class World:
         return self._activity.awake_slot[: self.n_bodies] < 0
 
     #: what ``why_awake`` can say of an awake body, in the order of the rest test's stages
-    AWAKE_REASONS = WAIT_NAMES[1:]
+    AWAKE_REASONS = WAIT_NAMES[1:2] + ("untouched",) + WAIT_NAMES[2:]
 
     def why_awake(self):
         """(N,) str: why each body is awake after the last step, the first stage of ``extended``'s
         rest test that refused it ('' for a frozen body): "moving" (|v| + |w| extent at or
-        above rest_speed), "changing" (slow, but its velocity changed by more than
-        rest_acceleration dt), "counting" (slow and steady for fewer than rest_steps steps),
-        "sliding" (a contact at its friction limit while its surfaces slip), "deep" (a contact
-        deeper than twice its slop, still being pushed open), "neighbour" (it touches an awake
-        body in motion), "uncertified" (no contact forces hold it still with margin, alone or
-        with the bodies it touches), "on_awake" (certified, but resting on, or braced by, an
-        awake body that does not freeze with it); "untested" before the first step. What a pile
+        above rest_speed), "untouched" (slower, but without a contact point: nothing holds it,
+        and the rest test does not look at it), "changing" (slow, but its velocity changed by
+        more than rest_acceleration dt, or it was not tested in the step before), "counting"
+        (slow and steady for fewer than rest_steps steps), "sliding" (a contact at its friction
+        limit while its surfaces slip), "deep" (a contact deeper than twice its slop, still
+        being pushed open), "neighbour" (it touches an awake body in motion), "uncertified" (no
+        contact forces hold it still with margin, alone or with the bodies it touches),
+        "on_awake" (certified, but resting on, or braced by, an awake body that does not freeze
+        with it); "untested" before the first step. What a pile
         is still waiting for, which its velocities do not say. Only ``extended`` has a rest test
         of stages: any other policy raises ValueError."""
         if self.freeze != "extended":
@@ -495,6 +497,16 @@ class World:
         names = np.array(WAIT_NAMES, dtype="U16")[codes]  # wide enough for "untested"
         frozen = self.frozen
         names[(codes == WAIT_NONE) & ~frozen] = "untested"
+        if self.step_count > 0:
+            # the rest test looks only at bodies with a contact point: one without keeps the
+            # reason of its last test, and is moving or touches nothing
+            tested = self._activity.body_int[: self.n_bodies, TESTED] == self.step_count
+            extent = self.extents[: self.n_bodies]
+            speed = np.hypot(*self.velocities.T) + np.abs(self.angular_velocities) * extent
+            alone = ~frozen & ~tested
+            fast = speed >= self._settings.rest_speed
+            names[alone & fast] = "moving"
+            names[alone & ~fast] = "untouched"
         names[frozen] = ""
         return names
 

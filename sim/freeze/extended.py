@@ -1,12 +1,14 @@
 """``extended``: ours. The seed's idea — stop computing forces for bodies at rest — without its
 three admitted limits (no general rest test, no way back to motion, two bodies only).
 
-Freezing (the general rest test), checked every step for awake bodies. A body freezes in the
-step it passes, with no timer (``rest_steps`` = 1):
+Freezing (the general rest test), checked every step for the awake bodies with a contact point
+(a body touching nothing is never certified, 5 below: where nothing can rest, the test costs
+nothing per body). A body freezes in the step it passes, with no timer (``rest_steps`` = 1):
   1. slow: |v| + |w| * extent < ``rest_speed`` (m/s) for ``rest_steps`` consecutive steps;
   2. steady: over this step its velocity changed by less than ``rest_acceleration`` (m/s^2) times
      dt (|dv| + |dw| * extent), so the solver's impulses on it balance its weight: they are a
-     witness of equilibrium (below);
+     witness of equilibrium (below). A body not tested in the previous step (it touched
+     nothing, or was frozen) has no change to measure yet, and is not steady;
   3. settled: none of its contacts is deeper than twice its pair's slop (``sim.tolerances``)
      and still opening faster than ``opening_speed`` (m/s): the soft contact is pushing it out;
   4. not sliding: none of its contacts has friction at its Coulomb limit (98%) while the surfaces
@@ -86,6 +88,7 @@ from ..data import (
     N_LINKS,
     NORMAL_IMPULSE,
     POINT_COUNT,
+    STEP_COUNT,
 )
 from ..jit import inline_kernel, lean_kernel
 from . import certificate, extended_layout
@@ -98,9 +101,6 @@ from .extended_layout import (
     LOAD_X,
     LOAD_Y,
     MARK,
-    PREVIOUS_VX,
-    PREVIOUS_VY,
-    PREVIOUS_W,
     PUSH_M,
     PUSH_NORMAL,
     PUSH_X,
@@ -112,12 +112,9 @@ from .extended_layout import (
     SUPPORT_MU,
     SUPPORT_NX,
     SUPPORT_NY,
+    TESTED,
     TOUCHED,
-    WAIT_CHANGING,
-    WAIT_COUNTING,
     WAIT_DEEP,
-    WAIT_MOVING,
-    WAIT_NONE,
     WAIT_SLIDING,
     WAIT_UNCERTIFIED,
     WAITING,
@@ -125,7 +122,15 @@ from .extended_layout import (
     is_movable,
     is_support,
 )
-from .extended_rest import DEEP, SLIDING, on_the_awake, unsettled, wedges, whole_groups
+from .extended_rest import (
+    DEEP,
+    SLIDING,
+    on_the_awake,
+    slow_and_steady,
+    unsettled,
+    wedges,
+    whole_groups,
+)
 from .extended_wake import (
     add_load,
     drop_links_of_awake,
@@ -208,8 +213,6 @@ def _impacts(settings, counters, bodies, contacts, activity, touched, queue):
         c = contacts.active[k]
         a = ci[c, BODY_A]
         b = ci[c, BODY_B]
-        nx = cf[c, NORMAL_X]
-        ny = cf[c, NORMAL_Y]
         for frozen_body, mover in ((a, b), (b, a)):
             if not (
                 0 <= frozen_body < n_dyn
@@ -217,6 +220,9 @@ def _impacts(settings, counters, bodies, contacts, activity, touched, queue):
                 and is_movable(mover, n_dyn, awake_slot)
             ):
                 continue
+            # read only here: most contacts touch no frozen body (a scene in flight: none)
+            nx = cf[c, NORMAL_X]
+            ny = cf[c, NORMAL_Y]
             n_touched = touch(frozen_body, touched, n_touched, body_real, body_int)
             # n points from a to b: a push on the frozen body is along +n if it is b, -n if a
             sign = 1.0 if frozen_body == b else -1.0
@@ -294,8 +300,7 @@ def after_solve(settings, counters, bodies, contacts, activity):
 def _candidates(settings, counters, bodies, contacts, activity, touched, queue):
     """``after_solve``'s first part: loads and wakes of frozen bodies, the rest test, and the
     candidates for the certificate (body_int[:, MARK] == 1). Returns whether there are any."""
-    position, velocity, angular_velocity = bodies.position, bodies.velocity, bodies.angular_velocity
-    extent = bodies.extent
+    position = bodies.position
     ci = contacts.contact_int
     pf = contacts.point_float
     awake, awake_slot = activity.awake, activity.awake_slot
@@ -343,47 +348,21 @@ def _candidates(settings, counters, bodies, contacts, activity, touched, queue):
             )
     wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity)
 
-    # ---- 2. the rest test -----------------------------------------------------------------
+    # ---- 2. the rest test: the awake bodies with a contact point (slow_and_steady) -------------
+    # Every awake body touching nothing keeps the MARK of its last test, never 1: every body
+    # marked 1 in a step is frozen or unmarked by its end. The later stages read MARK only of
+    # the bodies of this step's contacts, all tested here.
     n_awake = counters[N_AWAKE]
     if n_awake == 0:
         return False
-    limit = settings.rest_speed
-    change_limit = settings.rest_acceleration * dt
+    step = counters[STEP_COUNT]
     any_candidate = False
-    for k in range(n_awake):
-        i = awake[k]
-        vx = velocity[i, 0]
-        vy = velocity[i, 1]
-        w = angular_velocity[i]
-        body_int[i, MARK] = 0
-        body_int[i, WAITING] = WAIT_NONE
-        # the change over this one step: the previous velocity is stored every step
-        dvx = vx - body_real[i, PREVIOUS_VX]
-        dvy = vy - body_real[i, PREVIOUS_VY]
-        dw = w - body_real[i, PREVIOUS_W]
-        body_real[i, PREVIOUS_VX] = vx
-        body_real[i, PREVIOUS_VY] = vy
-        body_real[i, PREVIOUS_W] = w
-        # cheap exit for bodies clearly in motion (most of them when nothing can rest): any one
-        # component at or above the limit means |v| + |w| extent is too
-        if abs(vx) >= limit or abs(vy) >= limit or abs(w) * extent[i] >= limit:
-            body_int[i, REST_COUNT] = 0
-            body_int[i, WAITING] = WAIT_MOVING
-            continue
-        speed = np.sqrt(vx * vx + vy * vy) + abs(w) * extent[i]
-        change = np.sqrt(dvx * dvx + dvy * dvy) + abs(dw) * extent[i]
-        if speed < limit and change <= change_limit:
-            body_int[i, REST_COUNT] += 1
-        else:
-            body_int[i, REST_COUNT] = 0
-            body_int[i, WAITING] = WAIT_MOVING if speed >= limit else WAIT_CHANGING
-        # MARK = 1: candidate (slow and steady long enough); cleared below when a contact moves,
-        # a neighbour cannot rest or the certificate fails (each records why: WAITING)
-        if body_int[i, REST_COUNT] >= settings.rest_steps:
-            body_int[i, MARK] = 1
-            any_candidate = True
-        elif body_int[i, WAITING] == WAIT_NONE:
-            body_int[i, WAITING] = WAIT_COUNTING
+    for kk in range(count):
+        c = contacts.active[kk]
+        for i in (ci[c, BODY_A], ci[c, BODY_B]):
+            if is_movable(i, n_dyn, awake_slot) and body_int[i, TESTED] != step:
+                if slow_and_steady(i, step, settings, bodies, body_real, body_int):
+                    any_candidate = True
     if not any_candidate:
         return False
     # Not sliding: a candidate with a contact whose friction is at its Coulomb limit while its

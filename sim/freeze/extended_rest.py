@@ -2,6 +2,7 @@
 beyond its own speed (``sim.freeze.extended`` runs them in ``after_solve``; the certificate of
 static equilibrium is ``certificate.py``).
 
+  slow_and_steady  a body's own speed and its change since its last test, and the rest count
   unsettled     a contact still working: sliding at its friction limit, or deep and opening
   whole_groups  a candidate touching an awake body in motion is no candidate (to a fixed point)
   wedges        candidates refused one by one, certified together with the candidates they touch
@@ -37,7 +38,16 @@ from .contact_math import touching
 from .extended_layout import (
     BRACED,
     MARK,
+    PREVIOUS_VX,
+    PREVIOUS_VY,
+    PREVIOUS_W,
+    REST_COUNT,
+    TESTED,
+    WAIT_CHANGING,
+    WAIT_COUNTING,
+    WAIT_MOVING,
     WAIT_NEIGHBOUR,
+    WAIT_NONE,
     WAIT_ON_AWAKE,
     WAITING,
     impulse_on,
@@ -50,6 +60,57 @@ from .extended_layout import (
 SLIDING_SHARE = 0.98
 #: what ``unsettled`` finds in a contact
 SLIDING, DEEP = 1, 2
+
+
+@inline_kernel
+def slow_and_steady(i, step, settings, bodies, body_real, body_int):
+    """The rest test's first stages for awake body i in step ``step`` (counters[STEP_COUNT]):
+    slow (|v| + |w| extent below rest_speed), steady (its velocity changed by at most
+    rest_acceleration dt since its last test) and so for rest_steps tests in a row. Returns
+    whether it is a candidate (MARK 1); else WAITING says why not.
+
+    Only bodies with a contact point are tested (``extended.after_solve``): a body touching
+    nothing is never certified (nothing stops its fall or its drift), so where nothing can rest
+    the policy costs nothing per body (before, every awake body was tested every step: 6.9% of a
+    0.09 ms step of 1000 boxes in free fall). The change is measured against the previous
+    step's test only: a body not tested then (touching nothing, or frozen) has no velocity to
+    compare with, and counts as changing."""
+    consecutive = body_int[i, TESTED] == step - 1
+    body_int[i, TESTED] = step
+    limit = settings.rest_speed
+    vx = bodies.velocity[i, 0]
+    vy = bodies.velocity[i, 1]
+    w = bodies.angular_velocity[i]
+    extent = bodies.extent[i]
+    body_int[i, MARK] = 0
+    body_int[i, WAITING] = WAIT_NONE
+    dvx = vx - body_real[i, PREVIOUS_VX]
+    dvy = vy - body_real[i, PREVIOUS_VY]
+    dw = w - body_real[i, PREVIOUS_W]
+    body_real[i, PREVIOUS_VX] = vx
+    body_real[i, PREVIOUS_VY] = vy
+    body_real[i, PREVIOUS_W] = w
+    # cheap exit for bodies clearly in motion: any one component at or above the limit means
+    # |v| + |w| extent is too
+    if abs(vx) >= limit or abs(vy) >= limit or abs(w) * extent >= limit:
+        body_int[i, REST_COUNT] = 0
+        body_int[i, WAITING] = WAIT_MOVING
+        return False
+    speed = np.sqrt(vx * vx + vy * vy) + abs(w) * extent
+    change = np.sqrt(dvx * dvx + dvy * dvy) + abs(dw) * extent
+    if speed < limit and consecutive and change <= settings.rest_acceleration * settings.dt:
+        body_int[i, REST_COUNT] += 1
+    else:
+        body_int[i, REST_COUNT] = 0
+        body_int[i, WAITING] = WAIT_MOVING if speed >= limit else WAIT_CHANGING
+    # MARK = 1: candidate (slow and steady long enough); cleared by the later stages when a
+    # contact moves, a neighbour cannot rest or the certificate fails (each records why: WAITING)
+    if body_int[i, REST_COUNT] >= settings.rest_steps:
+        body_int[i, MARK] = 1
+        return True
+    if body_int[i, WAITING] == WAIT_NONE:
+        body_int[i, WAITING] = WAIT_COUNTING
+    return False
 
 
 @lean_kernel

@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from study import cost_fit, protocols
+from study import cost_fit, in_flight, protocols
 from experiments import bench_freeze
 
 PARTS = ("frozen_cost", "per_body_cost", "time_to_freeze", "in_flight_overhead")
@@ -79,8 +79,11 @@ def test_timings_are_finite_and_positive(quick_run):
         med = _rows(table, part, "ms_per_step_median").set_index(["scene", "system"])["value"]
         low = _rows(table, part, "ms_per_step_min").set_index(["scene", "system"])["value"]
         assert (low <= med.loc[low.index]).all()
-    ratios = _rows(table, "in_flight_overhead", "ratio_to_off_median")["value"]
-    assert len(ratios) == 2 and ratios.map(math.isfinite).all() and (ratios > 0).all()
+    # one ratio per phase of each in-flight scene, and each scene's worst
+    n_phases = sum(len(in_flight.phase_starts(s)) for _, s in in_flight.spans(bench_freeze.QUICK))
+    for metric, n in (("ratio_to_off_median", n_phases), ("ratio_to_off_worst", 2)):
+        ratios = _rows(table, "in_flight_overhead", metric)["value"]
+        assert len(ratios) == n and ratios.map(math.isfinite).all() and (ratios > 0).all()
 
 
 def test_frozen_cost_times_fully_frozen_scenes(quick_run):
@@ -155,8 +158,30 @@ def test_in_flight_scenes_never_freeze(quick_run):
     table, _, _ = quick_run
     for metric in ("n_awake_before", "n_awake_after"):
         rows = _rows(table, "in_flight_overhead", metric)
-        assert len(rows) == 4 and (rows["value"] == rows["bodies"]).all()
+        assert len(rows) == 2 * 3 * 2  # scenes x phases x systems
+        assert (rows["value"] == rows["bodies"]).all()
     assert (_rows(table, "in_flight_overhead", "min_speed_after")["value"] > 1.0).all()
+
+
+def test_each_in_flight_phase_starts_where_its_scene_was_at_that_step(quick_run):
+    """The phases start at the steps the metadata names; the worst phase is the one whose paired
+    ratio is largest."""
+    table, meta, _ = quick_run
+    phases = meta["parameters"]["flight_phases"]
+    n = bench_freeze.QUICK["flight_n"]
+    for scene in (f"fall({n})", f"drift({n})"):
+        starts = _rows(table, "in_flight_overhead", "phase_start_step", "sim-extended")
+        mine = starts[starts["scene"].str.startswith(scene + " from step ")]
+        assert mine["value"].tolist() == phases[scene] and len(phases[scene]) == 3
+        paired = _rows(table, "in_flight_overhead", "ratio_to_off_paired", "sim-extended")
+        paired = paired[paired["scene"].str.startswith(scene + " from step ")]
+        worst = _rows(table, "in_flight_overhead", "ratio_to_off_worst", scene=scene)
+        at = _rows(table, "in_flight_overhead", "worst_phase_step", scene=scene)
+        assert worst["value"].item() == paired["value"].max()
+        assert (
+            f"{scene} from step {at['value'].item():.0f}"
+            == paired.loc[paired["value"].idxmax(), "scene"]
+        )
 
 
 def test_metadata_has_fits_and_verdicts(quick_run):

@@ -29,18 +29,54 @@ def _reasons(world, steps):
     return out
 
 
-def test_a_body_at_the_top_of_its_flight_is_changing_not_still():
-    """Thrown up at 3 g dt it stops at the end of step 3 (v = v0 - g t, exact for the integrator):
-    slow then, but its velocity changes by g dt a step, so it is "changing"; before and after,
-    faster than rest_speed, "moving"."""
-    box = sim.Body.box(0.5, 0.5, position=(0.0, 3.0), velocity=(0.0, 3 * G * DT))
-    world = sim.World(sim.Scene(bodies=[box]), freeze="extended")
-    assert [r[0] for r in _reasons(world, 5)] == [
-        "moving",
-        "moving",
-        "changing",
-        "moving",
-        "moving",
+@pytest.mark.parametrize(
+    "beside_a_wall, at_the_top, pairs", [(True, "changing", {(0, 1)}), (False, "untouched", set())]
+)
+def test_a_body_at_the_top_of_its_flight_is_not_still(beside_a_wall, at_the_top, pairs):
+    """A box thrown up at 3 g dt stops at the end of step 3 (v = v0 - g t, exact for the
+    integrator); before and after, faster than rest_speed, it is "moving". Beside a frictionless
+    static wall it touches (a contact point every step that takes no impulse) it is tested every
+    step: at the top it is slow, but its velocity changes by g dt a step, so it is "changing".
+    Alone it has no contact point: nothing can hold it, and the rest test does not look at it:
+    "untouched"."""
+    box = sim.Body.box(0.5, 0.5, position=(0.0, 3.0), velocity=(0.0, 3 * G * DT), friction=0.0)
+    wall = sim.Body.box(1.0, 10.0, position=(0.75, 5.0), friction=0.0, name="wall")
+    scene = sim.Scene(bodies=[box], static_bodies=[wall] if beside_a_wall else [])
+    world = sim.World(scene, freeze="extended")
+    moving = ["moving", "moving"]
+    assert [r[0] for r in _reasons(world, 5)] == moving + [at_the_top] + moving
+    c = world.contacts()
+    assert set(zip(c["body_a"].tolist(), c["body_b"].tolist())) == pairs
+
+
+def test_a_body_first_tested_is_not_yet_steady():
+    """A 10 cm box drifting at 1.9 cm/s (below rest_speed) in zero gravity along a static rail
+    1 mm below it (a contact point every step, no impulse), off its end, and on to a static wall
+    ahead. Along the rail it is tested every step, steady, and refused by the certificate
+    ("uncertified": nothing holds it against its drift); past the rail's end it touches nothing
+    ("untouched"); at its first contact point with the wall it is "changing" though its velocity
+    never changed: it was not tested in the step before, so there is no change to measure (its
+    last test's velocity, along the rail, is the same: compared with it, it would pass)."""
+    speed = 0.019
+    box = sim.Body.box(0.1, 0.1, position=(0.0, 3.0), velocity=(speed, 0.0))
+    rail = sim.Body.box(1.0, 0.2, position=(-0.5, 3.0 - 0.05 - 0.1 - 0.001), name="rail")
+    wall = sim.Body.box(0.2, 1.0, position=(0.21, 3.0), name="wall")
+    scene = sim.Scene(bodies=[box], static_bodies=[rail, wall], floor_y=None, gravity=(0.0, 0.0))
+    world = sim.World(scene, freeze="extended")
+    phases = []  # (reason, the static bodies touched) at each change
+    while len(phases) < 5 and world.step_count < 400:
+        world.step()
+        touched = tuple(sorted(set(world.contacts()["body_b"].tolist())))
+        if not phases or phases[-1] != (world.why_awake()[0], touched):
+            phases.append((world.why_awake()[0], touched))
+        assert world.velocities[0].tolist() == [speed, 0.0]  # nothing has pushed it
+    rail_, wall_ = 1, 2  # body indices: the box, then the static bodies
+    assert phases == [
+        ("changing", (rail_,)),  # the first step: no test before it
+        ("uncertified", (rail_,)),
+        ("untouched", ()),
+        ("changing", (wall_,)),
+        ("uncertified", (wall_,)),
     ]
 
 

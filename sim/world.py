@@ -477,15 +477,15 @@ class World:
     def why_awake(self):
         """(N,) str: why each body is awake after the last step, the first stage of ``extended``'s
         rest test that refused it ('' for a frozen body): "moving" (|v| + |w| extent at or
-        above rest_speed), "untouched" (slower, but without a contact point: nothing holds it,
-        and the rest test does not look at it), "changing" (slow, but its velocity changed by
-        more than rest_acceleration dt, or it was not tested in the step before), "counting"
-        (slow and steady for fewer than rest_steps steps), "sliding" (a contact at its friction
-        limit while its surfaces slip), "deep" (a contact deeper than twice its slop, still
-        being pushed open), "neighbour" (it touches an awake body in motion), "uncertified" (no
-        contact forces hold it still with margin, alone or with the bodies it touches),
-        "on_awake" (certified, but resting on, or braced by, an awake body that does not freeze
-        with it); "untested" before the first step. What a pile
+        above rest_speed), "untouched" (slower, but with no contact, no pair whose fat boxes
+        overlap: nothing near it can hold it, and the rest test does not look at it),
+        "changing" (slow, but its velocity changed by more than rest_acceleration dt, or it was
+        not tested in the step before), "counting" (slow and steady for fewer than rest_steps
+        steps), "sliding" (a contact at its friction limit while its surfaces slip), "deep" (a
+        contact deeper than twice its slop, still being pushed open), "neighbour" (it touches an
+        awake body in motion), "uncertified" (no contact forces hold it still with margin, alone
+        or with the bodies it touches), "on_awake" (certified, but resting on, or braced by, an
+        awake body that does not freeze with it); "untested" before the first step. What a pile
         is still waiting for, which its velocities do not say. Only ``extended`` has a rest test
         of stages: any other policy raises ValueError."""
         if self.freeze != "extended":
@@ -498,7 +498,7 @@ class World:
         frozen = self.frozen
         names[(codes == WAIT_NONE) & ~frozen] = "untested"
         if self.step_count > 0:
-            # the rest test looks only at bodies with a contact point: one without keeps the
+            # the rest test looks only at bodies with a contact: one without keeps the
             # reason of its last test, and is moving or touches nothing
             tested = self._activity.body_int[: self.n_bodies, TESTED] == self.step_count
             extent = self.extents[: self.n_bodies]

@@ -38,7 +38,7 @@ REAL_COLUMNS = 16
 REST_COUNT, MARK, TOUCHED, WAITING, BRACED, TESTED = range(6)
 INT_COLUMNS = 6
 #: TESTED: the step (counters[STEP_COUNT]) of the body's last rest test. Only bodies with a
-#: contact point are tested (``extended_rest.slow_and_steady``): PREVIOUS_V* and REST_COUNT
+#: contact are tested (``extended_rest.slow_and_steady``): PREVIOUS_V* and REST_COUNT
 #: describe consecutive steps only while TESTED is the previous step's number, and WAITING and
 #: MARK are this step's only while it is this step's
 #: BRACED: 1 when this step's certificate held the candidate only with a bracing load

@@ -389,7 +389,7 @@ def test_extended_does_not_freeze_a_body_drifting_free(bodies):
     world = sim.World(sim.Scene(bodies=boxes, floor_y=None, gravity=(0.0, 0.0)), freeze="extended")
     world.step(600)
     assert world.n_awake == bodies
-    # alone it has no contact point, and the rest test does not look at it; two in contact are
+    # alone it has no contact, and the rest test does not look at it; two in contact are
     # tested, and refused by the certificate
     assert set(world.why_awake()) == ({"untouched"} if bodies == 1 else {"uncertified"})
     np.testing.assert_allclose(world.positions[:, 0], np.arange(bodies) + 0.15, atol=1e-9)

@@ -66,6 +66,7 @@ def new_geometry(p):
         fat=fat,
         moved=np.zeros(n, np.int64),
         moved_flag=np.zeros(n, bool),
+        partner=np.zeros(m, bool),
         toi_scratch=toi_scratch(int(np.diff(p.vert_start).max())),
     )
 

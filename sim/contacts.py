@@ -198,6 +198,41 @@ def _sift_down(keys, slots, root, end):
         root = child
 
 
+@inline_kernel
+def merge_nearly_sorted(keys, spare, n):
+    """Sort keys[:n] (distinct int64) in place, in O(n + m log m) for m keys out of order;
+    spare[:n] is overwritten. The awake list is the last sort's order with a few changes: new
+    contacts appended at its end, and removed ones replaced by its last entry (``_remove_awake``).
+    So the keys that keep the order (each above the last one kept and below the next one) stay
+    where they are, in order; the others (new, or moved by a removal) go to ``spare``, are sorted
+    there, and the two runs are merged from the back. (A full sort of drop(200)'s ~800 awake
+    contacts took 9-14 us a step while the pile landed, 33 new contacts a step.)"""
+    kept = 0
+    out = 0
+    for k in range(n):
+        key = keys[k]
+        if (kept == 0 or key > keys[kept - 1]) and (k + 1 == n or key < keys[k + 1]):
+            keys[kept] = key  # (kept <= k: nothing unread is overwritten)
+            kept += 1
+        else:
+            spare[out] = key
+            out += 1
+    if out == 0:
+        return
+    spare[:out].sort()
+    i = kept - 1
+    j = out - 1
+    for w in range(n - 1, -1, -1):  # w >= i always: the write never passes the read
+        if j < 0:
+            break
+        if i >= 0 and keys[i] > spare[j]:
+            keys[w] = keys[i]
+            i -= 1
+        else:
+            keys[w] = spare[j]
+            j -= 1
+
+
 @kernel
 def sort_awake(n_bodies, contacts, counters):
     """Put the awake contacts back in pair order, if any was added or removed since the last sort.
@@ -216,17 +251,17 @@ def sort_awake(n_bodies, contacts, counters):
     if counters[AWAKE_UNSORTED] > 32:
         # In place, in arrays the store already has: np.argsort and a copy made three new
         # arrays whenever a landing added many contacts (no array is allocated in the step
-        # loop now), and took 17 us for 821 contacts of drop(200), now 9-11 us. The keys go into
-        # ``active``, which update_manifolds, the one thing every caller runs next, rebuilds from
-        # scratch; each pair's key is unique, so any correct sort gives the one order.
+        # loop now). The keys go into ``active``, which update_manifolds, the one thing every
+        # caller runs next, rebuilds from scratch; each pair's key is unique, so any correct
+        # sort gives the one order.
         keys = contacts.active
         capacity = len(awake)
         if float(stride) * float(stride) * float(capacity) < _PACKED_LIMIT:  # (floats: no wrap)
-            # each key with its slot in one int64 (key * capacity + slot), sorted in place as
-            # plain integers: three times as fast as the heapsort below (30 us)
+            # each key with its slot in one int64 (key * capacity + slot), sorted as plain
+            # integers: three times as fast as the heapsort below
             for k in range(n):
                 keys[k] = _key(awake[k], ci, stride) * capacity + awake[k]
-            keys[:n].sort()
+            merge_nearly_sorted(keys, awake, n)
             for k in range(n):
                 awake[k] = keys[k] % capacity
         else:  # beyond int64 (~10^6 bodies): keys and slots side by side

@@ -136,6 +136,8 @@ class Geometry(NamedTuple):
     #   aabb leaves it
     moved: np.ndarray  # (N,) int64 scratch: bodies whose fat box was refitted
     moved_flag: np.ndarray  # (N,) bool: body is in ``moved``
+    partner: np.ndarray  # (M,) bool scratch, all False between uses: the partners of the moved
+    #   body ``broadphase.find_new_pairs`` is looking at
     toi_scratch: np.ndarray  # (2K, 2) m: world vertices of a swept pair (K: most vertices)
 
 

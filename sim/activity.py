@@ -108,9 +108,12 @@ def resting_bodies(n_dynamic, n_bodies, awake_slot, out):
     return k
 
 
-def initial_activity(n_dynamic, n_bodies, inv_mass, inv_inertia, policy):
+def initial_activity(
+    n_dynamic, n_bodies, inv_mass, inv_inertia, policy, velocity, angular_velocity
+):
     """Activity arrays of a new World: every body awake, no events, the policy's state zeroed
-    (and set up by its ``initial`` hook when it has one)."""
+    (and set up by its ``initial`` hook when it has one, from the bodies' starting velocities:
+    velocity (N,2) m/s, angular_velocity (N,) rad/s)."""
     act = Activity(
         states=np.full(n_dynamic, State.FREE, np.int8),
         awake=np.arange(n_dynamic, dtype=np.int64),
@@ -125,5 +128,5 @@ def initial_activity(n_dynamic, n_bodies, inv_mass, inv_inertia, policy):
     )
     initial = getattr(policy, "initial", None)
     if initial is not None:
-        initial(act.body_int)
+        initial(act, velocity[:n_dynamic], angular_velocity[:n_dynamic])
     return act

@@ -283,7 +283,9 @@ class World:
         self._counters[D.N_AWAKE] = n  # every body starts awake
         self._counters[D.FREE_HEAD] = -1
         self._counters[D.RESTING_DIRTY] = 1
-        self._activity = initial_activity(n, m, p.inv_mass, p.inv_inertia, self.policy)
+        self._activity = initial_activity(
+            n, m, p.inv_mass, p.inv_inertia, self.policy, p.velocity, p.angular_velocity
+        )
         k = INITIAL_CAPACITY
         small = k < 4  # tests: no minimum either
         self._awake_grid = grid_buffers(

@@ -102,6 +102,7 @@ from .extended_layout import (
     LOAD_X,
     LOAD_Y,
     MARK,
+    NEVER_TESTED,
     PUSH_M,
     PUSH_NORMAL,
     PUSH_X,
@@ -113,6 +114,7 @@ from .extended_layout import (
     SUPPORT_MU,
     SUPPORT_NX,
     SUPPORT_NY,
+    TESTED,
     TOUCHED,
     WAIT_DEEP,
     WAIT_SLIDING,
@@ -167,6 +169,19 @@ BELOW = {"friction_margin": 1.0, "tip_margin": 1.0}
 #: in the columns ``extended_layout`` names
 REAL_COLUMNS = extended_layout.REAL_COLUMNS
 INT_COLUMNS = extended_layout.INT_COLUMNS
+
+
+def initial(activity, velocity, angular_velocity):
+    """Per-body state of a new World: the starting velocities are the rest test's "step 0"
+    (TESTED 0), so step 1's change is measured from them. Left at zero, a body started at 3 m/s
+    into the floor 1 mm below it, stopped in step 1, counted as steady and was frozen in that
+    step; a scene placed at rest starts at zero velocity, and still freezes in step 1."""
+    real = activity.body_real
+    real[:, extended_layout.PREVIOUS_VX] = velocity[:, 0]
+    real[:, extended_layout.PREVIOUS_VY] = velocity[:, 1]
+    real[:, extended_layout.PREVIOUS_W] = angular_velocity
+    activity.body_int[:, extended_layout.TESTED] = 0
+
 
 _RESTED = CAUSE["rested"]
 _IMPACT = CAUSE["impact"]
@@ -536,6 +551,11 @@ def _freeze_certified(settings, counters, bodies, contacts, activity):
             body_int[i, TOUCHED] = 0
             body_int[i, MARK] = 0
             body_int[i, REST_COUNT] = 0
+            # no test in a row with a test from before the freeze: a body woken in the next
+            # step (after that step's solve, in which it was immovable) was compared with its
+            # velocity from before the freeze, counted as steady, and could freeze again in the
+            # step it woke (a box frozen on the floor and woken by a box landing on it)
+            body_int[i, TESTED] = NEVER_TESTED
             freeze(i, settings, counters, bodies, contacts, activity)
             states[i] = FROZEN
             record(events, counters, i, FREE, FROZEN, _RESTED)

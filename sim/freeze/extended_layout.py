@@ -37,13 +37,16 @@ REAL_COLUMNS = 16
 # body_int columns
 REST_COUNT, MARK, TOUCHED, WAITING, BRACED, TESTED = range(6)
 INT_COLUMNS = 6
-#: TESTED: the step (counters[STEP_COUNT]) of the body's last rest test. Only bodies with a
-#: contact are tested (``extended_rest.slow_and_steady``): PREVIOUS_V* and REST_COUNT
-#: describe consecutive steps only while TESTED is the previous step's number, and WAITING and
-#: MARK are this step's only while it is this step's
+#: TESTED: the step (counters[STEP_COUNT]) of the body's last rest test (0: the World's start,
+#: with its starting velocities; NEVER_TESTED once frozen, so that a woken body's first test
+#: counts as changing). Only bodies with a contact are tested
+#: (``extended_rest.slow_and_steady``): PREVIOUS_V* and REST_COUNT describe consecutive steps
+#: only while TESTED is the previous step's number, and WAITING and MARK are this step's only
+#: while it is this step's
 #: BRACED: 1 when this step's certificate held the candidate only with a bracing load
 #: (``certificate.holds``): then the body that braces it must be at rest too
 #: (``extended_rest.on_the_awake``)
+NEVER_TESTED = -1
 
 #: WAITING: why an awake body was not frozen by the step's rest test, the first stage that
 #: refused it (0 once frozen, and before the first rest test; ``sim.World.why_awake`` names

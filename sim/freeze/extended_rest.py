@@ -73,9 +73,10 @@ def slow_and_steady(i, step, settings, bodies, body_real, body_int):
     (``extended.after_solve``): a body with none is never certified (nothing near it can stop its
     fall or its drift), so where nothing is near anything the policy costs nothing per body
     (before, every awake body was tested every step: 6.9% of a 0.09 ms step of 1000 boxes in
-    free fall). The change is measured against the previous step's test only: a body not tested
-    then (without a contact, or frozen) has no velocity to compare with, and counts as
-    changing."""
+    free fall). The change is measured against the previous step's test only (step 1's against
+    the World's starting velocities, ``extended.initial``): a body not tested then (without a
+    contact, or frozen: a frozen body's TESTED is NEVER_TESTED) has no velocity to compare with,
+    and counts as changing."""
     consecutive = body_int[i, TESTED] == step - 1
     body_int[i, TESTED] = step
     limit = settings.rest_speed

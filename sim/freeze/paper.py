@@ -117,7 +117,10 @@ _STOPPED_SLIDING = CAUSE["stopped_sliding"]
 _TWO_VERTICES_ON_FLOOR = CAUSE["two_vertices_on_floor"]
 
 
-def initial(body_int):
+def initial(activity, velocity, angular_velocity):
+    """Per-body state of a new World: no support or floor manifold yet (the starting velocities
+    play no part)."""
+    body_int = activity.body_int
     body_int[:, SUPPORT] = -2
     body_int[:, FLOOR_MANIFOLD] = -1
     body_int[:, LEFT_SUPPORT] = -2

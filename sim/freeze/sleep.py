@@ -36,9 +36,10 @@ _BY_ISLAND = CAUSE["woken_by_island"]
 _TIMER = CAUSE["timer"]
 
 
-def initial(body_int):
-    """Per-body state of a new World: no body belongs to a sleeping island."""
-    body_int[:, NEXT] = -1
+def initial(activity, velocity, angular_velocity):
+    """Per-body state of a new World: no body belongs to a sleeping island (the starting
+    velocities play no part)."""
+    activity.body_int[:, NEXT] = -1
 
 
 @inline_kernel

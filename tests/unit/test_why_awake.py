@@ -57,7 +57,8 @@ def test_a_body_first_tested_is_not_yet_steady():
     the rail's it has no contact ("untouched"); in the step its fat box first meets the wall's
     it is "changing" though its velocity never changed: it was not tested in the step before,
     so there is no change to measure (its last test's velocity, along the rail, is the same:
-    compared with it, it would pass)."""
+    compared with it, it would pass). Its first step is measured against the velocity it
+    started with (``extended.initial``): steady, so "uncertified" at once."""
     speed = 0.019
     box = sim.Body.box(0.1, 0.1, position=(0.0, 3.0), velocity=(speed, 0.0))
     rail = sim.Body.box(1.0, 0.2, position=(-0.5, 3.0 - 0.05 - 0.1 - 0.001), name="rail")
@@ -65,20 +66,51 @@ def test_a_body_first_tested_is_not_yet_steady():
     scene = sim.Scene(bodies=[box], static_bodies=[rail, wall], floor_y=None, gravity=(0.0, 0.0))
     world = sim.World(scene, freeze="extended")
     phases = []  # (reason, contacts, the box's x) at each change of the first two
-    while len(phases) < 5 and world.step_count < 900:
+    while len(phases) < 4 and world.step_count < 900:
         world.step()
         now = (world.why_awake()[0], world.inspect().n_contacts)
         if not phases or phases[-1][:2] != now:
             phases.append((*now, world.positions[0, 0]))
         assert world.velocities[0].tolist() == [speed, 0.0]  # nothing has pushed it
     assert [p[:2] for p in phases] == [
-        ("changing", 1),  # the first step (no test before it), on the rail
-        ("uncertified", 1),
+        ("uncertified", 1),  # from the first step, on the rail
         ("untouched", 0),
         ("changing", 1),  # the wall's contact, its first since the rail's
         ("uncertified", 1),
     ]
-    assert phases[2][2] > 0.05 and phases[3][2] > phases[2][2] + 0.05  # off the rail, then on
+    assert phases[1][2] > 0.05 and phases[2][2] > phases[1][2] + 0.05  # off the rail, then on
+
+
+def test_the_first_step_is_measured_from_the_starting_velocity():
+    """A box started at 3 m/s into the floor 1 mm below it (restitution 0) is stopped in step 1:
+    its velocity changed by 3 m/s, so it is "changing" and stays awake. Its saved "previous"
+    velocity had been zero, as if it had started at rest, and it was frozen in step 1. A box
+    placed on the floor at rest still freezes in step 1."""
+    thrown = sim.Body.box(0.5, 0.5, position=(0.0, 0.251), velocity=(0.0, -3.0), restitution=0.0)
+    world = sim.World(sim.Scene(bodies=[thrown]), freeze="extended").step()
+    assert abs(world.velocities[0, 1]) < 0.02  # stopped: slow after step 1
+    assert world.why_awake().tolist() == ["changing"]
+    placed = sim.Body.box(0.5, 0.5, position=(0.0, 0.25))
+    world = sim.World(sim.Scene(bodies=[placed]), freeze="extended").step()
+    assert world.frozen.tolist() == [True]
+
+
+@pytest.mark.parametrize("gap,woken_at", [(0.19, 4), (0.25, 5)])
+def test_a_body_woken_after_it_froze_is_changing(gap, woken_at):
+    """A box resting on the floor freezes in step 3; a small box falling onto it at 3 m/s wakes
+    it in step 4 or 5, by the gap. Its first test after waking has no velocity from the step
+    before to compare with (it was frozen, and immovable in the solve), so it is "changing",
+    whichever the step: woken in the step right after the freeze, it was compared with its
+    velocity from before the freeze and passed as steady."""
+    a = sim.Body.box(1.0, 0.5, position=(0.0, 0.254))
+    b = sim.Body.box(0.3, 0.3, position=(0.0, 0.654 + gap), velocity=(0.0, -3.0))
+    world = sim.World(sim.Scene(bodies=[a, b]), freeze="extended")
+    frozen = []
+    while world.step_count < woken_at:
+        world.step()
+        frozen.append(bool(world.frozen[0]))
+    assert frozen == [False, False] + [True] * (woken_at - 3) + [False]
+    assert world.why_awake()[0] == "changing"
 
 
 def test_a_stack_waits_rest_steps_before_freezing():

@@ -299,6 +299,13 @@ def after_solve(settings, counters, bodies, contacts, activity):
     held, braced = certificate.holds(
         candidates, n_candidates, awake_slot, settings, bodies, contacts, count
     )
+    # A body held only with a brace's help is judged with its brace as a group (``wedges``),
+    # whose forces inside are solved for within each member's own balance: alone, the brace's
+    # cone counted as a support that could push as hard as needed. A triangle on its apex, 4 mm
+    # off balance, with a 1.1 g plank across it and a static block was frozen upright while
+    # off's fell: the plank pressed on it with 9e-5 N s a step, and holding it took 3e-3.
+    for k in range(n_candidates):
+        held[k] = held[k] and not braced[k]
     counters[N_CERTIFICATES] += n_candidates
     counters[N_CERTIFICATES] += wedges(
         candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, contacts, count
@@ -463,6 +470,13 @@ def _freeze_certified(settings, counters, bodies, contacts, activity):
             sx = 0.0
             sy = 0.0
             onto_frozen = 0 <= other < n_dyn and awake_slot[other] < 0
+            # A push enters the load only from what stays still with i: the floor, a static or
+            # frozen body, or one freezing with it (whose link takes its push back when it
+            # wakes). An awake body's push is read live every step (PUSH, ``_candidates``): in
+            # the load too it counted twice, and stayed there after the body left (a box with a
+            # triangle balanced on its apex, which later tipped off, kept the triangle's weight
+            # for good, and a box sliding into it was stopped dead where off's moved it).
+            holds_still = not is_movable(other, n_dyn, awake_slot) or body_int[other, MARK] == 1
             for j in range(ci[c, POINT_COUNT]):
                 px, py = impulse_on(i, c, j, contacts)
                 if is_support(px, py, up_x, up_y):
@@ -472,7 +486,7 @@ def _freeze_certified(settings, counters, bodies, contacts, activity):
                         # resting on an already frozen body: that body now carries this push,
                         # the opposite of the support impulse, at this very point
                         add_load(other, -px, -py, c, j, contacts, position, body_real)
-                else:  # a load
+                elif holds_still:  # a load
                     wx = pf[c, j, ANCHOR_BX] + position[b, 0]
                     wy = pf[c, j, ANCHOR_BY] + position[b, 1]
                     body_real[i, LOAD_X] += px

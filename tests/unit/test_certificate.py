@@ -308,6 +308,34 @@ def test_a_frozen_body_never_clamps_what_it_rests_on(tilt):
     np.testing.assert_allclose(world.positions[:, 1], off.positions[:, 1], atol=0.05)
 
 
+@pytest.mark.parametrize(
+    "triangle_density, plank_density, stands",
+    [(1.0, 0.01, False), (20.0, 0.2, False), (1.0, 0.2, True), (1.0, 1.0, True)],
+)
+def test_a_brace_holds_only_as_hard_as_it_can_press(triangle_density, plank_density, stands):
+    """A triangle on its apex, its centre of mass 4 mm past it, with a plank lying across its top
+    and on a static block: the plank braces it only as hard as its own weight lets it press. A
+    1.1 g plank cannot hold the 0.5 kg triangle (off: it falls), nor a 22 g one a 10 kg triangle;
+    a 22 g or 110 g plank holds the 0.5 kg one (off stands). The brace's cone had counted as a
+    support that could push as hard as needed: the triangles the light planks cannot hold were
+    frozen upright at step 1 while off's fell."""
+    e = 0.006
+    triangle = sim.Body(
+        vertices=[(0, 0), (0.5 + e, 1), (-0.5 + e, 1)], density=triangle_density, friction=0.6
+    )
+    plank = sim.Body.box(2.2, 0.05, position=(1.0, 1.025), density=plank_density, friction=0.6)
+    block = sim.Body(vertices=[(1.5, 0), (2.5, 0), (2.5, 1), (1.5, 1)])
+    scene = sim.Scene(bodies=[triangle, plank], static_bodies=[block])
+    off = sim.World(scene).step(300)
+    assert (abs(off.angles[0]) < 1e-3) == stands  # what the solver does with it
+    world = sim.World(scene, freeze="extended").step(300)
+    if stands:
+        assert world.frozen.all() and [e[0] for e in world.events] == [1, 1]
+    else:
+        assert world.angles[0] < -1.0  # fallen, as off's
+        assert not [e for e in world.events if e[0] < 60]  # never frozen upright
+
+
 def test_certificates_are_counted():
     world = sim.World(sim.scenes.pyramid(5), freeze="extended").step(1)
     assert world.inspect().certificates == 15

@@ -247,6 +247,29 @@ def test_extended_slow_push_wakes_a_frozen_box():
     assert world.positions[0, 0] > 0.05  # it moved
 
 
+@pytest.mark.parametrize("triangle_on_it", [False, True])
+def test_extended_a_push_wakes_a_frozen_box_whatever_once_rested_on_it(triangle_on_it):
+    """A box frozen in step 1; a frictionless box sliding at 0.5 m/s reaches it at step ~180,
+    pushes it 1 mm, and is stopped (off: the same). With a triangle balanced on its apex on the
+    box (never certified: one point) that tips off by step ~110, the box took the triangle's
+    push into its frozen load and kept it after the triangle had gone, for good: the slider's
+    push then stayed inside what the load said the box could bear, and the box stopped it dead.
+    An awake body's push is read live, never kept in the load."""
+    box = sim.Body.box(1.0, 0.5, position=(0.0, 0.25))
+    if triangle_on_it:
+        triangle = sim.Body.regular(3, 0.3, position=(0.4, 0.8), angle=math.pi - 2e-3, density=5.0)
+    else:
+        triangle = sim.Body.regular(3, 0.3, position=(3.0, 0.15), density=5.0)
+    slider = sim.Body.box(0.4, 0.4, position=(-2.2, 0.2), velocity=(0.5, 0.0), friction=0.0)
+    scene = sim.Scene(bodies=[box, triangle, slider])
+    off = sim.World(scene).step(400)
+    world = sim.World(scene, freeze="extended").step(400)
+    woken = [c for _, b, f, t, c in world.events if b == 0 and t == State.FREE]
+    assert woken == ["pushed"]
+    assert world.positions[0, 0] == pytest.approx(off.positions[0, 0], abs=2e-4)
+    assert off.positions[0, 0] > 5e-4  # it was pushed
+
+
 def test_extended_tipping_wakes_an_overhanging_plank():
     # a plank resting on a box, its centre of mass over the box (x = 0.3, box edge 0.5), its right
     # end overhanging; a weight lands on the overhang and moves the combined centre past the edge

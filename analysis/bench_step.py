@@ -6,8 +6,9 @@ and the piles in which a peer's body reached its engine's silent motion clamp),
 bench_step_profile.csv
 (sim's step by stage, ms, one column per scene) and bench_step.json: the ratios per scene, the
 issue's target (sim at least 3x pymunk's step rate on pyramid(40), rest_row(5000), drop(200)
-while it settles) met or not on each, the substeps and iterations each system used, and the
-profile of the target scenes."""
+while it settles) met or not on each, the substeps and iterations each system used, the
+profile of the target scenes, and sim-off without its landing sweeps on the settling scene
+(``variants``, reported apart)."""
 
 from analysis import style
 
@@ -63,6 +64,23 @@ def settling_seeds(table):
     sims = table[(table["system"] == "sim-off") & table["mode"].str.startswith("settling")]
     seeds = sims["seeds"] if "seeds" in sims else [""] * len(sims)
     return {label: str(s).split() for label, s in zip(sims["label"], seeds)}
+
+
+def variants(table):
+    """{label: {variant: {"ms": ms per step, "<peer>_over_variant": ratio}}} of sim's settling
+    variants (bench_step's SETTLING_VARIANTS: sim-off without its landing sweeps), timed beside
+    the systems and reported apart; empty for a table written before them."""
+    rows = table[~table["system"].isin(("sim-off", *PEERS))]
+    return {
+        label: {
+            r["system"]: {
+                "ms": float(r["ms_per_step_median"]),
+                **{f"{p}_over_variant": float(r[f"speedup_vs_{p}"]) for p in PEERS},
+            }
+            for _, r in group.iterrows()
+        }
+        for label, group in rows.groupby("label", sort=False)
+    }
 
 
 def _settings(table, system):
@@ -139,6 +157,8 @@ def draw(table, meta):
         "settling_seeds": settling_seeds(table),
         # piles in which a peer's body reached its engine's silent motion clamp
         "clamped": found,
+        # sim-off without its landing sweeps on the settling scene, reported apart
+        "variants": variants(table),
         "targets_met": bool(targets) and all(t["met"] for t in targets.values()),
         "sim": _settings(table, "sim-off"),
         **{p: _settings(table, p) for p in PEERS},

@@ -336,6 +336,15 @@ def solver_line(bs):
             f" Box2D v3 itself runs {d['scene']} at "
             f"{d['pymunk_over_sim'] / d['box2d3_over_sim']:.2f}× pymunk's rate."
         )
+    # sim-off without its landing sweeps (bench_step's settling variant): the accuracy work no
+    # peer does, reported apart so that the gap to the peers can be read without it
+    for lbl, found in bs.get("variants", {}).items():
+        for name, v in found.items():
+            target += (
+                f' Without its landing sweeps (`impact_iterations=0`, the row "{name}": accuracy'
+                f" work no peer does) sim-off runs {lbl} at {v['pymunk_over_variant']:.2f}×"
+                f" pymunk's rate and {v['box2d3_over_variant']:.2f}× Box2D v3's."
+            )
     titles = dict(SOLVER_PEERS)
     clamps = [
         f"{titles.get(peer, peer)} in {c['piles']} of {c['of']} piles of {lbl}"
@@ -353,7 +362,8 @@ def solver_line(bs):
         "> 1: sim faster): "
         + "; ".join(parts)
         + f". Box2D v3 is the solver sim's soft step follows, timed here only (its wheel: SSE2, "
-        f"{v3.get('substeps', 4)} substeps; sim's kernels are compiled for this machine). " + target
+        f"{v3.get('substeps', 4)} substeps; sim's kernels are compiled for this machine). "
+        + target.lstrip()
     ).rstrip()
 
 

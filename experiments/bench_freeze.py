@@ -27,11 +27,11 @@ Four parts, one long-form table (column ``part``), each answering one of the iss
    awake body without contacts was cheap when this was chosen (a ~ 0.13-0.22 us a step then): with
    {100, 200, 400} the flyers changed a sim-off step (1-2 ms with the 4000-box row solved) by
    0.05 ms, within its timing noise, and sim-off's a came out 0.04 +- 0.23 us (even negative under
-   load); with {100, 400, 1600} it is 0.22 +- 0.02 us. Every world of the sweep is built
-   first and the repeats run round-robin over all of them, so slow drifts in machine load spread
-   over every mix instead of biasing some. Reported: a, b, c with standard errors, b/a (target
-   <= 0.02), the RMS and largest residual and R^2, and b(extended)/b(off). The awake bodies are
-   the cheapest kind: no contacts, and slow (dropped from rest they reached 57 m/s, and sim's
+   load); with {100, 400, 1600} it is 0.13 +- 0.01 us (2026-12-07). Every world of the sweep is
+   built first and the repeats run round-robin over all of them, so slow drifts in machine load
+   spread over every mix instead of biasing some. Reported: a, b, c with standard errors, b/a
+   (target <= 0.02), the RMS and largest residual and R^2, and b(extended)/b(off). The awake bodies
+   are the cheapest kind: no contacts, and slow (dropped from rest they reached 57 m/s, and sim's
    continuous stage swept each every step, 1.1-1.8 us of its a; see experiments/fig_scaling.py).
 3. ``time_to_freeze`` — steps until every body is frozen/asleep, for every system that freezes
    (study.systems.FREEZING: sim-sleep, sim-paper, sim-extended, pymunk-sleep, pybullet-sleep and
@@ -48,7 +48,7 @@ Four parts, one long-form table (column ``part``), each answering one of the iss
    down and near the end of its flight; the drift from steps 0, 500 and 1000), each phase timed
    on fresh builds from the same state, 3x the usual repeats, and per phase the ratio
    extended/off (the median of the repeats' paired ratios; also the ratio of medians). The
-   scenes are not stationary (the fall's step costs 10x more late than early), so a phase is
+   scenes are not stationary (the fall's step costs ~25x more late than early), so a phase is
    never compared with another (``study/in_flight.py`` says how). Target: extended no more than
    5 % slower than off in every phase (scene rows ``ratio_to_off_worst``,
    ``worst_phase_step``).

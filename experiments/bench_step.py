@@ -37,6 +37,14 @@ wheel) is SSE2 (128-bit: 4 float32 contacts per instruction), one thread, where 
 are compiled for the machine they run on (256-bit packed instructions here, 4 float64 contacts
 per instruction; ``bench_kernels``): wider registers that Box2D v3 compiled for AVX2 would take
 too; ``system_settings`` records its build (``simd``).
+One variant is timed on the settling scene beside them (``SETTLING_VARIANTS``), reported apart on
+its own rows, never instead: "sim-off (no landing sweeps)", sim-off with ``impact_iterations=0``.
+The landing sweeps (8 more biased sweeps with friction per substep around a contact approaching
+faster than 1 m/s) are accuracy work no peer does: without them sim's step sweeps its contacts as
+Box2D v3's does (4 substeps, one biased and one relax sweep each; only sim's mass-ratio and deep
+contacts still get their few more), at a landing error of centimetres instead of under a millimetre
+(fig_tradeoff's impact_iterations sweep). So the row says how much of sim's time on the pile is that
+work, and how sim's step compares with Box2D v3's doing the same work.
 The columns ``substeps``, ``iterations`` and ``contact_sweeps_per_step``
 (``study.peers.solver_summary``) say so on every row; the metadata holds every setting of
 both (``system_settings``).
@@ -49,9 +57,9 @@ one profiled step, so profiling compiles nothing either).
 - settling scene: every repeat builds every system afresh on that repeat's seed (building is not
   timed: sim's includes its initial-impulse solve) and times the same window, steps 1..WINDOW, in
   one call per system, interleaved as above.
-Reported per step: median and min over repeats, ms; on the sim rows the ratio peer/sim of
-medians (``speedup_vs_pymunk``, ``speedup_vs_box2d``, ``speedup_vs_box2d3``: > 1 means sim is
-faster).
+Reported per step: median and min over repeats, ms; on the sim rows (sim-off and its variant, each
+its own) the ratio peer/sim of medians (``speedup_vs_pymunk``, ``speedup_vs_box2d``,
+``speedup_vs_box2d3``: > 1 means sim is faster).
 ``max_displacement_m`` (largest distance any body moved from its start) guards resting scenes
 against a blow-up or collapse looking fast;
 ``bodies_in_bin`` (settling scene: bodies between the walls, below their top, at the end of the
@@ -134,6 +142,23 @@ TARGETS = (("pyramid", 40), ("rest_row", 5000), ("drop", 200))
 
 #: Systems timed, by their study.peers name, each at its own default settings.
 SYSTEMS = ("sim-off", "pymunk", "box2d", "box2d3")
+#: Variants timed on the settling scene only, beside the systems: name -> (the runner's system,
+#: the settings that make the variant). sim's landing sweeps (``impact_iterations``, 8 more biased
+#: sweeps with friction around a contact that approaches faster than 1 m/s) are accuracy work that
+#: no peer does, Box2D v3 included: without them sim sweeps its contacts as Box2D v3 does, and its
+#: landing ends centimetres from its rest pose instead of under a millimetre (fig_tradeoff's
+#: impact_iterations sweep). Reported apart, never instead: the study's sim-off keeps them. On a
+#: resting scene they cost one comparison per lane, so they are timed where they work only.
+SETTLING_VARIANTS = {"sim-off (no landing sweeps)": ("sim-off", {"impact_iterations": 0})}
+#: the rows that carry the speed-up columns: sim-off and its variants
+SIM_ROWS = ("sim-off", *SETTLING_VARIANTS)
+SETTLING_SYSTEMS = SYSTEMS + tuple(SETTLING_VARIANTS)
+
+
+def build_system(system, scene):
+    """The runner of ``system`` (a system or a settling variant) on ``scene``."""
+    base, settings = SETTLING_VARIANTS.get(system, (system, {}))
+    return build(base, scene, **settings)
 
 
 def max_displacement(runner, start):
@@ -196,13 +221,13 @@ def _profile_rows(scene, profiles, unprofiled_ms, steps, inspection, settings):
     ]
 
 
-def _row(scene, runner, per_step_ms, steps, build_s, mode, extra):
+def _row(scene, runner, per_step_ms, steps, build_s, mode, extra, system=None):
     return {
         "scene": scene.name,
         "param": scene.params[PARAM[scene.name]],
         "label": label(scene),
         "bodies": len(scene.bodies),
-        "system": runner.name,
+        "system": system or runner.name,
         "mode": mode,
         **solver_summary(runner.settings),
         "ms_per_step_median": statistics.median(per_step_ms),
@@ -262,14 +287,14 @@ def bench_resting(scene, repeats, steps, progress=None):
 
 
 def build_all(scene):
-    """Every system built on ``scene`` ({system: runner, build seconds}), or None when one of them
-    refuses it (ValueError: Box2D's polygon skin refuses a sliver in some piles); then none is
-    left open."""
+    """Every system and settling variant built on ``scene`` ({system: runner, build seconds}), or
+    None when one of them refuses it (ValueError: Box2D's polygon skin refuses a sliver in some
+    piles); then none is left open."""
     runners, build_s = {}, {}
     try:
-        for system in SYSTEMS:
+        for system in SETTLING_SYSTEMS:
             t0 = time.perf_counter()
-            runners[system] = build(system, scene)
+            runners[system] = build_system(system, scene)
             build_s[system] = time.perf_counter() - t0
     except ValueError:
         for runner in runners.values():
@@ -309,11 +334,13 @@ def bench_settling(name, size, repeats, window, progress=None):
     """Time steps 1..``window`` of fresh systems on the settling scene ``name``(``size``), one
     seed per repeat from DROP_SEED on, interleaved; a seed that any system refuses to build is
     skipped for all. Then profile the same windows in fresh sim Worlds. Returns (rows, profile
-    rows, the scenes used)."""
-    times = {system: [] for system in SYSTEMS}
-    build_s = {system: [] for system in SYSTEMS}
-    in_bin = {system: [] for system in SYSTEMS}
-    clamps = {system: [] for system in SYSTEMS}
+    rows, the scenes used). The settling variants (SETTLING_VARIANTS) are timed with the systems,
+    interleaved."""
+    systems = SETTLING_SYSTEMS
+    times = {system: [] for system in systems}
+    build_s = {system: [] for system in systems}
+    in_bin = {system: [] for system in systems}
+    clamps = {system: [] for system in systems}
     last = {}
     scenes, skipped = [], []
     seed = DROP_SEED
@@ -333,7 +360,7 @@ def bench_settling(name, size, repeats, window, progress=None):
         r = len(scenes)
         scenes.append(scene)
         seed += 1
-        for system in SYSTEMS if r % 2 == 0 else SYSTEMS[::-1]:
+        for system in systems if r % 2 == 0 else systems[::-1]:
             runner = runners[system]
             build_s[system].append(seconds[system])
             times[system].append(1e3 * timed(runner, window) / window)
@@ -343,7 +370,7 @@ def bench_settling(name, size, repeats, window, progress=None):
             last[system] = runner
             if progress is not None:
                 progress.update()
-        for system in SYSTEMS:  # after the repeat's timings, untimed
+        for system in systems:  # after the repeat's timings, untimed
             if getattr(runners[system], "checks_clamps_per_call", False):
                 clamp = first_clamp(system, scene, window, runners[system])
                 if clamp:
@@ -359,7 +386,7 @@ def bench_settling(name, size, repeats, window, progress=None):
         "seeds_skipped": " ".join(map(str, skipped)),
     }
     rows = []
-    for system in SYSTEMS:
+    for system in systems:
         runner = last[system]
         rows.append(
             _row(
@@ -379,6 +406,7 @@ def bench_settling(name, size, repeats, window, progress=None):
                     **named,
                     **(inspection if system == "sim-off" else {}),
                 },
+                system=system,
             )
         )
         runner.close()
@@ -406,7 +434,8 @@ def run(config, repeats, steps):
     compile_kernels()
     sizes = [(name, p) for name in ("rest_row", "pyramid", "drop") for p in config[name]]
     rows, profile_rows, scenes = [], [], []
-    with tqdm(total=len(sizes) * repeats * len(SYSTEMS), desc=NAME, unit="repeat") as bar:
+    runs = sum(len(SETTLING_SYSTEMS if name in SETTLING else SYSTEMS) for name, _ in sizes)
+    with tqdm(total=runs * repeats, desc=NAME, unit="repeat") as bar:
         for name, p in sizes:
             bar.set_postfix_str(f"{name}({p})")
             if name in SETTLING:
@@ -418,12 +447,14 @@ def run(config, repeats, steps):
             profile_rows += prof
             scenes += used
     table = pd.DataFrame(rows)
-    # ratio of medians, on the sim rows: how many times faster sim is than pymunk
+    # ratio of medians, on the sim rows (sim-off and its variants, each its own): how many times
+    # faster the row is than the peer on the same scene
     med = table.pivot_table(index=["scene", "param"], columns="system", values="ms_per_step_median")
     for peer in SYSTEMS[1:]:
-        column = f"speedup_vs_{peer}"
-        table = table.join((med[peer] / med["sim-off"]).rename(column), on=["scene", "param"])
-        table.loc[table["system"] != "sim-off", column] = np.nan
+        peer_ms = table.join(med[peer].rename("peer_ms"), on=["scene", "param"])["peer_ms"]
+        table[f"speedup_vs_{peer}"] = (peer_ms / table["ms_per_step_median"]).where(
+            table["system"].isin(SIM_ROWS)
+        )
     return table, pd.DataFrame(profile_rows), scenes
 
 
@@ -465,8 +496,8 @@ def main(argv=None, data_dir=None):
 
     table, profile, scenes = run(config, repeats, steps)
     settings = {}
-    for name in SYSTEMS:
-        with build(name, sim.scenes.rest_row(2)) as runner:
+    for name in SETTLING_SYSTEMS:
+        with build_system(name, sim.scenes.rest_row(2)) as runner:
             settings[name] = runner.settings
     parameters = {
         "dt": DT,
@@ -479,6 +510,11 @@ def main(argv=None, data_dir=None):
         "quick": args.quick,
         "sizes": config,
         "systems": list(SYSTEMS),
+        # timed on the settling scene only: {name: {system, settings}}
+        "settling_variants": {
+            name: {"system": base, "settings": dict(extra)}
+            for name, (base, extra) in SETTLING_VARIANTS.items()
+        },
         "system_settings": settings,
         "solver_summary": {name: solver_summary(s) for name, s in settings.items()},
         "target_ratio": TARGET_RATIO,

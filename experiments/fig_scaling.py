@@ -26,8 +26,8 @@ after the 10 warm-up steps it is stepped until only the flyers are solved, at mo
 box2d-sleep (Box2D 2.3's sleeping, the same way: its b2_timeToSleep is 0.5 s too).
 sim-sleep is left out to keep within the time budget (building the worlds dominates the run): its
 asleep bodies leave sim's awake list exactly as extended's frozen ones do, so its b is the same
-mechanism measured twice. pybullet is left out: its deactivation takes 2 s and it costs ~40 ms
-per step per 1000 awake boxes.
+mechanism measured twice. pybullet is left out: its deactivation takes 2 s and it costs ~30 ms
+per step per 1000 awake boxes (fig_speedup).
 
 Method (study.protocols.per_body_cost, bench_freeze's part 2): every world of the sweep is
 built and settled first, then timed in 7 repeats of 50 steps, round-robin over all 48 worlds (order

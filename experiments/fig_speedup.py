@@ -14,10 +14,10 @@ iterations per step, pybullet 50, Box2D 8 and 3; slop (sim) and collision_slop (
 unit boxes' slop; every system's full settings, ``runner.settings``, are in the metadata's
 ``system_settings``).
 
-pybullet is run only up to PYBULLET_MAX_BODIES = 1000 bodies: Bullet costs ~40 ms per step per
-1000 awake boxes here (~95 ms on pyramid(40)), so rest_row(3000) and rest_row(10000) would cost
-minutes each. Those rows are in the table with NaN times and the flag "not run: pybullet capped at
-1000 bodies".
+pybullet is run only up to PYBULLET_MAX_BODIES = 1000 bodies: Bullet costs ~30 ms per step per
+1000 awake boxes here (31 ms on rest_row(1000), 65 ms on pyramid(40) in the run of 2026-12-07),
+so rest_row(3000) and rest_row(10000) would cost minutes each. Those rows are in the table with
+NaN times and the flag "not run: pybullet capped at 1000 bodies".
 
 Method, per scene: every system is built, then
   1. settled: a freezing system (sim-sleep/paper/extended, pymunk-sleep, pybullet-sleep) is stepped

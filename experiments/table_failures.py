@@ -6,7 +6,9 @@ big engines' known ones), which systems get the outcome wrong, is it freezing th
 
 Scenarios (``study.scenarios``, whose docstrings give each scene's geometry and the physics
 of its outcome): support_removed, overhang (seed figure 3), tipping, unstable_equilibrium,
-slow_sliding, slope_creep, impact_on_stack, load_on_overhang, wake_cascade, three_bodies. Each runs
+slow_sliding, slope_creep, unstable_ledge, slow_glide, slope_creep_plank (each a second case, with
+other geometry, of the three before it), impact_on_stack, load_on_overhang, wake_cascade,
+three_bodies. Each runs
 for its own duration (3-7 s); a projectile that must arrive after everything froze arrives at
 3.5 s (after Bullet's fixed 2 s of deactivation time).
 
@@ -58,7 +60,7 @@ Per scenario x system (one row each):
   ~20-150 for sim and pymunk; column ``runs_per_repeat``); each repeat builds K runners
   (untimed), steps each once (untimed: the first step's contact creation is excluded), then times
   ``step(n - 1)`` of the K runners back to back with the garbage collector paused, and divides by
-  K; repeats round-robin over the eight systems, order reversed every other repeat, serially in
+  K; repeats round-robin over the ten systems, order reversed every other repeat, serially in
   this process. The untimed runs (truth, and each system stepped one step at a time to sample
   ``asleep``) go through study.executor.run_tasks.
 

@@ -76,9 +76,10 @@ class World:
       relax_iterations      unbiased sweeps per substep (default 1). Not an accuracy knob:
                             more make landings worse (a box dropped across a gap moves 0.04 mm
                             sideways with 1, 0.8-1.2 mm with 2-16; fig_tradeoff's landing 0.57 mm
-                            from its rest pose with 1, 2.2-17 mm with 2-16). Raise
-                            ``iterations`` instead (2-8: 0.40-0.50 mm; ``substeps`` 8: 0.30 mm,
-                            but 16: 6.3 mm; fig_tradeoff; docs/ARCHITECTURE.md section 2.3)
+                            from its rest pose with 1, 2.2-17 mm with 2-16; 2026-12-05). Raise
+                            ``iterations`` instead (fig_tradeoff of 2026-12-07: 0.66 mm at the
+                            defaults; iterations 2-8: 0.27-0.55 mm; ``substeps`` 8: 0.35 mm, but
+                            16: 5.8 mm; docs/ARCHITECTURE.md section 2.3)
       impact_iterations     more biased sweeps per substep, with friction rows, for the contacts
                             around an impact, in a step with one (a contact point approaching
                             faster than soft_step.IMPACT_SWEEP_SPEED, 1 m/s; default 8, 0

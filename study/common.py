@@ -110,7 +110,7 @@ def step_until_frozen(runner, cap_steps):
 def calibrate(runner, target_s, probe=10, lo=10, hi=10**6):
     """Steps per repeat so that one repeat lasts about ``target_s`` (from ``probe`` untimed-ish
     steps, which also serve as warm-up). For a step of nanoseconds (a frozen sim scene) the probe
-    times mostly the call, so its repeats come out shorter (a few ms for sim's ~11 us call: the
+    times mostly the call, so its repeats come out shorter (a few ms for sim's ~15 us call: the
     call under 1% of a repeat). Capped at 5000 steps, a frozen sim repeat lasted ~0.1 ms, a tenth
     of it the call, and the frozen speed-ups came out ~10% low."""
     t = timed(runner, probe) / probe

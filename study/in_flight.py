@@ -5,19 +5,18 @@ touching before the floor) and "drift" (boxes in zero gravity without a floor, m
 DRIFT_SPEED m/s with a random spread and spin: neighbours close in and collide, but none is ever
 slow). Each is timed under sim-off and sim-extended (FLIGHT_SYSTEMS).
 
-Why phases. Neither scene is stationary: 1000 falling boxes cost sim-off about 0.09 ms a step
-at the start and 0.8-1.1 ms late in the fall (fast bodies reach farther: their swept boxes and
-speculative margins grow, and boxes falling one above the other get speculative contacts), and
+Why phases. Neither scene is stationary: 1000 falling boxes cost sim-off about 0.09 ms a step at the
+start and ~2.4 ms at its end (step 1420; 2026-12-07): fast bodies reach farther (their swept boxes
+and speculative margins grow, and boxes falling one above the other get speculative contacts), and
 the drift's cost changes as neighbours meet. Timed as consecutive repeats of one run, each repeat
 was a different phase: the median over repeats mixed phases, the ratio of two medians could set
-neighbouring phases against each other, and the cheapest phase (where a fixed per-body cost
-weighs most) got one sample. So each phase is timed on its own. A sim-off run is stepped to the
-phase's first step and its state (centres of mass, angles, velocities) becomes a scene
-(``restarted``); every repeat builds both systems fresh on that scene, steps WARMUP_STEPS
-untimed and times the same ``steps`` steps, the two systems back to back (order reversed every
-other repeat). Every repeat of a phase then times the same motion. A phase's overhead is the
-median over repeats of the paired ratio extended / off (back to back, slow load drifts cancel);
-the target is judged on the worst phase.
+neighbouring phases against each other, and the cheapest phase (where a fixed per-body cost weighs
+most) got one sample. So each phase is timed on its own. A sim-off run is stepped to the phase's
+first step and its state (centres of mass, angles, velocities) becomes a scene (``restarted``);
+every repeat builds both systems fresh on that scene, steps WARMUP_STEPS untimed and times the same
+``steps`` steps, the two systems back to back (order reversed every other repeat). Every repeat of a
+phase then times the same motion. A phase's overhead is the median over repeats of the paired ratio
+extended / off (back to back, slow load drifts cancel); the target is judged on the worst phase.
 """
 
 import statistics

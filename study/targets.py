@@ -50,7 +50,7 @@ TABLES = ("table_failures", "table_extremes")
 VALUE_TOLERANCE = 0.01
 #: table_extremes' bisection of the impact threshold: its own settings (experiments.table_extremes)
 THRESHOLD_BISECTIONS = 45
-PYBULLET_MAX_BODIES = 250  # table_extremes does not run pybullet above this (its cost)
+PYBULLET_MAX_BODIES = 2000  # table_extremes does not run pybullet above this (its cost)
 #: builder -> its size argument, the one that sets its body count (``resolve``'s ``size``); the
 #: others' first arguments are not sizes (seed_fig3's is a speed, single_box's a length in m)
 SIZE_PARAMETERS = {

@@ -439,10 +439,10 @@ def test_sim_lands_a_pile_no_further_from_its_rest_pose_than_any_peer():
     """Issue 11's landing criterion, on fig_tradeoff's landing scene (24 unit boxes falling flat
     onto each other and the floor; the exact answer moves no box sideways): after 5 s at each
     system's default settings (study.common.build, as fig_tradeoff runs them), sim-off's largest
-    distance from the rest pose is no larger than the best peer's. Measured: sim-off 0.57 mm
-    (0.69 mm before a two-point manifold on an immovable body carried its load's split at once,
-    32.6 mm before the impact sweeps, sim.soft_step.IMPACT_SWEEP_SPEED), pybullet 1.05 mm,
-    pymunk 12.9 mm, Box2D 16.3 mm."""
+    distance from the rest pose is no larger than the best peer's. Measured (2026-12-06;
+    fig_tradeoff of 2026-12-07: 0.66 mm): sim-off 0.57 mm (0.69 mm before a two-point manifold on an
+    immovable body carried its load's split at once, 32.6 mm before the impact sweeps,
+    sim.soft_step.IMPACT_SWEEP_SPEED), pybullet 1.05 mm, pymunk 12.9 mm, Box2D 16.3 mm."""
     from study.common import build
     from study.tradeoff import landing, rest_pose
 

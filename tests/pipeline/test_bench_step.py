@@ -29,9 +29,13 @@ def test_quick_run_writes_every_row_and_the_metadata(quick):
         (scene, p, system)
         for scene in ("rest_row", "pyramid", "drop")
         for p in q[scene]
-        for system in bench_step.SYSTEMS
+        for system in (bench_step.SETTLING_SYSTEMS if scene == "drop" else bench_step.SYSTEMS)
     }
     assert bench_step.SYSTEMS == ("sim-off", "pymunk", "box2d", "box2d3")
+    # sim-off without its landing sweeps, on the settling scene only
+    assert bench_step.SETTLING_VARIANTS == {
+        "sim-off (no landing sweeps)": ("sim-off", {"impact_iterations": 0})
+    }
     assert set(zip(table["scene"], table["param"], table["system"])) == expected
     assert len(table) == len(expected)
     for column in ("ms_per_step_median", "ms_per_step_min"):
@@ -44,9 +48,20 @@ def test_quick_run_writes_every_row_and_the_metadata(quick):
     assert (settling["steps_per_repeat"] == q["window"]).all()
     assert settling["mode"].str.startswith("settling").all()
     sim_rows = table[table["system"] == "sim-off"]
+    own = table[table["system"].isin(bench_step.SIM_ROWS)]
     for peer in bench_step.SYSTEMS[1:]:
-        assert (sim_rows[f"speedup_vs_{peer}"] > 0).all()
-        assert table.loc[table["system"] != "sim-off", f"speedup_vs_{peer}"].isna().all()
+        assert (own[f"speedup_vs_{peer}"] > 0).all()
+        assert (
+            table.loc[~table["system"].isin(bench_step.SIM_ROWS), f"speedup_vs_{peer}"].isna().all()
+        )
+        # each sim row's ratio is its own: the peer's median over the row's median
+        for r in own.itertuples():
+            theirs = table[
+                (table["scene"] == r.scene)
+                & (table["param"] == r.param)
+                & (table["system"] == peer)
+            ]["ms_per_step_median"].iloc[0]
+            assert getattr(r, f"speedup_vs_{peer}") == pytest.approx(theirs / r.ms_per_step_median)
     assert (resting["max_displacement_m"] < 0.5).all()  # resting scenes stayed put
     assert (settling["bodies_in_bin"] == settling["param"]).all()  # the drop stayed in its bin
     assert (sim_rows["contacts"] > 0).all() and (sim_rows["batches"] > 0).all()
@@ -67,6 +82,12 @@ def test_quick_run_writes_every_row_and_the_metadata(quick):
     ):
         assert key in meta
     assert meta["script"] == "bench_step"
+    variant = meta["parameters"]["system_settings"]["sim-off (no landing sweeps)"]
+    assert variant["impact_iterations"] == 0
+    assert meta["parameters"]["system_settings"]["sim-off"]["impact_iterations"] > 0
+    assert meta["parameters"]["settling_variants"] == {
+        "sim-off (no landing sweeps)": {"system": "sim-off", "settings": {"impact_iterations": 0}}
+    }
     assert {"commit", "dirty"} <= set(meta["git"])
     assert meta["packages"]["pymunk"] == "7.3.1" and meta["packages"]["pyb2d3"] == "0.11.1"
     repeats = meta["parameters"]["repeats"]
@@ -87,7 +108,7 @@ def test_a_pile_some_system_refuses_is_skipped_for_all():
     skips that seed for every system, so each repeat times the same pile in each."""
     assert bench_step.build_all(sim.scenes.drop(200, seed=5)) is None
     runners, seconds = bench_step.build_all(sim.scenes.drop(200, seed=4))
-    assert set(runners) == set(seconds) == set(bench_step.SYSTEMS)
+    assert set(runners) == set(seconds) == set(bench_step.SETTLING_SYSTEMS)
     for runner in runners.values():
         runner.close()
 

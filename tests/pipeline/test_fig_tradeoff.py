@@ -489,7 +489,8 @@ def test_analysis_draws_and_quotes(quick_run, monkeypatch, tmp_path):
         "the issue's done-when on the quick landing only: sim-off's error at its defaults is "
         "0.082 mm against its reference (0.10 mm before the carried split at once), pybullet's "
         "0.022 mm (with the impact sweeps; 2.6 mm without). At full size it holds (sim-off "
-        "0.57 mm from the exact pose, pybullet 1.05 mm: "
+        "0.57 mm from the exact pose on 2026-12-06, 0.66 mm in fig_tradeoff of 2026-12-07, "
+        "pybullet 1.05 mm: "
         "tests/adapters/test_peers.py::test_sim_lands_a_pile_no_further_from_its_rest_pose_than_"
         "any_peer); see experiments/fig_tradeoff.py"
     ),

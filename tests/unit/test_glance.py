@@ -318,3 +318,27 @@ def test_the_solver_bullet_names_a_peer_whose_pile_reached_its_engine_clamp():
         "per-step motion clamp, which slows it silently, under Box2D 2.3 in 1 of 7 piles of "
         "drop(200)" in line
     )
+
+
+def test_the_solver_bullet_quotes_sim_without_its_landing_sweeps_apart():
+    """bench_step's settling variant (sim-off with impact_iterations=0) is reported in its own
+    sentence, with its own ratios, and only when the results have it."""
+    bench = _bench()
+    assert "landing sweeps" not in solver_line(bench)  # results written before the variant
+    bench["variants"] = {
+        "drop(200)": {
+            "sim-off (no landing sweeps)": {
+                "ms": 0.2,
+                "pymunk_over_variant": 1.24,
+                "box2d3_over_variant": 0.85,
+                "box2d_over_variant": 1.6,
+            }
+        }
+    }
+    line = solver_line(bench)
+    assert (
+        'Without its landing sweeps (`impact_iterations=0`, the row "sim-off (no landing '
+        "sweeps)\": accuracy work no peer does) sim-off runs drop(200) at 1.24× pymunk's rate "
+        "and 0.85× Box2D v3's." in line
+    )
+    assert "1.11× on drop(200)" in line  # sim-off's own ratios are unchanged

@@ -94,13 +94,14 @@ dropped columns (``dt``, ``iterations``, ``substeps``, ``mass_dropped``: nothing
 start), the projectile into a wall (likewise), and the impact and knife-edge scenes (one body on
 the floor by a face or a corner: the presolve only sets the first step's floor impulse).
 
-pybullet is not run on scenes of more than ``pybullet_max_bodies`` = 2000 bodies (the 10^4
-bodies of the "bodies" axis): measured on this machine (2026-12-07), a pybullet step of
-pyramid(20) costs 13 ms, of pyramid(40) 62 ms, of pyramid(60) 0.15 s, of the 10^4 boxes in
-columns 1.3 s, whose 120 steps would pass ``budget_s``; those cells are marked "not run" with the
-reason, never dropped. (Until 2026-12-07 the cap was 250 bodies, from costs of 0.68 s and 5.3 s a
-step quoted for pyramid(40) and (60) that were ten times too high: pybullet had no cells there.)
-Any run is stopped after ``budget_s`` s of wall time and marked "not run" (timeout).
+pybullet is not run on scenes of more than ``pybullet_max_bodies`` = 2000 bodies (the 10^4 bodies of
+the "bodies" axis): measured on this machine (2026-12-07), a pybullet step of pyramid(20) costs 13
+ms, of pyramid(40) 62 ms, of pyramid(60) 0.15 s at the start (more as it collapses: its run reached
+``budget_s`` at step 240 of 300 and is marked "not run", timeout), of the 10^4 boxes in columns 1.3
+s, whose 120 steps would pass ``budget_s``; those cells are marked "not run" with the reason, never
+dropped. (Until 2026-12-07 the cap was 250 bodies, from costs of 0.68 s and 5.3 s a step quoted for
+pyramid(40) and (60) that were ten times too high: pybullet had no cells there.) Any run is stopped
+after ``budget_s`` s of wall time and marked "not run" (timeout).
 
 Reference (for the outcome): the same scene under sim-off at dt_ref = min(dt, 1/60) / ``fine``
 (fine = 8; 32 for the projectiles, so that a 200 m/s projectile moves 0.1 m per step, less than

@@ -90,6 +90,20 @@ more is not certified (it stays awake: the conservative answer).
 What the certificate does not judge: whether the body moves (the rest test's speed and steadiness
 gates, and a sliding contact, in ``extended``), and the tipping of a whole group over one body's
 edge when each body alone is held (the steadiness gate sees the group start to turn).
+
+What it refuses that rests (measured; the conservative answer: such a body stays awake):
+  - stability by geometry. A box in a V of two frictionless 3 degree slopes rests on its two
+    corners (their normals meet 9.5 m above its centre of mass: a turn lifts it), but two
+    frictionless points hold no extra moment at a fixed pose, so the tip margin is never met
+    (``tests/unit/test_certificate.py``, a strict xfail; with friction 0.01 it freezes in step
+    3). A test of the pose's second order (does every small turn lift the centre of mass?)
+    would see it; not built.
+  - friction held within ``friction_margin`` of its limit. drop(30) seed 48 ends with three
+    bodies still (1e-9 m/s) that never freeze: as one group, held by a frozen body under one and
+    a wall beside another, they need more than 95% of the wall contact's friction limit (the
+    solver's witness has it at 100%; with that contact's margin alone removed the group solve
+    holds them), and the margin allows 95%. As it is meant: the margin is what keeps a slow
+    slide from being taken for rest.
 """
 
 import numpy as np

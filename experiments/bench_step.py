@@ -41,10 +41,12 @@ One variant is timed on the settling scene beside them (``SETTLING_VARIANTS``), 
 its own rows, never instead: "sim-off (no landing sweeps)", sim-off with ``impact_iterations=0``.
 The landing sweeps (8 more biased sweeps with friction per substep around a contact approaching
 faster than 1 m/s) are accuracy work no peer does: without them sim's step sweeps its contacts as
-Box2D v3's does (4 substeps, one biased and one relax sweep each; only sim's mass-ratio and deep
-contacts still get their few more), at a landing error of centimetres instead of under a millimetre
-(fig_tradeoff's impact_iterations sweep). So the row says how much of sim's time on the pile is that
-work, and how sim's step compares with Box2D v3's doing the same work.
+often as Box2D v3's does (4 substeps, one biased and one relax sweep each; only sim's mass-ratio and
+deep contacts still get their few more; the sweeps themselves differ, docs/ARCHITECTURE.md section
+2.3), at a landing error of centimetres instead of under a millimetre (fig_tradeoff's
+impact_iterations sweep). So the row says how much of sim's time on the pile is that work, and how
+sim's step compares with Box2D v3's at the same number of sweeps. The column ``impact_iterations``
+says which row ran with them.
 The columns ``substeps``, ``iterations`` and ``contact_sweeps_per_step``
 (``study.peers.solver_summary``) say so on every row; the metadata holds every setting of
 both (``system_settings``).
@@ -142,13 +144,14 @@ TARGETS = (("pyramid", 40), ("rest_row", 5000), ("drop", 200))
 
 #: Systems timed, by their study.peers name, each at its own default settings.
 SYSTEMS = ("sim-off", "pymunk", "box2d", "box2d3")
-#: Variants timed on the settling scene only, beside the systems: name -> (the runner's system,
-#: the settings that make the variant). sim's landing sweeps (``impact_iterations``, 8 more biased
-#: sweeps with friction around a contact that approaches faster than 1 m/s) are accuracy work that
-#: no peer does, Box2D v3 included: without them sim sweeps its contacts as Box2D v3 does, and its
-#: landing ends centimetres from its rest pose instead of under a millimetre (fig_tradeoff's
-#: impact_iterations sweep). Reported apart, never instead: the study's sim-off keeps them. On a
-#: resting scene they cost one comparison per lane, so they are timed where they work only.
+#: Variants timed on the settling scene only, beside the systems: name -> (the runner's system, the
+#: settings that make the variant). sim's landing sweeps (``impact_iterations``, 8 more biased
+#: sweeps with friction per substep around a contact that approaches faster than 1 m/s) are accuracy
+#: work that no peer does, Box2D v3 included: without them sim sweeps its contacts as often as Box2D
+#: v3 does, and its landing ends centimetres from its rest pose instead of under a millimetre
+#: (fig_tradeoff's impact_iterations sweep). Reported apart, never instead: the study's sim-off
+#: keeps them. On a resting scene they cost one comparison per lane, so they are timed where they
+#: work only.
 SETTLING_VARIANTS = {"sim-off (no landing sweeps)": ("sim-off", {"impact_iterations": 0})}
 #: the rows that carry the speed-up columns: sim-off and its variants
 SIM_ROWS = ("sim-off", *SETTLING_VARIANTS)
@@ -228,6 +231,8 @@ def _row(scene, runner, per_step_ms, steps, build_s, mode, extra, system=None):
         "label": label(scene),
         "bodies": len(scene.bodies),
         "system": system or runner.name,
+        # sim's landing sweeps per substep (the settling variant runs without them; NaN: a peer)
+        "impact_iterations": runner.settings.get("impact_iterations", np.nan),
         "mode": mode,
         **solver_summary(runner.settings),
         "ms_per_step_median": statistics.median(per_step_ms),
@@ -313,7 +318,7 @@ def first_clamp(system, scene, window, timed_runner):
     per call in a fresh build. The engines are deterministic: the replay must end where
     ``timed_runner`` ended, or the bench stops (it would not be the run that was timed)."""
     clamp = ""
-    with build(system, scene) as runner:
+    with build_system(system, scene) as runner:
         for _ in range(window):
             try:
                 runner.step(1)

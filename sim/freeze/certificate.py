@@ -93,7 +93,7 @@ edge when each body alone is held (the steadiness gate sees the group start to t
 
 What it refuses that rests (measured; the conservative answer: such a body stays awake):
   - stability by geometry. A box in a V of two frictionless 3 degree slopes rests on its two
-    corners (their normals meet 9.5 m above its centre of mass: a turn lifts it), but two
+    corners (their normals meet 9.3 m above its centre of mass: a turn lifts it), but two
     frictionless points hold no extra moment at a fixed pose, so the tip margin is never met
     (``tests/unit/test_certificate.py``, a strict xfail; with friction 0.01 it freezes in step
     3). A test of the pose's second order (does every small turn lift the centre of mass?)

@@ -82,6 +82,11 @@ def test_quick_run_writes_every_row_and_the_metadata(quick):
     ):
         assert key in meta
     assert meta["script"] == "bench_step"
+    # which row ran with the landing sweeps: the column says it, a peer has none (NaN)
+    by_system = table.groupby("system")["impact_iterations"]
+    assert (by_system.get_group("sim-off (no landing sweeps)") == 0).all()
+    assert (by_system.get_group("sim-off") == sim.soft_step.IMPACT_ITERATIONS).all()
+    assert table.loc[~table["system"].isin(bench_step.SIM_ROWS), "impact_iterations"].isna().all()
     variant = meta["parameters"]["system_settings"]["sim-off (no landing sweeps)"]
     assert variant["impact_iterations"] == 0
     assert meta["parameters"]["system_settings"]["sim-off"]["impact_iterations"] > 0
@@ -283,3 +288,27 @@ def test_clamped_piles_are_counted_on_the_settling_rows_and_shown_in_the_table(q
     assert _clamp_note("pyramid(5)", found) == ""
     # a table written before the columns existed
     assert clamped(table.drop(columns=["clamped_piles", "clamps"])) == {}
+
+
+def test_the_analysis_reads_the_variant_apart_with_its_own_ratios(quick):
+    """analysis.bench_step.variants (what the paper and the README quote) on the quick run's table:
+    the variant's own median and ratios, on the settling scene only; sim-off's ratios unchanged."""
+    from analysis.bench_step import _ratios, variants
+
+    table = pd.read_csv(quick / "bench_step.csv")
+    found = variants(table)
+    labels = {f"drop({n})" for n in bench_step.QUICK["drop"]}
+    assert set(found) == labels
+    for label in labels:
+        (name, v), *rest = found[label].items()
+        assert not rest and name == "sim-off (no landing sweeps)"
+        row = table[(table["label"] == label) & (table["system"] == name)].iloc[0]
+        assert v["ms"] == row["ms_per_step_median"]
+        for peer in bench_step.SYSTEMS[1:]:
+            theirs = table[(table["label"] == label) & (table["system"] == peer)].iloc[0]
+            assert v[f"{peer}_over_variant"] == pytest.approx(
+                theirs["ms_per_step_median"] / row["ms_per_step_median"]
+            )
+    ratios = _ratios(table).set_index("label")
+    sims = table[table["system"] == "sim-off"].set_index("label")
+    assert ratios["pymunk_over_sim"].to_dict() == pytest.approx(sims["speedup_vs_pymunk"].to_dict())

@@ -101,7 +101,8 @@ ms, of pyramid(40) 62 ms, of pyramid(60) 0.15 s at the start (more as it collaps
 s, whose 120 steps would pass ``budget_s``; those cells are marked "not run" with the reason, never
 dropped. (Until 2026-12-07 the cap was 250 bodies, from costs of 0.68 s and 5.3 s a step quoted for
 pyramid(40) and (60) that were ten times too high: pybullet had no cells there.) Any run is stopped
-after ``budget_s`` s of wall time and marked "not run" (timeout).
+after ``budget_s`` s of wall time and marked "not run" (timeout; see the rules for what its
+reason says and when it is failed instead).
 
 Reference (for the outcome): the same scene under sim-off at dt_ref = min(dt, 1/60) / ``fine``
 (fine = 8; 32 for the projectiles, so that a 200 m/s projectile moves 0.1 m per step, less than
@@ -171,7 +172,11 @@ Rules (a run gets the worst mark any rule gives; reasons are listed in ``reason`
   substeps >= 11"). Not a result and not a failure of physics: the system said it cannot do this,
   rather than doing it wrong; the analysis lists these cells apart and never counts them as
   breaking;
-- not run: cost cap or timeout.
+- not run: cost cap or timeout. A run stopped by its ``budget_s`` part way says in its reason what
+  it had shown by then (its outcome then is the pose at the timeout, not at the end, so it is not
+  a verdict); but if a rule whose verdict no later step can take back had already failed it (a
+  non-finite state, an explosion, a passage through a body, chattering: an event or a running
+  maximum), it is failed, "before the timeout" (``study.extremes.rules.classify``).
 
 Columns: axis, value, unit, system, scene, bodies, dt_s, iterations, substeps, steps, status,
 reason, outcome, ref_outcome, ref_valid, error, finite, exploded, tunnelled, chattering,

@@ -132,7 +132,11 @@ def simulate(task):
         out.state_changes_max = state_changes(runner, shapes.n)
         runner.close()
     timed_steps = out.steps_done - 1
-    tunnelled = "; ".join(t for t in (judge.tunnelled, judge.through_floor()) if t)
+    # through_floor is judged on the last pose, "at the end of the run": a run stopped by its time
+    # budget has no end, and a body's centre can dip under the floor and come back (penetration).
+    # A passage through a body (judge.tunnelled) happened, whatever follows.
+    ended = out.status_hint != "not run"
+    tunnelled = "; ".join(t for t in (judge.tunnelled, ended and judge.through_floor()) if t)
     out.finite, out.tunnelled, out.outcome = judge.finite, tunnelled, judge.outcome()
     out.energy_growth, out.ke_max_rel = judge.energy_growth, judge.ke_max
     out.penetration_max_m, out.penetration_rel = judge.pen_m, judge.pen_rel

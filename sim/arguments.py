@@ -5,10 +5,14 @@ One rule for every engine: a number is a number, not text (``float("0.01")`` wou
 ``dt="0.01"``, and ``"12"`` unpacks to a pair), and a switch is a bool (``bool("no")`` is True).
 Body and Scene fields have their own checks (``sim.body``), which also name the body."""
 
+import copy
 import math
 import numbers
 
 import numpy as np
+
+MAX_FLOAT = float(np.finfo(np.float64).max)  # the largest finite float (Python float: an
+# int compares with it exactly, where a numpy float converts the int first and overflows)
 
 
 def number(value, what):
@@ -65,3 +69,30 @@ def numeric_array(value):
     except (TypeError, ValueError):
         return False
     return kind in "iuf"
+
+
+def beyond_float(value):
+    """Does ``value`` (a number, an array, or nested sequences) hold an integer too large for a
+    float (10**400)? numpy then keeps Python objects, and float64 conversion raises a bare
+    OverflowError: callers name the field instead."""
+    try:
+        items = np.asarray(value, dtype=object).ravel()
+    except (TypeError, ValueError):
+        return False
+    return any(
+        isinstance(x, numbers.Integral) and not isinstance(x, bool) and abs(x) > MAX_FLOAT
+        for x in items
+    )
+
+
+def plain_copy(value, what):
+    """A deep copy of ``value``, a record of what built something (a Scene's params: it goes into
+    results files), or ValueError naming ``what``: a lock, a file or a generator in it failed
+    later, as a TypeError about pickling from deep inside World()."""
+    try:
+        return copy.deepcopy(value)
+    except Exception as exc:  # whatever deepcopy refuses, in whatever words
+        raise ValueError(
+            f"{what} must be plain data that can be copied (numbers, text, lists, dicts); "
+            f"deepcopy refused it: {type(exc).__name__}: {exc}"
+        ) from None

@@ -71,6 +71,12 @@ def _numeric(seq):
         return False
 
 
+#: rad: no body may start turned further. An angle is a float64 to which each substep adds its
+#: turn, and at 1e15 rad (a spacing between floats of 0.125 rad) a body spinning at 1 rad/s kept
+#: its angle for good while its angular velocity stayed 1; at 1e6 rad the spacing is 1.2e-10 rad,
+#: a 30th of the turn of a substep at 1e-6 rad/s. Angles reached while running are not limited.
+MAX_ANGLE = 1e6
+
 #: what float() takes but is not a number here: text ("2" is a mistake, and "12" would unpack to
 #: the pair (1.0, 2.0)), switches (True is not 1 m) and complex numbers (float() of a numpy
 #: complex drops the imaginary part with only a warning)
@@ -78,10 +84,15 @@ NOT_NUMBERS = (str, bytes, bool, np.bool_, complex, np.complexfloating)
 
 
 def real(value):
-    """``float(value)`` of a real number; TypeError for anything in NOT_NUMBERS."""
+    """``float(value)`` of a real number; TypeError for anything in NOT_NUMBERS. An integer beyond
+    float's range (10**400) is +-inf, so that the caller's finiteness check names it (float()
+    raises a bare OverflowError, which named neither the field nor the body)."""
     if isinstance(value, NOT_NUMBERS):
         raise TypeError(f"not a number: {value!r}")
-    return float(value)
+    try:
+        return float(value)
+    except OverflowError:
+        return math.inf if value > 0 else -math.inf
 
 
 def finite_pair(value, what, name):
@@ -128,6 +139,11 @@ def check_fields(
             f"the solver can follow (sim.geometry.MAX_SPEED)"
         )
     angle = finite_number(angle, "angle", name)
+    if abs(angle) > MAX_ANGLE:
+        raise ValueError(
+            f"{name}: angle {angle:.10g} rad is beyond {MAX_ANGLE:g} rad, where float64 rounds "
+            f"away a step's turn (sim.body.MAX_ANGLE); give it modulo 2 pi"
+        )
     angular_velocity = finite_number(angular_velocity, "angular_velocity", name)
     if abs(angular_velocity) > MAX_SPEED:
         raise ValueError(
@@ -168,6 +184,7 @@ def failing_fields(position, velocity, angle, angular_velocity, density, frictio
             & (np.abs(angular_velocity) <= MAX_SPEED)
             & np.isfinite(velocity).all(axis=1)
             & np.isfinite(angle)
+            & (np.abs(angle) <= MAX_ANGLE)
             & np.isfinite(angular_velocity)
             & np.isfinite(density)
             & (density > 0.0)
@@ -343,8 +360,15 @@ class Body:
             raise PolygonError(
                 f"{name}: the vertex count must be an integer from 3 to {MAX_VERTICES}, got {n!r}"
             )
-        if not (isinstance(radius, numbers.Real) and math.isfinite(radius) and radius > 0):
-            raise PolygonError(f"{name}: radius must be > 0 and finite, got {radius!r}")
+        try:  # real(): no switches (True is not 1 m), no text; 10**400 is inf
+            r = real(radius) if isinstance(radius, numbers.Real) else math.nan
+        except TypeError:
+            r = math.nan
+        if not (math.isfinite(r) and r > 0):
+            huge = isinstance(radius, numbers.Integral) and math.isinf(r)
+            got = "an integer beyond float's range" if huge else repr(radius)
+            raise PolygonError(f"{name}: radius must be > 0 and finite, got {got}")
+        radius = r
         phase = -math.pi / 2 - math.pi / n
         verts = [
             (

@@ -40,6 +40,7 @@ from .data import (
     WIDTH,
 )
 from .jit import inline_kernel, lean_kernel
+from .tolerances import turn_reach
 
 #: a box covering more grid cells than this is a *large* box: entered once, in a list every query
 #: tests, instead of in each cell (a body moving 1.7e6 m in a step, 1e8 m/s, asked for 1e10 grid
@@ -110,7 +111,7 @@ def update_geometry(which, count, dt, bodies, geometry, counters):
             geometry.world_verts,
             geometry.world_normals,
         )
-        grow = bodies.speculative[i] + abs(bodies.angular_velocity[i]) * bodies.extent[i] * dt
+        grow = bodies.speculative[i] + turn_reach(bodies.angular_velocity[i], bodies.extent[i], dt)
         sweep_x = bodies.velocity[i, 0] * dt
         sweep_y = bodies.velocity[i, 1] * dt
         aabb[i, MIN_X] = lo_x - grow + min(sweep_x, 0.0)

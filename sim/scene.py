@@ -17,7 +17,7 @@ import tomli_w
 
 from .body import Body, check_fields, failing_fields, finite_number, finite_pair
 from .files import write_text_atomically
-from .arguments import numeric_array
+from .arguments import numeric_array, plain_copy
 from .geometry import validate_polygon
 from .polygons import check_packed, polygon_suspects
 
@@ -218,7 +218,7 @@ class Scene:
         copy.floor_y, copy.gravity = self.floor_y, tuple(self.gravity)
         copy.floor_friction, copy.floor_restitution = self.floor_friction, self.floor_restitution
         copy.static_bodies = _copy.deepcopy(self.static_bodies)
-        copy.name, copy.params = self.name, _copy.deepcopy(self.params)
+        copy.name, copy.params = self.name, plain_copy(self.params, "scene: params")
         copy._arrays = arrays
         return copy
 
@@ -380,7 +380,7 @@ def _check_bodies(bodies, kind):
 def _floats(value, what):
     try:
         a = np.array(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:  # the last: an int beyond float's range
         raise ValueError(f"Scene.from_arrays: {what} must be numbers ({exc})") from None
     if not numeric_array(value):  # float64 took text, switches or complex numbers
         raise ValueError(

@@ -9,8 +9,9 @@ a thousandth of them:
   touching
   speculative reach   min(speculative_distance, SPECULATIVE_FRACTION * size)
                       + the distance the pair can close in one step (the sum of the bodies'
-                      speeds * dt: ``narrowphase._closing_speed``): a
-                      contact exists before bodies meet, however fast they approach
+                      speeds * dt, each turn's reach at most its width: ``narrowphase
+                      ._closing_reach``): a contact exists before bodies meet, however fast
+                      they approach
   face-choice bias    FACE_FRACTION * contact slop            (reference face kept unless the other
                                                               polygon's face is better by this)
   fat-box margin      min(speculative_distance, MARGIN_FRACTION * size)   a pair persists while the
@@ -89,3 +90,14 @@ def check_step(sizes, names, dt, substeps, gravity):
             f"substeps a contact can be at most {DYNAMIC_CAP * rate:.3g} Hz stiff (1/"
             f"{1 / DYNAMIC_CAP:.0f} of the substep rate). {fix}"
         )
+
+
+@inline_kernel
+def turn_reach(angular_velocity, extent, dt):
+    """m: how far a body's turn over a step of dt s can carry any of its points toward something:
+    its farthest point's arc, |w| extent dt, but never more than the body's width across its
+    centre, 2 extent (a point on a circle moves at most a diameter). Uncapped, a 1 m box spinning
+    at 2000 rad/s without gravity, 4.3 m above the floor, reached 23 m: contacts were made with a
+    floor it could never touch, and their rows, linearised about a turn of 8 rad per substep,
+    threw it upward at 45 m/s."""
+    return min(abs(angular_velocity) * extent * dt, 2.0 * extent)

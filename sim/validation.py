@@ -34,10 +34,15 @@ REMOVED = {
 MAX_SUBSTEPS = 1000
 MAX_SWEEPS = 1000  # iterations, and relax_iterations, per substep
 MAX_INITIAL_ITERATIONS = 10**6
-LIMITS_WHY = (
-    "a step cannot be interrupted, and more sweeps than this buy no accuracy "
-    "(see sim.validation.MAX_SWEEPS)"
-)
+
+
+def limits_why(cap):
+    """Why a count above ``cap`` (the name of one of the caps above) is refused."""
+    return (
+        "a step cannot be interrupted, and more than this buys no accuracy "
+        f"(see sim.validation.{cap})"
+    )
+
 
 #: the initial solve's sweeps when the World is not told (and warm starts)
 INITIAL_ITERATIONS = 5000
@@ -49,7 +54,14 @@ def initial_sweeps(initial_iterations, warm_starting):
     warm_starting=False is refused (it was once silently ignored)."""
     if initial_iterations is None:
         return INITIAL_ITERATIONS if warm_starting else 0
-    sweeps = count(initial_iterations, "initial_iterations", 0, MAX_INITIAL_ITERATIONS, LIMITS_WHY)
+    sweeps = count(
+        initial_iterations,
+        "initial_iterations",
+        0,
+        MAX_INITIAL_ITERATIONS,
+        "the initial solve runs before the first step, in one call that cannot be interrupted "
+        "(see sim.validation.MAX_INITIAL_ITERATIONS)",
+    )
     if sweeps and not warm_starting:
         raise ValueError(
             f"initial_iterations={sweeps} needs warm_starting=True: the initial solve's impulses "

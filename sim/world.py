@@ -32,7 +32,7 @@ from .scene import Scene
 from .state import State
 from .tolerances import check_step
 from .validation import (
-    LIMITS_WHY,
+    limits_why,
     initial_sweeps,
     MAX_SUBSTEPS,
     MAX_SWEEPS,
@@ -84,7 +84,8 @@ class World:
                             around an impact, in a step with one (a contact point approaching
                             faster than soft_step.IMPACT_SWEEP_SPEED, 1 m/s; default 8, 0
                             disables): a landing converged, not left to slide sideways
-      freeze                "off" | "sleep" | "paper" | "extended" (see ``sim.freeze``)
+      freeze                "off" | "sleep" | "paper" | "extended" (see ``sim.freeze``);
+                            "paper" only under gravity straight down (the seed's floor test)
       slop                  m, contact tolerance cap (default 0.005, pymunk's collision_slop):
                             points within a pair's slop count as touching; pairs of small bodies
                             use a fraction of their size instead (``sim.tolerances``)
@@ -166,13 +167,13 @@ class World:
             tuple(b.name or f"static body {j}" for j, b in enumerate(scene.static_bodies)),
         )
         self.dt = positive(dt, "dt")
-        self.substeps = count(substeps, "substeps", 1, MAX_SUBSTEPS, LIMITS_WHY)
-        self.iterations = count(iterations, "iterations", 1, MAX_SWEEPS, LIMITS_WHY)
+        self.substeps = count(substeps, "substeps", 1, MAX_SUBSTEPS, limits_why("MAX_SUBSTEPS"))
+        self.iterations = count(iterations, "iterations", 1, MAX_SWEEPS, limits_why("MAX_SWEEPS"))
         self.relax_iterations = count(
-            relax_iterations, "relax_iterations", 0, MAX_SWEEPS, LIMITS_WHY
+            relax_iterations, "relax_iterations", 0, MAX_SWEEPS, limits_why("MAX_SWEEPS")
         )
         self.impact_iterations = count(
-            impact_iterations, "impact_iterations", 0, MAX_SWEEPS, LIMITS_WHY
+            impact_iterations, "impact_iterations", 0, MAX_SWEEPS, limits_why("MAX_SWEEPS")
         )
         self.slop = positive(slop, "slop", allow_zero=True)
         self.speculative_distance = positive(
@@ -194,6 +195,17 @@ class World:
         self.initial_iterations = initial_sweeps(initial_iterations, self.warm_starting)
         self.freeze = freeze
         self.policy, self.policy_parameters = resolve(freeze, policy_parameters)
+        gx, gy = self._gravity
+        if freeze == "paper" and not (gx == 0.0 and gy < 0.0):
+            # The seed's states are defined against straight-down gravity: a floor-like surface
+            # is one whose normal is within 1 degree of +y, and VERTICAL_STABLE holds a vertex's
+            # vertical motion. Under any other gravity they freeze what it moves (a box on the
+            # floor under gravity (0, 9.81) was held down, frozen, instead of falling upward).
+            raise ValueError(
+                f"freeze='paper' needs gravity straight down (0, -g), g > 0: the seed's floor "
+                f"test and vertical holds assume it; got gravity ({gx:g}, {gy:g}). Use "
+                f"freeze='extended' (any gravity) or 'sleep'"
+            )
 
         packed = pack(scene)
         self.n_bodies = packed.n_dynamic
@@ -557,12 +569,13 @@ class World:
         return contact_points(self._contacts, self._counters, self._bodies.position)
 
     def contacts(self):
-        """The contact points of the last step: dict of arrays over points —
-        body_a, body_b (-1 = floor) (P,) int; point (P,2) m (on B's surface at the start of the
-        step); normal (P,2) A->B; separation (P,) m at the start of the step, end_separation (P,)
-        m at its end; slop (P,) m, the pair's contact tolerance (points within it touch,
-        ``sim.tolerances``); normal_impulse, tangent_impulse (P,) N s applied over the whole
-        step."""
+        """The contact points of the last step: dict of arrays over points — body_a, body_b (-1 =
+        floor) (P,) int; point (P,2) m (found on B's surface at the start of the step and carried
+        with B's centre to where it ended the step, so that it is drawn on B as B is reported; B's
+        turn over the step is not applied); normal (P,2) A->B; separation (P,) m at the start of the
+        step, end_separation (P,) m at its end; slop (P,) m, the pair's contact tolerance (points
+        within it touch, ``sim.tolerances``); normal_impulse, tangent_impulse (P,) N s applied over
+        the whole step."""
         return self._points()
 
     def inspect(self):

@@ -7,6 +7,8 @@ policy name and its parameters for ``sim.World``.
 import math
 import numbers
 
+import numpy as np
+
 from ..arguments import number
 from . import extended, off, paper, sleep
 
@@ -48,16 +50,16 @@ def resolve(name, params):
     values = {**policy.PARAMETERS, **params}
     for key, value in values.items():
         integral = key in policy.INT_PARAMETERS
-        if integral and isinstance(value, numbers.Integral) and not isinstance(value, bool):
-            x = int(value)  # exactly: as a float, 2**62 - 1 was 2**62 and 2**53 + 1 was 2**53
+        if integral:
+            # a count is an int, as the World's counts are (sim.arguments.count): 2.0 is refused
+            # as a formula gone wrong, True as a switch; taken exactly (as a float, 2**62 - 1 was
+            # 2**62 and 2**53 + 1 was 2**53); int64 in the step loop
+            whole = isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_))
+            x = int(value) if whole else None
+            bad = x is None or not 1 <= x < 2**62
         else:
             x = number(value, key)  # "0.1" is not taken as a number
-        # counts are int64 in the step loop
-        if isinstance(x, int):
-            bad = not 1 <= x < 2**62  # (math.isfinite(10**400) overflows)
-        else:
             bad = not math.isfinite(x) or x < 0
-            bad = bad or (integral and (x != int(x) or x < 1 or x >= 2**62))
         if bad:
             kind = "an integer >= 1 (and < 2**62)" if integral else "finite and >= 0"
             raise ValueError(f"{key} must be {kind}, got {value!r}")

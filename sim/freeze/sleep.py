@@ -103,8 +103,12 @@ def _due(settings):
     """The timer reading (s) at which a body has been idle for ``sleep_time``. A timer sums dt
     step by step in floating point: 30 steps of 1/60 s sum to 0.49999999999999994 s, short of
     0.5 by round-off, and the default 0.5 s took 31 steps where 1.0 s took 60. A millionth of a
-    step of slack absorbs the round-off and nothing else."""
-    return settings.sleep_time - 1e-6 * settings.dt
+    step of slack absorbs the round-off and nothing else. A body is idle for a whole step or not
+    at all, so the reading is never below half a step: with sleep_time 0 (or under a millionth of
+    a step) the slack made the reading negative, and a body whose timer had just been reset by its
+    speed (0 s idle) was due: a box thrown at 10 m/s fell asleep in mid-air in its first step.
+    Any sleep_time up to one step now means "idle for one step"."""
+    return max(settings.sleep_time - 1e-6 * settings.dt, 0.5 * settings.dt)
 
 
 @lean_kernel

@@ -253,15 +253,25 @@ SPIN_SCALE = 1.0
 @inline_kernel
 def _toward(wa, wb, ia, ib):
     """How far A's lever arms move across an impulse towards B's anchor (``arms.line_arms``; B's
-    move the rest of the way): B's share of the turning, (|wB| + w0) / (|wA| + |wB| + 2 w0), by
-    the angular velocities at the start of the step (rad/s; a body the solver cannot turn counts
-    as still). So a body turning fast alone keeps its own anchor, and a fixed body does not shift
-    a fast-turning one's. Bodies turning slower than w0 = SPIN_SCALE share it about half and
-    half, as resting ones always did: their shifts are small and their arms' errors too, and a
-    share set by the noise in two nearly zero rates would change from step to step."""
-    spin_a = abs(wa) if ia > 0.0 else 0.0
-    spin_b = abs(wb) if ib > 0.0 else 0.0
-    return (spin_b + SPIN_SCALE) / (spin_a + spin_b + 2.0 * SPIN_SCALE)
+    move the rest of the way): B's share of the turning, (|wB| + w0) / (|wA| + |wB| + 2 w0), by the
+    angular velocities at the start of the step (rad/s). So a body turning fast alone keeps its own
+    anchor, and a fixed body does not shift a fast-turning one's. Bodies turning slower than w0 =
+    SPIN_SCALE share it about half and half, as resting ones always did: their shifts are small and
+    their arms' errors too, and a share set by the noise in two nearly zero rates would change from
+    step to step.
+
+    Against a body the solver cannot turn (the floor, a static or a frozen body: inverse inertia
+    0) the movable one keeps its own anchor, whatever the rates: the shift is there to keep the
+    angular momentum of a pair, and an immovable body takes any impulse whole. Shared half and
+    half there (until 2026-12-07), a body sliding fast along the floor had its arms moved half
+    way back to where its contact began, as far as it had slid in the step: a frictionless box at
+    100 m/s got 96% of its weight's support in its first step, and at 1000 m/s 27%, tilted and
+    sank 14 mm in 2 s."""
+    if ia <= 0.0:
+        return 1.0
+    if ib <= 0.0:
+        return 0.0
+    return (abs(wb) + SPIN_SCALE) / (abs(wa) + abs(wb) + 2.0 * SPIN_SCALE)
 
 
 @inline_kernel

@@ -235,7 +235,7 @@ def test_pile_dropped_from_35_m_never_penetrates_more_than_5_cm():
     # the first row driven into the floor by one of the second landing on it), then 5.2 cm with
     # them last (soft_step.colour): a box of the third row, falling with the one below it, had no
     # speculative contact with it and flew on when that one was stopped mid-step; the margin now
-    # counts both bodies' speeds, not their relative speed (narrowphase._closing_speed).
+    # counts both bodies' speeds, not their relative speed (narrowphase._closing_reach).
     worst, final = deepest_overlap_over(world(scenes.pile_drop()), 200)
     assert worst <= 0.05, f"overlap {worst:.3g} m"  # the issue's bound
     assert worst <= 0.02 and final <= 0.01, (worst, final)  # the measured 11 and 2.7 mm, guarded

@@ -350,6 +350,19 @@ def test_sleep_puts_an_island_to_sleep_after_sleep_time(sleep_time, dt):
     assert list(world.states) == [State.SLEEPING] * 3
 
 
+@pytest.mark.parametrize("sleep_time", [0.0, 1e-9])
+def test_sleep_with_no_idle_time_never_sleeps_a_moving_body(sleep_time):
+    """sleep_time 0 means idle for one step: a box thrown at 10 m/s flies on (it fell asleep in
+    mid-air in its first step), and a stack placed at rest sleeps after its first idle step."""
+    thrown = sim.Scene(bodies=[sim.Body.box(1, 1, position=(0, 50), velocity=(10, 0))])
+    world = sim.World(thrown, freeze="sleep", sleep_time=sleep_time)
+    world.step(5)
+    assert awake_count(world) == 1 and world.velocities[0, 0] == pytest.approx(10.0)
+    world = sim.World(sim.scenes.stack(3), freeze="sleep", sleep_time=sleep_time)
+    world.step(1)
+    assert awake_count(world) == 0
+
+
 def test_sleep_waits_for_the_least_idle_body_of_an_island():
     # B slides on the long box A, which stays idle under it: A's timer runs out at 0.5 s, but
     # the island (A and B touch) sleeps only once B has been idle that long too. B stops after

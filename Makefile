@@ -17,10 +17,18 @@ VENV       := .venv
 PY         ?= $(VENV)/bin/python
 STAMP      := $(VENV)/.installed
 QUICK      ?=
-QUICKFLAG  := $(if $(QUICK),--quick,)
+# QUICK=1 (yes, true, on) means the small sizes; QUICK=0 (no, false, off) or none the full ones.
+# Any non-empty value used to mean quick, so QUICK=0 ran the quick pipeline; anything else is
+# refused, not guessed.
+QUICK_WORD := $(if $(QUICK),$(shell printf '%s' '$(QUICK)' | tr A-Z a-z))
+ifneq ($(filter-out 1 yes true on 0 no false off,$(QUICK_WORD)),)
+$(error QUICK=$(QUICK) is neither on nor off: use QUICK=1 (small sizes) or QUICK=0 (full sizes))
+endif
+IS_QUICK   := $(filter 1 yes true on,$(QUICK_WORD))
+QUICKFLAG  := $(if $(IS_QUICK),--quick,)
 
 # Where outputs go. Quick runs get their own tree, so a quick result is never taken for a full one.
-ifneq ($(QUICK),)
+ifneq ($(IS_QUICK),)
 RESULTS_DIR ?= results/quick
 PAPER_OUT   ?= results/quick/paper
 else
@@ -46,9 +54,9 @@ ALL := $(sort $(filter-out __init__,$(filter $(call script_names,analysis),$(cal
 # lists them and their sizes)
 RECORDINGS := seed_fig1__paper seed_fig2__paper seed_fig3__paper seed_fig3__extended \
               pyramid__extended drop__sleep drop__extended
-RECORD_STEPS := $(if $(QUICK),60,300)
+RECORD_STEPS := $(if $(IS_QUICK),60,300)
 # quick: the failure rows' first second only (the full rows run their own 3-7 s)
-ROW_STEPS := $(if $(QUICK),--steps 60,)
+ROW_STEPS := $(if $(IS_QUICK),--steps 60,)
 
 # make trace: a scene (builder, scenario or .toml file) under SYSTEMS, or a table cell (CELL)
 SCENE ?= seed_fig3
@@ -135,7 +143,7 @@ $(PAPER_OUT)/paper.pdf: paper/paper.typ $(PAPER_DEPS) $(foreach n,$(ALL),$(GEN)/
 # Results at a glance (and, for full runs, the README block between its markers).
 glance: $(GEN)/glance.md
 $(GEN)/glance.md: $(GLANCE_DEPS) $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
-	$(PY) -m analysis.glance $(if $(QUICK),,--readme README.md)
+	$(PY) -m analysis.glance $(if $(IS_QUICK),,--readme README.md)
 
 recordings: $(foreach r,$(RECORDINGS),$(RECS)/$(r).rrd) $(RECS)/table_failures/index.txt
 $(RECS)/%.rrd: $(TRACE_DEPS) | $(STAMP)

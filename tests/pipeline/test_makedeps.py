@@ -243,3 +243,35 @@ def test_make_runs_serially_even_when_asked_for_jobs():
         ["make", "-pnq", "-j2", "venv"], cwd=ROOT, capture_output=True, text=True
     ).stdout
     assert re.search(r"^\.NOTPARALLEL:", database, re.M)
+
+
+@pytest.mark.parametrize(
+    "quick, tree, flag",
+    [
+        ("0", "results", ""),
+        ("no", "results", ""),
+        ("False", "results", ""),
+        ("", "results", ""),
+        ("1", "results/quick", "--quick"),
+        ("yes", "results/quick", "--quick"),
+    ],
+)
+def test_quick_0_no_false_mean_the_full_sizes(quick, tree, flag):
+    # any non-empty QUICK meant quick: `make reproduce QUICK=0` ran the small sizes
+    def value(variable):
+        return subprocess.run(
+            ["make", "-s", f"print-{variable}", f"QUICK={quick}"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout.strip()
+
+    assert (value("RESULTS_DIR"), value("QUICKFLAG")) == (tree, flag)
+
+
+def test_a_quick_value_that_is_neither_on_nor_off_is_refused():
+    out = subprocess.run(
+        ["make", "-s", "print-RESULTS_DIR", "QUICK=maybe"], cwd=ROOT, capture_output=True, text=True
+    )
+    assert out.returncode != 0 and "QUICK=maybe is neither on nor off" in out.stderr

@@ -2,8 +2,9 @@
 
 Before compiling, writes ``generated/setup.json`` (machine, versions, commit, date, sizes: read
 from the experiments' own metadata, so the set-up section is generated too). The paper reads only
-``figures/`` and ``generated/`` beside it. When the outputs live elsewhere (``FREEZE2D_PAPER_OUT``,
-e.g. the quick pipeline), the source is copied there first, so that both resolve the same way.
+``figures/`` and ``generated/`` beside it. When the outputs live elsewhere
+(``study.paths.PAPER_OUT``: another results tree's paper/, e.g. the quick pipeline's), the source
+is copied there first, so that both resolve the same way.
 
     python -m analysis.paper [--png DIR]     (--png: also render every page to DIR/page-N.png)
 """

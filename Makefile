@@ -140,7 +140,10 @@ paper: $(PAPER_OUT)/paper.pdf
 $(PAPER_OUT)/paper.pdf: paper/paper.typ $(PAPER_DEPS) $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
 	$(PY) -m analysis.paper
 
-# Results at a glance (and, for full runs, the README block between its markers).
+# Results at a glance (and, for full runs, the README block between its markers). Its commit and
+# machine are read from the data's metadata, as the paper's set-up is (analysis.paper imported:
+# GLANCE_DEPS), not from generated/setup.json, which only the paper writes and this rule could not
+# depend on without compiling the paper.
 glance: $(GEN)/glance.md
 $(GEN)/glance.md: $(GLANCE_DEPS) $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
 	$(PY) -m analysis.glance $(if $(IS_QUICK),,--readme README.md)

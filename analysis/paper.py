@@ -22,7 +22,7 @@ from sim.freeze import paper as freeze_paper
 from study.peers import DEFAULT_ITERATIONS
 
 from analysis.style import write_numbers
-from study.metadata import ResultsError, read_metadata
+from study.metadata import ResultsError, make_quick, read_metadata
 from study import paths
 from study.cli import first_paragraph
 
@@ -80,7 +80,7 @@ def setup_numbers():
     if meta is None:
         raise ResultsError(
             f"no experiment metadata in {paths.DATA} (none of {', '.join(SETUP_FROM)}): "
-            "run `make reproduce`"
+            f"run `make reproduce{make_quick(paths.DATA)}`"
         )
     return meta, {
         "world": world_defaults(),

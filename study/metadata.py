@@ -92,12 +92,19 @@ class ResultsError(Exception):
     """A results file that analysis must not read; the message is one line for the user."""
 
 
+def make_quick(folder):
+    """ " QUICK=1" when ``folder`` (a data folder) lies in a quick results tree, else "": what a
+    make command named in a message needs (the hint named the full-size command for quick
+    data)."""
+    return " QUICK=1" if folder is not None and Path(folder).parent.name == "quick" else ""
+
+
 def rerun_hint(script=None, folder=None):
     """What to do about a results file that cannot be read: rerun the experiment that wrote it,
     at quick sizes when the file lies in a quick tree (``folder``: its data folder; the hint
     named the full-size command for quick data)."""
-    quick = folder is not None and Path(folder).parent.name == "quick"
-    make, flag = (" QUICK=1", " --quick") if quick else ("", "")
+    make = make_quick(folder)
+    flag = " --quick" if make else ""
     if script is None:
         return (
             f"rerun the experiment that wrote it (`make reproduce{make}` reruns every missing one)"

@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 from analysis import bench_step as a_bench_step
-from analysis import paper, style
+from analysis import glance, paper, style
 from study import metadata, paths
 
 TABLE = pd.DataFrame({"scenario": [f"s{i}" for i in range(200)], "value": range(200)})
@@ -98,6 +98,19 @@ def test_the_paper_refuses_damaged_metadata_by_name(data):
     (data / "fake.json").write_text("not json")
     message = _refused(paper.main)
     assert str(data / "fake.json") in message
+
+
+def test_the_glance_refuses_missing_numbers_in_one_line_naming_its_target(data):
+    # it raised FileNotFoundError (a traceback) for generated/setup.json, advising `make figures`,
+    # which never writes that file; it now reads the set-up from the data's metadata itself
+    meta = metadata.collect(None, {}, script="fig_speedup")
+    metadata.write_results("fig_speedup", TABLE, meta)
+    message = _refused(glance.main)
+    assert f"{paths.GENERATED / 'fig_speedup.json'} is missing" in message
+    assert "`make glance`" in message and "`python -m analysis.fig_speedup`" in message
+    for name in ("fake", "fig_speedup"):  # and without any experiment's metadata
+        (data / f"{name}.json").unlink()
+    assert "no experiment metadata" in _refused(glance.main)
 
 
 def test_the_rerun_hint_for_quick_data_names_the_quick_run(tmp_path):

@@ -40,6 +40,7 @@ export FREEZE2D_PAPER_OUT := $(abspath $(PAPER_OUT))
 DATA := $(RESULTS_DIR)/data
 GEN  := $(PAPER_OUT)/generated
 RECS := $(RESULTS_DIR)/recordings
+ROWS := $(RECS)/table_failures
 
 # The experiments: every experiments/<name>.py that has an analysis/<name>.py (one script per
 # figure or table each), found here, so adding an experiment is adding its two scripts: no list to
@@ -130,8 +131,13 @@ $(DATA_FILES): $(DATA)/%.csv: experiments/%.py $$(call missing_output,$$*) | $(S
 	$(PY) -m experiments.$* $(QUICKFLAG)
 FORCE:
 
-# Analysis: figures, tables and the numbers the paper quotes; never simulates.
-$(GEN)/%.json: $(DATA)/%.csv analysis/%.py | $(STAMP)
+# Analysis: figures, tables and the numbers the paper quotes; never simulates. make tracks the
+# numbers, $(GEN)/<name>.json, which list the figures and tables written with them ("outputs"):
+# when one of those is missing (deleted, moved aside), the analysis runs again (FORCE), as an
+# experiment does when one of its data files is; a lost figure was never drawn again, and the
+# paper then failed on it. LOST: those analyses, read once, when make first needs them.
+LOST = $(eval LOST := $(shell $(PYTHON_SYS) tools/lost_outputs.py $(PAPER_OUT)))$(LOST)
+$(GEN)/%.json: $(DATA)/%.csv analysis/%.py $$(if $$(filter $$*,$$(LOST)),FORCE) | $(STAMP)
 	$(PY) -m analysis.$*
 
 figures: $(foreach n,$(ALL),$(GEN)/$(n).json)
@@ -148,11 +154,15 @@ glance: $(GEN)/glance.md
 $(GEN)/glance.md: $(GLANCE_DEPS) $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
 	$(PY) -m analysis.glance $(if $(IS_QUICK),,--readme README.md)
 
-recordings: $(foreach r,$(RECORDINGS),$(RECS)/$(r).rrd) $(RECS)/table_failures/index.txt
+recordings: $(foreach r,$(RECORDINGS),$(RECS)/$(r).rrd) $(ROWS)/index.txt
 $(RECS)/%.rrd: $(TRACE_DEPS) | $(STAMP)
 	$(PY) -m analysis.trace $(word 1,$(subst __, ,$*)) --systems sim-$(word 2,$(subst __, ,$*)) \
 	    --steps $(RECORD_STEPS) --out $@
-$(RECS)/table_failures/index.txt: $(TRACE_DEPS) | $(STAMP)
+# The rows' recordings are made in one run, tracked by their index.txt, which lists them: when one
+# it lists is missing, they are made again (a lost row was never remade).
+ROW_FILES = $(addprefix $(ROWS)/,$(filter %.rrd,$(if $(wildcard $(ROWS)/index.txt),$(file <$(ROWS)/index.txt))))
+$(ROWS)/index.txt: $(TRACE_DEPS) $$(if $$(filter-out $$(wildcard $$(ROW_FILES)),$$(ROW_FILES)),FORCE) \
+                   | $(STAMP)
 	$(PY) -m analysis.trace --table table_failures $(ROW_STEPS) --out-dir $(dir $@)
 
 # `make <name>`: rerun one experiment unconditionally, then redraw what it feeds.

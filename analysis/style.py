@@ -74,27 +74,43 @@ def load(name, script=None):
     return read_results(paths.DATA, name, script)
 
 
+#: the figures and tables this analysis wrote, as "figures/<name>.svg" (beside paper.typ's
+#: folders), recorded in its numbers' "outputs" (``write_numbers``): make reruns an analysis one of
+#: whose outputs has gone missing since (tools/lost_outputs.py), as it reruns an experiment whose
+#: data file has, and the paper names the analysis that writes a file it cannot find
+_written = []
+
+
+def _wrote(path):
+    _written.append(f"{path.parent.name}/{path.name}")
+    return path
+
+
 def save_figure(fig, name):
     """Write ``paper/figures/<name>.svg`` (no date in the file, so reruns compare equal)."""
     path = paths.ensure(paths.FIGURES) / f"{name}.svg"
     fig.savefig(path, format="svg", metadata={"Date": None})
     plt.close(fig)
-    return path
+    return _wrote(path)
 
 
 def write_table(table, name):
     """Write ``paper/generated/<name>.csv`` (a table the paper shows as is)."""
     path = paths.ensure(paths.GENERATED) / f"{name}.csv"
     write_text_atomically(path, table.to_csv(index=False))
-    return path
+    return _wrote(path)
 
 
 def write_numbers(name, numbers, meta):
     """Write ``paper/generated/<name>.json``: the numbers the paper quotes, the experiment's
     parameters (so that the paper quotes those from data too) and where they came from (commit,
-    quick or full sizes). Non-finite numbers become strings ("nan")."""
+    quick or full sizes) and the figures and tables written with them (``outputs``). Non-finite
+    numbers become strings ("nan")."""
+    outputs = sorted(set(_written))
+    _written.clear()
     out = {
         "numbers": numbers,
+        "outputs": outputs,
         "parameters": meta.get("parameters", {}),
         "source": f"results/data/{name}.csv",
         "commit": meta.get("git", {}).get("commit", "unknown"),
@@ -123,6 +139,7 @@ def entry(name, draw):
             epilog=f"Reads results/data/{name}.csv (+ .json); takes no options.",
         )
         parser.parse_args(argv)
+        _written.clear()  # only what this run writes
         try:
             table, meta = load(name)
             numbers = draw(table, meta) or {}

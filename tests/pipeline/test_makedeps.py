@@ -1,6 +1,7 @@
 """The Makefile's build graph comes from the imports (tools/makedeps.py): an edit to any module
 reruns exactly the experiments and analyses that run it, and nothing else."""
 
+import json
 import os
 import re
 import subprocess
@@ -132,6 +133,63 @@ def test_any_missing_data_file_reruns_the_experiment_that_writes_it(built_tree, 
     finally:
         data.write_text("")
         os.utime(data, (stamp, stamp))
+
+
+def test_a_missing_figure_or_table_is_drawn_again(built_tree):
+    # make tracked only generated/<name>.json: a figure moved aside was never drawn again ("Nothing
+    # to be done") and the paper then failed on it. The .json lists what its analysis wrote.
+    _, paper, _ = built_tree
+    numbers = paper / "generated" / "fig_speedup.json"
+    stamp = numbers.stat().st_mtime
+    outputs = ["figures/fig_speedup.svg", "generated/fig_speedup.csv"]
+    numbers.write_text(json.dumps({"numbers": {}, "outputs": outputs}))
+    os.utime(numbers, (stamp, stamp))
+    try:
+        (paper / "figures").mkdir(exist_ok=True)
+        (paper / "generated" / "fig_speedup.csv").write_text("")
+        assert _rebuilt(built_tree, "README.md") == (set(), {"fig_speedup"})  # the figure
+        (paper / "figures" / "fig_speedup.svg").write_text("")
+        assert _rebuilt(built_tree, "README.md") == (set(), set())  # all there
+        (paper / "generated" / "fig_speedup.csv").unlink()
+        assert _rebuilt(built_tree, "README.md") == (set(), {"fig_speedup"})  # the table
+    finally:
+        numbers.write_text("")
+        os.utime(numbers, (stamp, stamp))
+
+
+def test_a_missing_row_recording_is_made_again(built_tree, tmp_path):
+    # the rows' recordings were tracked by their index.txt alone: a lost one was never remade
+    results, paper, _ = built_tree
+    later = time.time() + 3600
+    rows = results / "recordings" / "table_failures"
+    rows.mkdir(parents=True, exist_ok=True)
+    files = [results / "recordings" / f"{r}.rrd" for r in _make_list("RECORDINGS")]
+    files += [rows / "tipping.rrd", rows / "overhang.rrd", rows / "index.txt"]
+    for file in files:
+        file.write_text("")
+        os.utime(file, (later, later))
+    (rows / "index.txt").write_text(
+        "# one recording per row\ntipping.rrd\t0.46 MB\noverhang.rrd\t1 MB\n"
+    )
+    os.utime(rows / "index.txt", (later, later))
+
+    def recorded():
+        out = subprocess.run(
+            ["make", "-n", f"RESULTS_DIR={results}", f"PAPER_OUT={paper}", "recordings"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
+        return re.findall(r"-m analysis\.trace (\S+)", out)
+
+    try:
+        assert recorded() == []
+        (rows / "tipping.rrd").rename(tmp_path / "tipping.rrd")  # moved aside
+        assert recorded() == ["--table"]
+    finally:
+        for file in files:
+            file.unlink(missing_ok=True)
 
 
 def test_the_makefile_header_says_what_make_figures_does(built_tree):

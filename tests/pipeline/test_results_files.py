@@ -113,6 +113,25 @@ def test_the_glance_refuses_missing_numbers_in_one_line_naming_its_target(data):
     assert "no experiment metadata" in _refused(glance.main)
 
 
+def test_the_paper_names_a_missing_input_and_what_writes_it(data, tmp_path, monkeypatch):
+    # typst's "file not found" was an uncaught TypstError traceback
+    out = tmp_path / "paper_out"
+    monkeypatch.setattr(paths, "PAPER_OUT", out)
+    monkeypatch.setattr(paths, "GENERATED", out / "generated")
+    monkeypatch.setattr(paths, "FIGURES", out / "figures")
+    monkeypatch.setattr(paths, "PDF", out / "paper.pdf")
+    metadata.write_results("fig_speedup", TABLE, metadata.collect(None, {}, script="fig_speedup"))
+    message = _refused(paper.main)  # no analysis has run: the first numbers the paper reads
+    assert " is missing: `make paper` draws it again, or `python -m analysis." in message
+    assert str(out / "generated") in message
+    # a figure: named by the analysis whose numbers list it among their outputs
+    numbers = {"numbers": {}, "outputs": ["figures/fig_extremes.svg"]}
+    (out / "generated" / "table_extremes.json").write_text(json.dumps(numbers))
+    message = paper.missing_input(out / "figures" / "fig_extremes.svg", out)
+    assert message.endswith("`python -m analysis.table_extremes`"), message
+    assert "no analysis records writing it" in paper.missing_input(out / "figures" / "x.svg", out)
+
+
 def test_the_rerun_hint_for_quick_data_names_the_quick_run(tmp_path):
     # the hint named `make <name>` (full size) for a file of results/quick/data
     quick = tmp_path / "quick" / "data"

@@ -7,7 +7,8 @@
 #   make <name>               rerun one experiment and redraw its figure (names: $(ALL))
 #   make figures              redraw every figure/table from existing data; simulates only to
 #                             remake data that is missing or older than the code it runs (an
-#                             edit to sim/ or a shared study/ module reruns every experiment)
+#                             edit to sim/ or a shared study/ module reruns every experiment) or
+#                             the installed package versions (a changed pin reruns them all)
 #   make trace SCENE=slope_creep SYSTEMS=sim-off,sim-extended,pymunk-sleep
 #   make trace CELL=table_extremes/dt/0.03333   one rerun recording of systems side by side;
 #                                               open with `rerun <file>` (`make trace-list`)
@@ -16,6 +17,7 @@ PYTHON_SYS ?= python3
 VENV       := .venv
 PY         ?= $(VENV)/bin/python
 STAMP      := $(VENV)/.installed
+INSTALLED  := .make/installed.txt
 QUICK      ?=
 # QUICK=1 (yes, true, on) means the small sizes; QUICK=0 (no, false, off) or none the full ones.
 # Any non-empty value used to mean quick, so QUICK=0 ran the quick pipeline; anything else is
@@ -127,9 +129,18 @@ missing_output = $(if $(filter-out $(wildcard $(addprefix $(DATA)/,$(call output
                    $(addprefix $(DATA)/,$(call outputs_of,$(1)))),FORCE)
 DATA_FILES := $(foreach n,$(ALL),$(DATA)/$(n).csv)
 .SECONDEXPANSION:
-$(DATA_FILES): $(DATA)/%.csv: experiments/%.py $$(call missing_output,$$*) | $(STAMP)
+$(DATA_FILES): $(DATA)/%.csv: experiments/%.py $(INSTALLED) $$(call missing_output,$$*) | $(STAMP)
 	$(PY) -m experiments.$* $(QUICKFLAG)
 FORCE:
+
+# The installed distributions and their versions (name==version, one a line), rewritten only when
+# they change: a prerequisite of every simulation's output, so a changed pin reruns them once the
+# venv has it. ($(STAMP) stays order-only: an edit to pyproject.toml that installs nothing new
+# reruns nothing; before, a changed pin reran nothing at all.) Checked on every run, even under
+# `make -n` (+), so that make compares the file's time after the check; skipped while there is no
+# venv to ask (a dry run from a fresh clone), when everything is to be made anyway.
+$(INSTALLED): FORCE | $(STAMP)
+	+@if [ -e $(STAMP) ]; then $(PY) tools/installed.py $@; fi
 
 # Analysis: figures, tables and the numbers the paper quotes; never simulates. make tracks the
 # numbers, $(GEN)/<name>.json, which list the figures and tables written with them ("outputs"):
@@ -155,13 +166,13 @@ $(GEN)/glance.md: $(GLANCE_DEPS) $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
 	$(PY) -m analysis.glance $(if $(IS_QUICK),,--readme README.md)
 
 recordings: $(foreach r,$(RECORDINGS),$(RECS)/$(r).rrd) $(ROWS)/index.txt
-$(RECS)/%.rrd: $(TRACE_DEPS) | $(STAMP)
+$(RECS)/%.rrd: $(TRACE_DEPS) $(INSTALLED) | $(STAMP)
 	$(PY) -m analysis.trace $(word 1,$(subst __, ,$*)) --systems sim-$(word 2,$(subst __, ,$*)) \
 	    --steps $(RECORD_STEPS) --out $@
 # The rows' recordings are made in one run, tracked by their index.txt, which lists them: when one
 # it lists is missing, they are made again (a lost row was never remade).
 ROW_FILES = $(addprefix $(ROWS)/,$(filter %.rrd,$(if $(wildcard $(ROWS)/index.txt),$(file <$(ROWS)/index.txt))))
-$(ROWS)/index.txt: $(TRACE_DEPS) $$(if $$(filter-out $$(wildcard $$(ROW_FILES)),$$(ROW_FILES)),FORCE) \
+$(ROWS)/index.txt: $(TRACE_DEPS) $(INSTALLED) $$(if $$(filter-out $$(wildcard $$(ROW_FILES)),$$(ROW_FILES)),FORCE) \
                    | $(STAMP)
 	$(PY) -m analysis.trace --table table_failures $(ROW_STEPS) --out-dir $(dir $@)
 

@@ -21,7 +21,7 @@ import sim
 from sim.tolerances import body_slop
 from study import executor, paths, systems
 from study.cli import first_paragraph
-from study.metadata import code_state, git_state, jsonable, collect, write_results
+from study.metadata import code_state, git_state, jsonable, collect, package_versions, write_results
 from study.peers import engine_of, make_runner
 from study.timing import timed
 
@@ -141,8 +141,9 @@ def store_path(name, args):
 
 def sweep_store(name, args, config):
     """(path, header) for ``executor.run_tasks(..., store=path, header=header)``: the header names
-    the commit, the configuration and a hash of the solver's and the script's sources, so a store
-    left by other code (uncommitted edits included) is never resumed."""
+    the commit, the configuration, a hash of the solver's and the script's sources and the
+    versions of the packages a result records, so a store left by other code (uncommitted edits
+    included) or by other engines (a changed pin: pymunk's, numba's) is never resumed."""
     digest = hashlib.sha256()
     for f in sorted(
         list((paths.ROOT / "sim").rglob("*.py"))
@@ -154,6 +155,7 @@ def sweep_store(name, args, config):
         "commit": git_state()["commit"],
         "config": jsonable(config),
         "source": digest.hexdigest()[:16],
+        "packages": package_versions(),
     }
     return store_path(name, args), header
 

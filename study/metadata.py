@@ -64,7 +64,7 @@ def collect(scene_or_scenes, parameters, script, seed=None, started=None):
         "parameters": jsonable(dict(parameters)),
         "seed": seed,
         **code_provenance(started or code_state()),
-        "packages": {name: _version(name) for name in PACKAGES},
+        "packages": package_versions(),
         "python": sys.version.split()[0],
         "platform": platform.platform(),
         "cpu": _cpu_model(),
@@ -243,6 +243,11 @@ def git_state():
     except (OSError, subprocess.SubprocessError):
         dirty = "unknown"
     return {"commit": commit, "dirty": dirty}
+
+
+def package_versions():
+    """{distribution: installed version} of PACKAGES ("not installed" for one that is not)."""
+    return {name: _version(name) for name in PACKAGES}
 
 
 def _version(name):

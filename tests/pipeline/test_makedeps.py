@@ -192,6 +192,41 @@ def test_a_missing_row_recording_is_made_again(built_tree, tmp_path):
             file.unlink(missing_ok=True)
 
 
+def test_a_change_of_installed_versions_reruns_the_experiments(tmp_path):
+    # $(STAMP) was order-only for the data files: a changed pin rebuilt the venv and reran
+    # nothing. The data depend on the installed versions (a file rewritten only when they change),
+    # not on pyproject.toml: an edit that installs nothing new reruns nothing.
+    results, paper, installed = tmp_path / "results", tmp_path / "paper", tmp_path / "installed"
+    names = _make_list("ALL")
+    now = time.time()
+    data = [f"{n}{s}" for n in names + ["bench_step_profile"] for s in (".csv", ".json")]
+    for folder, files, when in (
+        (results / "data", data, now - 2),
+        (paper / "generated", [f"{n}.json" for n in names], now - 1),
+    ):
+        folder.mkdir(parents=True)
+        for file in files:
+            (folder / file).write_text("")
+            os.utime(folder / file, (when, when))
+
+    def rebuilt(held):
+        installed.write_text(held)
+        os.utime(installed, (now - 3, now - 3))  # older than the data
+        out = subprocess.run(
+            ["make", "-n", f"RESULTS_DIR={results}", f"PAPER_OUT={paper}"]
+            + [f"INSTALLED={installed}", "figures"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
+        return set(re.findall(r"-m experiments\.(\w+)", out))
+
+    subprocess.run([sys.executable, "tools/installed.py", str(installed)], cwd=ROOT, check=True)
+    assert rebuilt(installed.read_text()) == set()  # the same versions: nothing
+    assert rebuilt("numpy==0.0\n") == set(names)  # another version: every experiment
+
+
 def test_the_makefile_header_says_what_make_figures_does(built_tree):
     # it said "never simulates", yet after an edit to a shared library module make figures reruns
     # every experiment (its data is older than the code it runs)

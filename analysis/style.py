@@ -15,6 +15,7 @@ import argparse
 import json
 import math
 import sys
+from pathlib import Path
 
 import matplotlib
 
@@ -101,18 +102,20 @@ def write_table(table, name):
     return _wrote(path)
 
 
-def write_numbers(name, numbers, meta):
+def write_numbers(name, numbers, meta, source=None):
     """Write ``paper/generated/<name>.json``: the numbers the paper quotes, the experiment's
-    parameters (so that the paper quotes those from data too) and where they came from (commit,
-    quick or full sizes) and the figures and tables written with them (``outputs``). Non-finite
-    numbers become strings ("nan")."""
+    parameters (so that the paper quotes those from data too) and where they came from (the data
+    file ``source``, if they were read from one; commit, quick or full sizes) and the figures and
+    tables written with them (``outputs``). Non-finite numbers become strings ("nan")."""
     outputs = sorted(set(_written))
     _written.clear()
     out = {
         "numbers": numbers,
         "outputs": outputs,
         "parameters": meta.get("parameters", {}),
-        "source": f"results/data/{name}.csv",
+        # the file actually read (it said results/data/<name>.csv for a quick tree's data too,
+        # and for the set-up, which has no data file of its own)
+        **({"source": _repository_path(source)} if source is not None else {}),
         "commit": meta.get("git", {}).get("commit", "unknown"),
         "quick": bool(meta.get("parameters", {}).get("quick", False)),
         "date_utc": meta.get("date_utc", "unknown"),
@@ -120,6 +123,13 @@ def write_numbers(name, numbers, meta):
     path = paths.ensure(paths.GENERATED) / f"{name}.json"
     write_text_atomically(path, json.dumps(jsonable(out), indent=2) + "\n")
     return path
+
+
+def _repository_path(path):
+    """``path`` relative to the repository when inside it (results/quick/data/x.csv), else
+    absolute."""
+    path = Path(path).resolve()
+    return path.relative_to(paths.ROOT).as_posix() if path.is_relative_to(paths.ROOT) else str(path)
 
 
 def fmt(x, digits=3):
@@ -145,7 +155,7 @@ def entry(name, draw):
             numbers = draw(table, meta) or {}
         except ResultsError as exc:  # the user's data, not a bug: one line, no traceback
             raise SystemExit(f"python -m analysis.{name}: {exc}") from None
-        path = write_numbers(name, numbers, meta)
+        path = write_numbers(name, numbers, meta, source=paths.DATA / f"{name}.csv")
         print(f"wrote {path}")
         return numbers
 

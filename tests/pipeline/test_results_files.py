@@ -45,6 +45,20 @@ def test_a_whole_file_is_read(data):
     assert meta["csv"]["rows"] == 200 and len(meta["csv"]["sha256"]) == 64
 
 
+def test_the_numbers_name_the_data_file_they_were_read_from(data):
+    # every generated .json said "results/data/<name>.csv": wrong for a quick tree's data, and
+    # for the set-up, which has no data file
+    FAKE([])
+    numbers = json.loads((paths.GENERATED / "fake.json").read_text())
+    assert numbers["source"] == str(data / "fake.csv")  # outside the repository: absolute
+    quick = paths.ROOT / "results" / "quick" / "data" / "fake.csv"
+    style.write_numbers("fake", {}, {}, source=quick)
+    numbers = json.loads((paths.GENERATED / "fake.json").read_text())
+    assert numbers["source"] == "results/quick/data/fake.csv"
+    style.write_numbers("setup", {}, {})
+    assert "source" not in json.loads((paths.GENERATED / "setup.json").read_text())
+
+
 def test_a_csv_cut_mid_line_is_refused(data):
     csv = data / "fake.csv"
     csv.write_bytes(csv.read_bytes()[:1000])

@@ -26,10 +26,12 @@ from sim.files import write_text_atomically
 
 from . import paths
 
-#: Distributions whose versions can change a result or a timing (pip names).
+#: Distributions whose versions can change a result or a timing (pip names): every one the code
+#: imports (tests/pipeline/test_code_provenance.py reads the imports)
 PACKAGES = (
     "numpy",
     "numba",
+    "llvmlite",  # numba's code generator, and sim.clock's IR
     "pymunk",
     "pybullet",
     "box2d",
@@ -41,6 +43,7 @@ PACKAGES = (
     "tqdm",
     "dask",
     "distributed",
+    "tomli-w",  # writes scene files (sim.Scene.to_file)
 )
 
 

@@ -12,6 +12,7 @@ import argparse
 import hashlib
 import math
 import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -160,6 +161,26 @@ def sweep_store(name, args, config):
     return store_path(name, args), header
 
 
+def stopped(name, args):
+    """What a run of experiment ``name`` stopped by Ctrl-C leaves: its results are written only at
+    the end, but a sweep's finished runs are in its store (``store_path``), resumed by the next
+    run."""
+    store = store_path(name, args)
+    try:
+        runs = len(store.read_text().splitlines()) - 1  # the first line is the header
+    except OSError:
+        runs = 0
+    if runs <= 0:
+        table = Path(args.data_dir) / f"{name}.csv"
+        return "stopped (Ctrl-C); nothing kept" + (
+            f" ({table} left as it was)" if table.exists() else ""
+        )
+    return (
+        f"stopped (Ctrl-C); {runs} finished run(s) kept in {store}: the same command resumes "
+        "from them"
+    )
+
+
 def subset_folder(args):
     """Where a run of part of an experiment's table (``entry``'s ``subset``) writes it: only/
     beside the data folder, which make and analysis never read, so that a part never replaces the
@@ -212,6 +233,9 @@ def entry(name, doc, full, quick, run, extra_args=None, subset=None, sweep=False
             table, scenes, parameters = run(config, args)
         except executor.SchedulerError as exc:  # the user's address, not a bug: one line
             raise SystemExit(f"python -m experiments.{name}: {exc}") from None
+        except KeyboardInterrupt:  # Ctrl-C: what was kept, in one line, status 130 as the shell's
+            print(f"python -m experiments.{name}: {stopped(name, args)}", file=sys.stderr)
+            raise SystemExit(130) from None
         if not isinstance(table, pd.DataFrame) or table.empty:
             raise RuntimeError(f"{name}: the experiment produced no rows")
         parameters = {"quick": args.quick, "config": config, **parameters}

@@ -9,7 +9,7 @@ import time
 
 import pytest
 
-from study import paths
+from study import common, executor, paths
 
 #: a sweep whose runs hold the GIL (a C loop, as a Numba kernel without nogil does) for minutes
 SWEEP = """
@@ -70,3 +70,42 @@ def test_workers_inside_compiled_code_die_with_their_parent(tmp_path, signum):
             if _alive(pid):
                 os.kill(pid, signal.SIGKILL)
     assert not left and gone_after < 0.5, f"workers alive {gone_after:.2f} s after their parent"
+
+
+def _stopped_sweep(config, args):
+    """A sweep that finishes two runs into its store, then is stopped by Ctrl-C."""
+    store, header = common.sweep_store("fake", args, config)
+    executor.run_tasks(abs, [1, 2], workers=1, store=store, header=header)
+    raise KeyboardInterrupt
+
+
+def _stopped_at_once(config, args):
+    raise KeyboardInterrupt
+
+
+@pytest.mark.parametrize(
+    "run, said",
+    [
+        (_stopped_sweep, "stopped (Ctrl-C); 2 finished run(s) kept in {store}: the same command"),
+        (_stopped_at_once, "stopped (Ctrl-C); nothing kept ({data}/fake.csv left as it was)"),
+    ],
+    ids=["sweep", "nothing_stored"],
+)
+def test_ctrl_c_says_in_one_line_what_was_kept(tmp_path, capsys, run, said):
+    # a sweep stopped by Ctrl-C printed a KeyboardInterrupt traceback
+    data = tmp_path / "data"
+    data.mkdir()
+    (data / "fake.csv").write_text("x\n1\n")
+    main = common.entry("fake", "A fake.", {"n": 2}, {"n": 1}, run, sweep=True)
+    try:
+        main(["--quick"], data_dir=data)
+    except KeyboardInterrupt:  # (caught: pytest would take it for the user's and stop)
+        pytest.fail("Ctrl-C came out as a KeyboardInterrupt traceback")
+    except SystemExit as stop:
+        assert stop.code == 130  # as the shell's for SIGINT
+    else:
+        pytest.fail("a stopped run exited normally")
+    err = capsys.readouterr().err.strip().splitlines()
+    store = tmp_path / "partial" / "fake-quick.jsonl"
+    assert err[-1].startswith("python -m experiments.fake: " + said.format(store=store, data=data))
+    assert (data / "fake.csv").read_text() == "x\n1\n"

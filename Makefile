@@ -171,9 +171,10 @@ $(RECS)/%.rrd: $(TRACE_DEPS) $(INSTALLED) | $(STAMP)
 	    --steps $(RECORD_STEPS) --out $@
 # The rows' recordings are made in one run, tracked by their index.txt, which lists them: when one
 # it lists is missing, they are made again (a lost row was never remade).
-ROW_FILES = $(addprefix $(ROWS)/,$(filter %.rrd,$(if $(wildcard $(ROWS)/index.txt),$(file <$(ROWS)/index.txt))))
-$(ROWS)/index.txt: $(TRACE_DEPS) $(INSTALLED) $$(if $$(filter-out $$(wildcard $$(ROW_FILES)),$$(ROW_FILES)),FORCE) \
-                   | $(STAMP)
+ROW_FILES = $(addprefix $(ROWS)/,$(filter %.rrd,\
+              $(if $(wildcard $(ROWS)/index.txt),$(file <$(ROWS)/index.txt))))
+lost_rows = $(filter-out $(wildcard $(ROW_FILES)),$(ROW_FILES))
+$(ROWS)/index.txt: $(TRACE_DEPS) $(INSTALLED) $$(if $$(lost_rows),FORCE) | $(STAMP)
 	$(PY) -m analysis.trace --table table_failures $(ROW_STEPS) --out-dir $(dir $@)
 
 # `make <name>`: rerun one experiment unconditionally, then redraw what it feeds.

@@ -7,7 +7,8 @@
 #   make <name>               rerun one experiment and redraw its figure (names: $(ALL))
 #   make figures              redraw every figure/table from existing data; simulates only to
 #                             remake data that is missing or older than the code it runs (an
-#                             edit to sim/ or a shared study/ module reruns every experiment)
+#                             edit to sim/ or a shared study/ module reruns every experiment) or
+#                             the installed package versions (a changed pin reruns them all)
 #   make trace SCENE=slope_creep SYSTEMS=sim-off,sim-extended,pymunk-sleep
 #   make trace CELL=table_extremes/dt/0.03333   one rerun recording of systems side by side;
 #                                               open with `rerun <file>` (`make trace-list`)
@@ -16,11 +17,20 @@ PYTHON_SYS ?= python3
 VENV       := .venv
 PY         ?= $(VENV)/bin/python
 STAMP      := $(VENV)/.installed
+INSTALLED  := .make/installed.txt
 QUICK      ?=
-QUICKFLAG  := $(if $(QUICK),--quick,)
+# QUICK=1 (yes, true, on) means the small sizes; QUICK=0 (no, false, off) or none the full ones.
+# Any non-empty value used to mean quick, so QUICK=0 ran the quick pipeline; anything else is
+# refused, not guessed.
+QUICK_WORD := $(if $(QUICK),$(shell printf '%s' '$(QUICK)' | tr A-Z a-z))
+ifneq ($(filter-out 1 yes true on 0 no false off,$(QUICK_WORD)),)
+$(error QUICK=$(QUICK) is neither on nor off: use QUICK=1 (small sizes) or QUICK=0 (full sizes))
+endif
+IS_QUICK   := $(filter 1 yes true on,$(QUICK_WORD))
+QUICKFLAG  := $(if $(IS_QUICK),--quick,)
 
 # Where outputs go. Quick runs get their own tree, so a quick result is never taken for a full one.
-ifneq ($(QUICK),)
+ifneq ($(IS_QUICK),)
 RESULTS_DIR ?= results/quick
 PAPER_OUT   ?= results/quick/paper
 else
@@ -32,6 +42,7 @@ export FREEZE2D_PAPER_OUT := $(abspath $(PAPER_OUT))
 DATA := $(RESULTS_DIR)/data
 GEN  := $(PAPER_OUT)/generated
 RECS := $(RESULTS_DIR)/recordings
+ROWS := $(RECS)/table_failures
 
 # The experiments: every experiments/<name>.py that has an analysis/<name>.py (one script per
 # figure or table each), found here, so adding an experiment is adding its two scripts: no list to
@@ -46,9 +57,9 @@ ALL := $(sort $(filter-out __init__,$(filter $(call script_names,analysis),$(cal
 # lists them and their sizes)
 RECORDINGS := seed_fig1__paper seed_fig2__paper seed_fig3__paper seed_fig3__extended \
               pyramid__extended drop__sleep drop__extended
-RECORD_STEPS := $(if $(QUICK),60,300)
+RECORD_STEPS := $(if $(IS_QUICK),60,300)
 # quick: the failure rows' first second only (the full rows run their own 3-7 s)
-ROW_STEPS := $(if $(QUICK),--steps 60,)
+ROW_STEPS := $(if $(IS_QUICK),--steps 60,)
 
 # make trace: a scene (builder, scenario or .toml file) under SYSTEMS, or a table cell (CELL)
 SCENE ?= seed_fig3
@@ -118,12 +129,26 @@ missing_output = $(if $(filter-out $(wildcard $(addprefix $(DATA)/,$(call output
                    $(addprefix $(DATA)/,$(call outputs_of,$(1)))),FORCE)
 DATA_FILES := $(foreach n,$(ALL),$(DATA)/$(n).csv)
 .SECONDEXPANSION:
-$(DATA_FILES): $(DATA)/%.csv: experiments/%.py $$(call missing_output,$$*) | $(STAMP)
+$(DATA_FILES): $(DATA)/%.csv: experiments/%.py $(INSTALLED) $$(call missing_output,$$*) | $(STAMP)
 	$(PY) -m experiments.$* $(QUICKFLAG)
 FORCE:
 
-# Analysis: figures, tables and the numbers the paper quotes; never simulates.
-$(GEN)/%.json: $(DATA)/%.csv analysis/%.py | $(STAMP)
+# The installed distributions and their versions (name==version, one a line), rewritten only when
+# they change: a prerequisite of every simulation's output, so a changed pin reruns them once the
+# venv has it. ($(STAMP) stays order-only: an edit to pyproject.toml that installs nothing new
+# reruns nothing; before, a changed pin reran nothing at all.) Checked on every run, even under
+# `make -n` (+), so that make compares the file's time after the check; skipped while there is no
+# venv to ask (a dry run from a fresh clone), when everything is to be made anyway.
+$(INSTALLED): FORCE | $(STAMP)
+	+@if [ -e $(STAMP) ]; then $(PY) tools/installed.py $@; fi
+
+# Analysis: figures, tables and the numbers the paper quotes; never simulates. make tracks the
+# numbers, $(GEN)/<name>.json, which list the figures and tables written with them ("outputs"):
+# when one of those is missing (deleted, moved aside), the analysis runs again (FORCE), as an
+# experiment does when one of its data files is; a lost figure was never drawn again, and the
+# paper then failed on it. LOST: those analyses, read once, when make first needs them.
+LOST = $(eval LOST := $(shell $(PYTHON_SYS) tools/lost_outputs.py $(PAPER_OUT)))$(LOST)
+$(GEN)/%.json: $(DATA)/%.csv analysis/%.py $$(if $$(filter $$*,$$(LOST)),FORCE) | $(STAMP)
 	$(PY) -m analysis.$*
 
 figures: $(foreach n,$(ALL),$(GEN)/$(n).json)
@@ -132,16 +157,24 @@ paper: $(PAPER_OUT)/paper.pdf
 $(PAPER_OUT)/paper.pdf: paper/paper.typ $(PAPER_DEPS) $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
 	$(PY) -m analysis.paper
 
-# Results at a glance (and, for full runs, the README block between its markers).
+# Results at a glance (and, for full runs, the README block between its markers). Its commit and
+# machine are read from the data's metadata, as the paper's set-up is (analysis.paper imported:
+# GLANCE_DEPS), not from generated/setup.json, which only the paper writes and this rule could not
+# depend on without compiling the paper.
 glance: $(GEN)/glance.md
 $(GEN)/glance.md: $(GLANCE_DEPS) $(foreach n,$(ALL),$(GEN)/$(n).json) | $(STAMP)
-	$(PY) -m analysis.glance $(if $(QUICK),,--readme README.md)
+	$(PY) -m analysis.glance $(if $(IS_QUICK),,--readme README.md)
 
-recordings: $(foreach r,$(RECORDINGS),$(RECS)/$(r).rrd) $(RECS)/table_failures/index.txt
-$(RECS)/%.rrd: $(TRACE_DEPS) | $(STAMP)
+recordings: $(foreach r,$(RECORDINGS),$(RECS)/$(r).rrd) $(ROWS)/index.txt
+$(RECS)/%.rrd: $(TRACE_DEPS) $(INSTALLED) | $(STAMP)
 	$(PY) -m analysis.trace $(word 1,$(subst __, ,$*)) --systems sim-$(word 2,$(subst __, ,$*)) \
 	    --steps $(RECORD_STEPS) --out $@
-$(RECS)/table_failures/index.txt: $(TRACE_DEPS) | $(STAMP)
+# The rows' recordings are made in one run, tracked by their index.txt, which lists them: when one
+# it lists is missing, they are made again (a lost row was never remade).
+ROW_FILES = $(addprefix $(ROWS)/,$(filter %.rrd,\
+              $(if $(wildcard $(ROWS)/index.txt),$(file <$(ROWS)/index.txt))))
+lost_rows = $(filter-out $(wildcard $(ROW_FILES)),$(ROW_FILES))
+$(ROWS)/index.txt: $(TRACE_DEPS) $(INSTALLED) $$(if $$(lost_rows),FORCE) | $(STAMP)
 	$(PY) -m analysis.trace --table table_failures $(ROW_STEPS) --out-dir $(dir $@)
 
 # `make <name>`: rerun one experiment unconditionally, then redraw what it feeds.

@@ -2,6 +2,10 @@
 (never from hand-typed ones), and optionally copied into the README between its markers.
 
     python -m analysis.glance [--readme README.md]
+
+The header's commit, machine and date are read from the experiments' metadata, as the paper's
+set-up is (``analysis.paper.setup_numbers``), not from generated/setup.json: only the paper
+writes that, so after an experiment was rerun alone the glance named the commit of the last paper.
 """
 
 import argparse
@@ -9,8 +13,10 @@ import json
 import re
 from pathlib import Path
 
+from analysis.paper import setup_numbers
 from analysis.style import fmt
 from study import paths
+from study.metadata import ResultsError, make_quick
 from study.systems import NO_PRESOLVE
 from study.cli import first_paragraph
 
@@ -28,10 +34,20 @@ FIGURES = (
 )
 
 
+class ReadmeError(Exception):
+    """The README given has no glance block to fill; one line."""
+
+
 def numbers(name):
+    """The numbers analysis.<name> wrote (generated/<name>.json); ResultsError, one line naming
+    the make target that writes them all, when missing."""
     path = paths.GENERATED / f"{name}.json"
     if not path.exists():
-        raise FileNotFoundError(f"{path} missing: run `make figures` first")
+        raise ResultsError(
+            f"{path} is missing: run `make glance{make_quick(paths.DATA)}` (it draws every figure "
+            f"first), or "
+            f"`python -m analysis.{name}`"
+        )
     return json.loads(path.read_text())
 
 
@@ -54,7 +70,7 @@ def provenance_text(provenance):
 
 
 def lines():
-    setup = numbers("setup")["numbers"]
+    _, setup = setup_numbers()
     sp = numbers("fig_speedup")["numbers"]
     sc = numbers("fig_scaling")["numbers"]
     ttr = numbers("fig_time_to_rest")["numbers"]
@@ -406,7 +422,7 @@ def write(readme=None):
         old = readme.read_text()
         pattern = re.compile(re.escape(START) + ".*?" + re.escape(END), re.S)
         if not pattern.search(old):
-            raise ValueError(f"{readme} has no {START} ... {END} block to fill")
+            raise ReadmeError(f"{readme} has no {START} ... {END} block to fill")
         readme.write_text(pattern.sub(lambda _: f"{START}\n{text}{END}", old))
         print(f"updated {readme}")
     return text
@@ -418,7 +434,10 @@ def main(argv=None):
     )
     parser.add_argument("--readme", default=None, help="also fill this README's glance block")
     args = parser.parse_args(argv)
-    return write(args.readme)
+    try:
+        return write(args.readme)
+    except (ResultsError, ReadmeError, OSError) as exc:  # the user's files: one line, no traceback
+        raise SystemExit(f"python -m analysis.glance: {exc}") from None
 
 
 if __name__ == "__main__":

@@ -2,16 +2,20 @@
 
 Before compiling, writes ``generated/setup.json`` (machine, versions, commit, date, sizes: read
 from the experiments' own metadata, so the set-up section is generated too). The paper reads only
-``figures/`` and ``generated/`` beside it. When the outputs live elsewhere (``FREEZE2D_PAPER_OUT``,
-e.g. the quick pipeline), the source is copied there first, so that both resolve the same way.
+``figures/`` and ``generated/`` beside it. When the outputs live elsewhere
+(``study.paths.PAPER_OUT``: another results tree's paper/, e.g. the quick pipeline's), the source
+is copied there first, so that both resolve the same way.
 
     python -m analysis.paper [--png DIR]     (--png: also render every page to DIR/page-N.png)
 """
 
 import argparse
 import inspect
+import json
 import math
+import re
 import shutil
+from pathlib import Path
 
 import typst
 
@@ -21,7 +25,7 @@ from sim.freeze import paper as freeze_paper
 from study.peers import DEFAULT_ITERATIONS
 
 from analysis.style import write_numbers
-from study.metadata import ResultsError, read_metadata
+from study.metadata import ResultsError, make_quick, read_metadata
 from study import paths
 from study.cli import first_paragraph
 
@@ -79,7 +83,7 @@ def setup_numbers():
     if meta is None:
         raise ResultsError(
             f"no experiment metadata in {paths.DATA} (none of {', '.join(SETUP_FROM)}): "
-            "run `make reproduce`"
+            f"run `make reproduce{make_quick(paths.DATA)}`"
         )
     return meta, {
         "world": world_defaults(),
@@ -104,19 +108,52 @@ def compile_paper(png_dir=None):
             shutil.copyfile(paths.PAPER / name, out / name)
     meta, numbers = setup_numbers()
     write_numbers("setup", numbers, meta)
-    typst.compile(str(out / "paper.typ"), output=str(paths.PDF), root=str(out))
+    typeset(out, output=str(paths.PDF))
     print(f"wrote {paths.PDF}")
     if png_dir is not None:
         png_dir = paths.ensure(png_dir)
-        typst.compile(
-            str(out / "paper.typ"),
-            output=str(png_dir / "page-{p}.png"),
-            root=str(out),
-            format="png",
-            ppi=110,
-        )
+        typeset(out, output=str(png_dir / "page-{p}.png"), format="png", ppi=110)
         print(f"wrote {png_dir}/page-*.png")
     return paths.PDF
+
+
+#: typst's error for a file the paper reads that is not there
+NOT_FOUND = re.compile(r"file not found \(searched at (?P<path>[^)]+)\)")
+
+
+def typeset(out, **options):
+    """Compile ``out``/paper.typ; a figure, table or numbers file it reads that is missing is a
+    ResultsError naming the file and what writes it (typst's error was a traceback)."""
+    try:
+        typst.compile(str(out / "paper.typ"), root=str(out), **options)
+    except typst.TypstError as exc:
+        found = NOT_FOUND.search(str(exc))
+        if found is None:  # an error in paper.typ itself: a bug, with typst's own report
+            raise
+        raise ResultsError(missing_input(Path(found["path"]), out)) from None
+
+
+def missing_input(path, out):
+    """Why the paper cannot be compiled: ``path`` (under ``out``) is missing, and what remakes it:
+    the analysis whose numbers list it among their outputs (``analysis.style.write_numbers``), or
+    whose numbers it is."""
+    try:
+        relative = path.resolve().relative_to(out.resolve()).as_posix()
+    except ValueError:
+        relative = None
+    writer = None
+    for numbers in sorted(paths.GENERATED.glob("*.json")):
+        try:
+            if relative in json.loads(numbers.read_text()).get("outputs", []):
+                writer = numbers.stem
+        except (OSError, ValueError, AttributeError, TypeError):
+            continue
+    if writer is None and relative == f"generated/{path.stem}.json":
+        writer = path.stem
+    make = f"`make paper{make_quick(paths.DATA)}`"
+    if writer is None:
+        return f"{path} is missing, and no analysis records writing it: rerun the one that does"
+    return f"{path} is missing: {make} draws it again, or `python -m analysis.{writer}`"
 
 
 def main(argv=None):

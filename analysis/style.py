@@ -15,6 +15,7 @@ import argparse
 import json
 import math
 import sys
+from pathlib import Path
 
 import matplotlib
 
@@ -74,29 +75,47 @@ def load(name, script=None):
     return read_results(paths.DATA, name, script)
 
 
+#: the figures and tables this analysis wrote, as "figures/<name>.svg" (beside paper.typ's
+#: folders), recorded in its numbers' "outputs" (``write_numbers``): make reruns an analysis one of
+#: whose outputs has gone missing since (tools/lost_outputs.py), as it reruns an experiment whose
+#: data file has, and the paper names the analysis that writes a file it cannot find
+_written = []
+
+
+def _wrote(path):
+    _written.append(f"{path.parent.name}/{path.name}")
+    return path
+
+
 def save_figure(fig, name):
     """Write ``paper/figures/<name>.svg`` (no date in the file, so reruns compare equal)."""
     path = paths.ensure(paths.FIGURES) / f"{name}.svg"
     fig.savefig(path, format="svg", metadata={"Date": None})
     plt.close(fig)
-    return path
+    return _wrote(path)
 
 
 def write_table(table, name):
     """Write ``paper/generated/<name>.csv`` (a table the paper shows as is)."""
     path = paths.ensure(paths.GENERATED) / f"{name}.csv"
     write_text_atomically(path, table.to_csv(index=False))
-    return path
+    return _wrote(path)
 
 
-def write_numbers(name, numbers, meta):
+def write_numbers(name, numbers, meta, source=None):
     """Write ``paper/generated/<name>.json``: the numbers the paper quotes, the experiment's
-    parameters (so that the paper quotes those from data too) and where they came from (commit,
-    quick or full sizes). Non-finite numbers become strings ("nan")."""
+    parameters (so that the paper quotes those from data too) and where they came from (the data
+    file ``source``, if they were read from one; commit, quick or full sizes) and the figures and
+    tables written with them (``outputs``). Non-finite numbers become strings ("nan")."""
+    outputs = sorted(set(_written))
+    _written.clear()
     out = {
         "numbers": numbers,
+        "outputs": outputs,
         "parameters": meta.get("parameters", {}),
-        "source": f"results/data/{name}.csv",
+        # the file actually read (it said results/data/<name>.csv for a quick tree's data too,
+        # and for the set-up, which has no data file of its own)
+        **({"source": _repository_path(source)} if source is not None else {}),
         "commit": meta.get("git", {}).get("commit", "unknown"),
         "quick": bool(meta.get("parameters", {}).get("quick", False)),
         "date_utc": meta.get("date_utc", "unknown"),
@@ -104,6 +123,13 @@ def write_numbers(name, numbers, meta):
     path = paths.ensure(paths.GENERATED) / f"{name}.json"
     write_text_atomically(path, json.dumps(jsonable(out), indent=2) + "\n")
     return path
+
+
+def _repository_path(path):
+    """``path`` relative to the repository when inside it (results/quick/data/x.csv), else
+    absolute."""
+    path = Path(path).resolve()
+    return path.relative_to(paths.ROOT).as_posix() if path.is_relative_to(paths.ROOT) else str(path)
 
 
 def fmt(x, digits=3):
@@ -123,12 +149,13 @@ def entry(name, draw):
             epilog=f"Reads results/data/{name}.csv (+ .json); takes no options.",
         )
         parser.parse_args(argv)
+        _written.clear()  # only what this run writes
         try:
             table, meta = load(name)
             numbers = draw(table, meta) or {}
         except ResultsError as exc:  # the user's data, not a bug: one line, no traceback
             raise SystemExit(f"python -m analysis.{name}: {exc}") from None
-        path = write_numbers(name, numbers, meta)
+        path = write_numbers(name, numbers, meta, source=paths.DATA / f"{name}.csv")
         print(f"wrote {path}")
         return numbers
 

@@ -77,7 +77,7 @@ from study.metadata import code_state, collect, jsonable
 from study.paths import RECORDINGS, ensure, partial_path
 from study.peers import impulse_vectors, sim_world
 from sim.files import write_text_atomically
-from study.cli import first_paragraph
+from study.cli import first_paragraph, positive_float
 
 #: state -> RGB (FREE, VERTICAL_STABLE, ROTATION_STABLE, SLEEPING): the figures' colours
 STATE_COLORS = np.array(STATE_RGB, np.uint8)
@@ -567,7 +567,7 @@ def main(argv=None):
     parser.add_argument(
         "--out-dir", default=None, help="folder for --table (default results/recordings/<table>)"
     )
-    parser.add_argument("--arrow-scale", type=float, default=0.5, help="m per N s of impulse")
+    parser.add_argument("--arrow-scale", type=positive_float, default=0.5, help="m per N s")
     parser.add_argument("--list", action="store_true", help="print what NAME can be and exit")
     args = parser.parse_args(argv)
     if args.list:
@@ -578,8 +578,8 @@ def main(argv=None):
         args.systems = [s.strip() for s in args.systems.split(",") if s.strip()]
         if not args.systems:  # "," fell back to the default systems
             parser.error(f"--systems {raw_systems!r} names no system")
-    if (args.name is None) == (args.table is None):
-        parser.error("give a NAME or --table (not both); --list shows the names")
+    if (args.name is None) == (args.table is None) or args.table and args.out:  # --out: ignored
+        parser.error("give a NAME [--out FILE] or --table [--out-dir DIR]; --list shows the names")
     try:
         if args.table is None:
             return _record_one(args.name, args)

@@ -328,6 +328,8 @@ def run(config, args):
     table = pd.DataFrame(rows)
     scenes = [scenarios.get(n).build() for n in names]
     parameters = {
+        # the scenarios that ran (with --only, not the whole catalogue the configuration lists)
+        "config": {**config, "scenarios": list(names)},
         "dt": DT,
         "systems": list(SYSTEMS),
         "reference": dict(REFERENCE),

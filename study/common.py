@@ -12,6 +12,7 @@ import argparse
 import hashlib
 import math
 import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -21,7 +22,7 @@ import sim
 from sim.tolerances import body_slop
 from study import executor, paths, systems
 from study.cli import first_paragraph
-from study.metadata import code_state, git_state, jsonable, collect, write_results
+from study.metadata import code_state, git_state, jsonable, collect, package_versions, write_results
 from study.peers import engine_of, make_runner
 from study.timing import timed
 
@@ -141,8 +142,9 @@ def store_path(name, args):
 
 def sweep_store(name, args, config):
     """(path, header) for ``executor.run_tasks(..., store=path, header=header)``: the header names
-    the commit, the configuration and a hash of the solver's and the script's sources, so a store
-    left by other code (uncommitted edits included) is never resumed."""
+    the commit, the configuration, a hash of the solver's and the script's sources and the
+    versions of the packages a result records, so a store left by other code (uncommitted edits
+    included) or by other engines (a changed pin: pymunk's, numba's) is never resumed."""
     digest = hashlib.sha256()
     for f in sorted(
         list((paths.ROOT / "sim").rglob("*.py"))
@@ -154,8 +156,29 @@ def sweep_store(name, args, config):
         "commit": git_state()["commit"],
         "config": jsonable(config),
         "source": digest.hexdigest()[:16],
+        "packages": package_versions(),
     }
     return store_path(name, args), header
+
+
+def stopped(name, args):
+    """What a run of experiment ``name`` stopped by Ctrl-C leaves: its results are written only at
+    the end, but a sweep's finished runs are in its store (``store_path``), resumed by the next
+    run."""
+    store = store_path(name, args)
+    try:
+        runs = len(store.read_text().splitlines()) - 1  # the first line is the header
+    except OSError:
+        runs = 0
+    if runs <= 0:
+        table = Path(args.data_dir) / f"{name}.csv"
+        return "stopped (Ctrl-C); nothing kept" + (
+            f" ({table} left as it was)" if table.exists() else ""
+        )
+    return (
+        f"stopped (Ctrl-C); {runs} finished run(s) kept in {store}: the same command resumes "
+        "from them"
+    )
 
 
 def subset_folder(args):
@@ -210,6 +233,9 @@ def entry(name, doc, full, quick, run, extra_args=None, subset=None, sweep=False
             table, scenes, parameters = run(config, args)
         except executor.SchedulerError as exc:  # the user's address, not a bug: one line
             raise SystemExit(f"python -m experiments.{name}: {exc}") from None
+        except KeyboardInterrupt:  # Ctrl-C: what was kept, in one line, status 130 as the shell's
+            print(f"python -m experiments.{name}: {stopped(name, args)}", file=sys.stderr)
+            raise SystemExit(130) from None
         if not isinstance(table, pd.DataFrame) or table.empty:
             raise RuntimeError(f"{name}: the experiment produced no rows")
         parameters = {"quick": args.quick, "config": config, **parameters}

@@ -25,18 +25,23 @@ before anything is appended, so a later line is never glued onto a fragment.
 
 Interrupts: Ctrl-C (SIGINT) stops a sweep at once: queued runs are cancelled, running workers are
 terminated, every finished run is already in the store, and KeyboardInterrupt propagates. Pool
-workers watch their parent and exit within WATCH_S seconds of it dying, however it died (SIGTERM,
-SIGKILL): no orphaned processes.
+workers die with their parent, however it died (SIGTERM, SIGKILL): no orphaned processes. On
+Linux the kernel kills each worker when its parent dies (PR_SET_PDEATHSIG), at once, even inside
+a kernel that holds the GIL; elsewhere a thread in each worker checks every WATCH_S seconds, which
+needs the GIL (a worker inside compiled code outlived its parent by seconds, or by its whole run).
 
 ``fn`` must be a module-level function and every task picklable; each task should carry
 everything its run needs (scene parameters, system, settings), so a run is reproducible alone.
 """
 
 import base64
+import ctypes
 import hashlib
 import json
 import os
 import pickle
+import signal
+import sys
 import threading
 import time
 import warnings
@@ -161,6 +166,8 @@ def _digest(entry):
 def _watch_parent(parent):
     """Pool worker initializer: exit as soon as the process that started the pool is gone (a
     parent killed by SIGTERM or SIGKILL cannot shut its pool down)."""
+    if _die_with_parent(parent):
+        return
 
     def watch():
         while os.getppid() == parent:
@@ -168,6 +175,27 @@ def _watch_parent(parent):
         os._exit(1)
 
     threading.Thread(target=watch, daemon=True).start()
+
+
+#: prctl(2) option: the signal the kernel sends this process when its parent dies
+PR_SET_PDEATHSIG = 1
+
+
+def _die_with_parent(parent):
+    """Ask the kernel to SIGKILL this worker when its parent dies (Linux); True if it will. The
+    "parent" is the thread that forked the worker: the pool forks its workers from the thread that
+    submits the runs (run_tasks' caller), which lives until the pool is shut down."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        if libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) != 0:
+            return False
+    except (OSError, AttributeError):  # no prctl in this C library: the thread watches instead
+        return False
+    if os.getppid() != parent:  # the parent died before the request was made
+        os._exit(1)
+    return True
 
 
 def run_tasks(

@@ -26,10 +26,12 @@ from sim.files import write_text_atomically
 
 from . import paths
 
-#: Distributions whose versions can change a result or a timing (pip names).
+#: Distributions whose versions can change a result or a timing (pip names): every one the code
+#: imports (tests/pipeline/test_code_provenance.py reads the imports)
 PACKAGES = (
     "numpy",
     "numba",
+    "llvmlite",  # numba's code generator, and sim.clock's IR
     "pymunk",
     "pybullet",
     "box2d",
@@ -41,6 +43,7 @@ PACKAGES = (
     "tqdm",
     "dask",
     "distributed",
+    "tomli-w",  # writes scene files (sim.Scene.to_file)
 )
 
 
@@ -64,7 +67,7 @@ def collect(scene_or_scenes, parameters, script, seed=None, started=None):
         "parameters": jsonable(dict(parameters)),
         "seed": seed,
         **code_provenance(started or code_state()),
-        "packages": {name: _version(name) for name in PACKAGES},
+        "packages": package_versions(),
         "python": sys.version.split()[0],
         "platform": platform.platform(),
         "cpu": _cpu_model(),
@@ -92,12 +95,19 @@ class ResultsError(Exception):
     """A results file that analysis must not read; the message is one line for the user."""
 
 
+def make_quick(folder):
+    """ " QUICK=1" when ``folder`` (a data folder) lies in a quick results tree, else "": what a
+    make command named in a message needs (the hint named the full-size command for quick
+    data)."""
+    return " QUICK=1" if folder is not None and Path(folder).parent.name == "quick" else ""
+
+
 def rerun_hint(script=None, folder=None):
     """What to do about a results file that cannot be read: rerun the experiment that wrote it,
     at quick sizes when the file lies in a quick tree (``folder``: its data folder; the hint
     named the full-size command for quick data)."""
-    quick = folder is not None and Path(folder).parent.name == "quick"
-    make, flag = (" QUICK=1", " --quick") if quick else ("", "")
+    make = make_quick(folder)
+    flag = " --quick" if make else ""
     if script is None:
         return (
             f"rerun the experiment that wrote it (`make reproduce{make}` reruns every missing one)"
@@ -236,6 +246,11 @@ def git_state():
     except (OSError, subprocess.SubprocessError):
         dirty = "unknown"
     return {"commit": commit, "dirty": dirty}
+
+
+def package_versions():
+    """{distribution: installed version} of PACKAGES ("not installed" for one that is not)."""
+    return {name: _version(name) for name in PACKAGES}
 
 
 def _version(name):

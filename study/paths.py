@@ -8,7 +8,9 @@ temporary folders):
                         an experiment run with --quick and without it writes into
                         <root>/results/quick instead: ``results_tree``)
     FREEZE2D_PAPER_OUT  what analysis writes for the paper: figures/, generated/, paper.pdf
-                        (default <root>/paper, beside paper.typ)
+                        (default <root>/paper, beside paper.typ, for the default results tree;
+                        <results>/paper for any other, as the Makefile's QUICK=1 does:
+                        ``paper_out``)
 """
 
 import os
@@ -22,7 +24,19 @@ DATA = RESULTS / "data"  # experiments -> <name>.csv + <name>.json
 RECORDINGS = RESULTS / "recordings"  # <scene>__<policy>.rrd
 BENCH = RESULTS / "bench"  # raw timing logs
 PAPER = ROOT / "paper"  # paper.typ, the source
-PAPER_OUT = Path(os.environ.get("FREEZE2D_PAPER_OUT") or PAPER).resolve()
+
+
+def paper_out(results, given=None):
+    """Where analysis writes for the paper: ``given`` (FREEZE2D_PAPER_OUT) if set, else beside
+    paper.typ for the default results tree and ``<results>/paper`` for any other. (It was always
+    beside paper.typ: ``FREEZE2D_RESULTS=results/quick python -m analysis.paper`` put the quick
+    tree's figures and numbers into the full paper's folders.)"""
+    if given:
+        return Path(given).resolve()
+    return PAPER if Path(results).resolve() == (ROOT / "results").resolve() else results / "paper"
+
+
+PAPER_OUT = paper_out(RESULTS, os.environ.get("FREEZE2D_PAPER_OUT"))
 FIGURES = PAPER_OUT / "figures"  # analysis -> <name>.svg
 GENERATED = PAPER_OUT / "generated"  # analysis -> <name>.csv tables, <name>.json numbers
 PDF = PAPER_OUT / "paper.pdf"

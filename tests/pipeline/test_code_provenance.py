@@ -91,3 +91,33 @@ def test_an_experiment_with_its_own_command_line_reads_git_at_the_start(
     peer_agreement.main(["--quick"], data_dir=tmp_path / "data")
     meta = _meta(tmp_path / "data", "peer_agreement")
     assert meta["git"]["commit"] == first and meta["code_changed_during_run"] is True
+
+
+def test_every_distribution_the_code_imports_has_its_version_recorded():
+    # llvmlite (sim/clock.py, bench_kernels) was imported directly but missing from the versions
+    # a results file records. Read from the imports: a new dependency cannot be forgotten.
+    import ast
+    import importlib.metadata
+    import re
+    import sys
+
+    from study import metadata
+
+    def normal(name):
+        return re.sub(r"[-_.]+", "-", name).lower()
+
+    own = ("sim", "study", "experiments", "analysis")
+    top = set()
+    for folder in own:
+        for path in (paths.ROOT / folder).rglob("*.py"):
+            for node in ast.walk(ast.parse(path.read_text())):
+                if isinstance(node, ast.Import):
+                    top |= {alias.name.split(".")[0] for alias in node.names}
+                elif isinstance(node, ast.ImportFrom) and not node.level:
+                    top.add(node.module.split(".")[0])
+    third_party = top - set(sys.stdlib_module_names) - set(own)
+    distributions = importlib.metadata.packages_distributions()
+    imported = {normal(d) for module in third_party for d in distributions[module]}
+    assert "llvmlite" in imported and "numba" in imported
+    missing = imported - {normal(name) for name in metadata.PACKAGES}
+    assert not missing, f"imported but not recorded in study.metadata.PACKAGES: {sorted(missing)}"

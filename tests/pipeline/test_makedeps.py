@@ -1,6 +1,7 @@
 """The Makefile's build graph comes from the imports (tools/makedeps.py): an edit to any module
 reruns exactly the experiments and analyses that run it, and nothing else."""
 
+import json
 import os
 import re
 import subprocess
@@ -134,6 +135,98 @@ def test_any_missing_data_file_reruns_the_experiment_that_writes_it(built_tree, 
         os.utime(data, (stamp, stamp))
 
 
+def test_a_missing_figure_or_table_is_drawn_again(built_tree):
+    # make tracked only generated/<name>.json: a figure moved aside was never drawn again ("Nothing
+    # to be done") and the paper then failed on it. The .json lists what its analysis wrote.
+    _, paper, _ = built_tree
+    numbers = paper / "generated" / "fig_speedup.json"
+    stamp = numbers.stat().st_mtime
+    outputs = ["figures/fig_speedup.svg", "generated/fig_speedup.csv"]
+    numbers.write_text(json.dumps({"numbers": {}, "outputs": outputs}))
+    os.utime(numbers, (stamp, stamp))
+    try:
+        (paper / "figures").mkdir(exist_ok=True)
+        (paper / "generated" / "fig_speedup.csv").write_text("")
+        assert _rebuilt(built_tree, "README.md") == (set(), {"fig_speedup"})  # the figure
+        (paper / "figures" / "fig_speedup.svg").write_text("")
+        assert _rebuilt(built_tree, "README.md") == (set(), set())  # all there
+        (paper / "generated" / "fig_speedup.csv").unlink()
+        assert _rebuilt(built_tree, "README.md") == (set(), {"fig_speedup"})  # the table
+    finally:
+        numbers.write_text("")
+        os.utime(numbers, (stamp, stamp))
+
+
+def test_a_missing_row_recording_is_made_again(built_tree, tmp_path):
+    # the rows' recordings were tracked by their index.txt alone: a lost one was never remade
+    results, paper, _ = built_tree
+    later = time.time() + 3600
+    rows = results / "recordings" / "table_failures"
+    rows.mkdir(parents=True, exist_ok=True)
+    files = [results / "recordings" / f"{r}.rrd" for r in _make_list("RECORDINGS")]
+    files += [rows / "tipping.rrd", rows / "overhang.rrd", rows / "index.txt"]
+    for file in files:
+        file.write_text("")
+        os.utime(file, (later, later))
+    (rows / "index.txt").write_text(
+        "# one recording per row\ntipping.rrd\t0.46 MB\noverhang.rrd\t1 MB\n"
+    )
+    os.utime(rows / "index.txt", (later, later))
+
+    def recorded():
+        out = subprocess.run(
+            ["make", "-n", f"RESULTS_DIR={results}", f"PAPER_OUT={paper}", "recordings"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
+        return re.findall(r"-m analysis\.trace (\S+)", out)
+
+    try:
+        assert recorded() == []
+        (rows / "tipping.rrd").rename(tmp_path / "tipping.rrd")  # moved aside
+        assert recorded() == ["--table"]
+    finally:
+        for file in files:
+            file.unlink(missing_ok=True)
+
+
+def test_a_change_of_installed_versions_reruns_the_experiments(tmp_path):
+    # $(STAMP) was order-only for the data files: a changed pin rebuilt the venv and reran
+    # nothing. The data depend on the installed versions (a file rewritten only when they change),
+    # not on pyproject.toml: an edit that installs nothing new reruns nothing.
+    results, paper, installed = tmp_path / "results", tmp_path / "paper", tmp_path / "installed"
+    names = _make_list("ALL")
+    now = time.time()
+    data = [f"{n}{s}" for n in names + ["bench_step_profile"] for s in (".csv", ".json")]
+    for folder, files, when in (
+        (results / "data", data, now - 2),
+        (paper / "generated", [f"{n}.json" for n in names], now - 1),
+    ):
+        folder.mkdir(parents=True)
+        for file in files:
+            (folder / file).write_text("")
+            os.utime(folder / file, (when, when))
+
+    def rebuilt(held):
+        installed.write_text(held)
+        os.utime(installed, (now - 3, now - 3))  # older than the data
+        out = subprocess.run(
+            ["make", "-n", f"RESULTS_DIR={results}", f"PAPER_OUT={paper}"]
+            + [f"INSTALLED={installed}", "figures"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
+        return set(re.findall(r"-m experiments\.(\w+)", out))
+
+    subprocess.run([sys.executable, "tools/installed.py", str(installed)], cwd=ROOT, check=True)
+    assert rebuilt(installed.read_text()) == set()  # the same versions: nothing
+    assert rebuilt("numpy==0.0\n") == set(names)  # another version: every experiment
+
+
 def test_the_makefile_header_says_what_make_figures_does(built_tree):
     # it said "never simulates", yet after an edit to a shared library module make figures reruns
     # every experiment (its data is older than the code it runs)
@@ -243,3 +336,35 @@ def test_make_runs_serially_even_when_asked_for_jobs():
         ["make", "-pnq", "-j2", "venv"], cwd=ROOT, capture_output=True, text=True
     ).stdout
     assert re.search(r"^\.NOTPARALLEL:", database, re.M)
+
+
+@pytest.mark.parametrize(
+    "quick, tree, flag",
+    [
+        ("0", "results", ""),
+        ("no", "results", ""),
+        ("False", "results", ""),
+        ("", "results", ""),
+        ("1", "results/quick", "--quick"),
+        ("yes", "results/quick", "--quick"),
+    ],
+)
+def test_quick_0_no_false_mean_the_full_sizes(quick, tree, flag):
+    # any non-empty QUICK meant quick: `make reproduce QUICK=0` ran the small sizes
+    def value(variable):
+        return subprocess.run(
+            ["make", "-s", f"print-{variable}", f"QUICK={quick}"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout.strip()
+
+    assert (value("RESULTS_DIR"), value("QUICKFLAG")) == (tree, flag)
+
+
+def test_a_quick_value_that_is_neither_on_nor_off_is_refused():
+    out = subprocess.run(
+        ["make", "-s", "print-RESULTS_DIR", "QUICK=maybe"], cwd=ROOT, capture_output=True, text=True
+    )
+    assert out.returncode != 0 and "QUICK=maybe is neither on nor off" in out.stderr

@@ -90,3 +90,21 @@ def test_replotting_does_not_simulate(quick_tree):
     assert out.returncode == 0, out.stderr
     assert "python -m experiments." not in out.stdout
     assert {p: p.stat().st_mtime_ns for p in before} == before
+
+
+def test_the_glance_names_the_commit_of_an_experiment_rerun_alone(quick_tree):
+    # Only analysis.paper writes generated/setup.json, and the glance read its commit from there
+    # without depending on it: after an experiment rerun alone at another commit (`make
+    # fig_speedup`), `make glance` named the last paper's commit for every result, and `make
+    # reproduce` never corrected it. The glance reads the data's metadata itself. (Runs last: it
+    # leaves fig_speedup's metadata naming a made-up commit.)
+    results, paper, _ = quick_tree
+    meta_path = results / "data" / "fig_speedup.json"
+    meta = json.loads(meta_path.read_text())
+    meta["git"] = {"commit": "feedbeef" * 5, "dirty": False}
+    meta_path.write_text(json.dumps(meta))
+    os.utime(results / "data" / "fig_speedup.csv")  # rerun: newer than what was drawn from it
+    out = _make("glance", "QUICK=1", f"RESULTS_DIR={results}", f"PAPER_OUT={paper}")
+    assert out.returncode == 0, out.stderr
+    glance = (paper / "generated" / "glance.md").read_text()
+    assert "`fig_speedup` from commit `feedbeeffe`" in glance, glance.splitlines()[2]

@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 from analysis import bench_step as a_bench_step
-from analysis import paper, style
+from analysis import glance, paper, style
 from study import metadata, paths
 
 TABLE = pd.DataFrame({"scenario": [f"s{i}" for i in range(200)], "value": range(200)})
@@ -43,6 +43,20 @@ def test_a_whole_file_is_read(data):
     assert FAKE([]) == {"rows": 200}
     meta = json.loads((data / "fake.json").read_text())
     assert meta["csv"]["rows"] == 200 and len(meta["csv"]["sha256"]) == 64
+
+
+def test_the_numbers_name_the_data_file_they_were_read_from(data):
+    # every generated .json said "results/data/<name>.csv": wrong for a quick tree's data, and
+    # for the set-up, which has no data file
+    FAKE([])
+    numbers = json.loads((paths.GENERATED / "fake.json").read_text())
+    assert numbers["source"] == str(data / "fake.csv")  # outside the repository: absolute
+    quick = paths.ROOT / "results" / "quick" / "data" / "fake.csv"
+    style.write_numbers("fake", {}, {}, source=quick)
+    numbers = json.loads((paths.GENERATED / "fake.json").read_text())
+    assert numbers["source"] == "results/quick/data/fake.csv"
+    style.write_numbers("setup", {}, {})
+    assert "source" not in json.loads((paths.GENERATED / "setup.json").read_text())
 
 
 def test_a_csv_cut_mid_line_is_refused(data):
@@ -98,6 +112,38 @@ def test_the_paper_refuses_damaged_metadata_by_name(data):
     (data / "fake.json").write_text("not json")
     message = _refused(paper.main)
     assert str(data / "fake.json") in message
+
+
+def test_the_glance_refuses_missing_numbers_in_one_line_naming_its_target(data):
+    # it raised FileNotFoundError (a traceback) for generated/setup.json, advising `make figures`,
+    # which never writes that file; it now reads the set-up from the data's metadata itself
+    meta = metadata.collect(None, {}, script="fig_speedup")
+    metadata.write_results("fig_speedup", TABLE, meta)
+    message = _refused(glance.main)
+    assert f"{paths.GENERATED / 'fig_speedup.json'} is missing" in message
+    assert "`make glance`" in message and "`python -m analysis.fig_speedup`" in message
+    for name in ("fake", "fig_speedup"):  # and without any experiment's metadata
+        (data / f"{name}.json").unlink()
+    assert "no experiment metadata" in _refused(glance.main)
+
+
+def test_the_paper_names_a_missing_input_and_what_writes_it(data, tmp_path, monkeypatch):
+    # typst's "file not found" was an uncaught TypstError traceback
+    out = tmp_path / "paper_out"
+    monkeypatch.setattr(paths, "PAPER_OUT", out)
+    monkeypatch.setattr(paths, "GENERATED", out / "generated")
+    monkeypatch.setattr(paths, "FIGURES", out / "figures")
+    monkeypatch.setattr(paths, "PDF", out / "paper.pdf")
+    metadata.write_results("fig_speedup", TABLE, metadata.collect(None, {}, script="fig_speedup"))
+    message = _refused(paper.main)  # no analysis has run: the first numbers the paper reads
+    assert " is missing: `make paper` draws it again, or `python -m analysis." in message
+    assert str(out / "generated") in message
+    # a figure: named by the analysis whose numbers list it among their outputs
+    numbers = {"numbers": {}, "outputs": ["figures/fig_extremes.svg"]}
+    (out / "generated" / "table_extremes.json").write_text(json.dumps(numbers))
+    message = paper.missing_input(out / "figures" / "fig_extremes.svg", out)
+    assert message.endswith("`python -m analysis.table_extremes`"), message
+    assert "no analysis records writing it" in paper.missing_input(out / "figures" / "x.svg", out)
 
 
 def test_the_rerun_hint_for_quick_data_names_the_quick_run(tmp_path):

@@ -4,6 +4,10 @@ make would take it for a full result), however it is started; the Makefile names
 The experiments' measurements are replaced by tiny fakes here: what is checked is the command
 line and where the files land, not the numbers."""
 
+import os
+import subprocess
+import sys
+
 import pandas as pd
 import pytest
 
@@ -63,6 +67,31 @@ def test_an_explicit_data_dir_wins(tree, tmp_path_factory):
     FAKE(["--quick"], data_dir=folder)
     assert (folder / "fake.csv").exists()
     assert not (tree / "quick").exists() and not (tree / "data").exists()
+
+
+def _paper_out(env):
+    """study.paths.PAPER_OUT in a fresh process with FREEZE2D_* set as ``env`` says."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith("FREEZE2D_")} | env
+    return subprocess.run(
+        [sys.executable, "-c", "from study import paths; print(paths.PAPER_OUT)"],
+        cwd=paths.ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.strip()
+
+
+def test_the_paper_outputs_follow_the_results_tree(tmp_path):
+    # FREEZE2D_RESULTS=results/quick alone wrote the quick tree's figures, numbers and set-up into
+    # the full paper's paper/generated (then failed on what it lacked there)
+    assert _paper_out({"FREEZE2D_RESULTS": str(tmp_path)}) == str(tmp_path / "paper")
+    assert _paper_out({}) == str(paths.PAPER)
+    assert _paper_out({"FREEZE2D_RESULTS": str(paths.ROOT / "results")}) == str(paths.PAPER)
+    given = tmp_path / "elsewhere"
+    assert _paper_out({"FREEZE2D_RESULTS": str(tmp_path), "FREEZE2D_PAPER_OUT": str(given)}) == (
+        str(given)
+    )
 
 
 # ---- the experiments with a command line of their own ----------------------------------------

@@ -78,6 +78,9 @@ def test_only_one_scenario_end_to_end(tmp_path):
     assert set(part["scenario"]) == {"slope_creep"} and len(part) == len(SYSTEMS)
     meta = json.loads((tmp_path / "only" / "table_failures.json").read_text())
     assert list(meta["parameters"]["scenarios"]) == ["slope_creep"]
+    # the configuration recorded is what ran (it listed all 13 scenarios)
+    assert meta["parameters"]["config"]["scenarios"] == ["slope_creep"]
+    assert meta["parameters"]["config"]["repeats"] == table_failures.QUICK["repeats"]
     # the store keeps the scenario's runs (truth + every system + sim's systems without the
     # presolve) for the whole table's run
     store = tmp_path / "partial" / "table_failures-quick.jsonl"

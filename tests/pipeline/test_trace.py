@@ -447,6 +447,25 @@ def test_a_refused_reference_is_replaced_by_the_next_system_and_said(tmp_path, c
     assert note in about(entities) and note in capsys.readouterr().err
 
 
+@pytest.mark.parametrize(
+    "argv, refused",
+    [
+        (["seed_fig1", "--arrow-scale", "nan"], "--arrow-scale: must be a finite number > 0"),
+        (["seed_fig1", "--arrow-scale", "-0.5"], "--arrow-scale: must be a finite number > 0"),
+        (["seed_fig1", "--arrow-scale", "inf"], "--arrow-scale: must be a finite number > 0"),
+        # --out was ignored with --table (one file per row, into --out-dir)
+        (["--table", "table_failures", "--out", "x.rrd"], "--table [--out-dir DIR]"),
+    ],
+)
+def test_a_meaningless_option_is_refused_in_one_line(argv, refused, tmp_path, capsys):
+    # an arrow scale of nan drew no arrows, a negative one reversed them, silently
+    with pytest.raises(SystemExit) as exc:
+        trace.main([*argv, "--out-dir", str(tmp_path)] if "--table" in argv else argv)
+    assert exc.value.code == 2
+    assert refused in capsys.readouterr().err.strip().splitlines()[-1]
+    assert not list(tmp_path.iterdir())  # nothing recorded
+
+
 def test_size_is_only_a_size_and_systems_must_name_one(capsys):
     """--size went to the builder's first argument, whatever it was: seed_fig1 (none) raised a
     TypeError, seed_fig3 took it as the speed, single_box as its width in m. "--systems ,"

@@ -201,3 +201,18 @@ def check_policy_arguments(freeze, policy_parameters, init):
             f"freeze={freeze!r} ({', '.join(takes) or 'it takes none'})"
             + (f"; did you mean {near[0]}?" if near else "")
         )
+
+
+def check_policy_gravity(freeze, gravity):
+    """ValueError if the policy cannot run under ``gravity`` (m/s^2, (2,)): ``paper`` needs it
+    straight down. The seed's states are defined against it: a floor-like surface is one whose
+    normal is within 1 degree of +y, and VERTICAL_STABLE holds a vertex's vertical motion. Under any
+    other gravity they freeze what it moves (a box on the floor under gravity (0, 9.81) was held
+    down, frozen, where ``off`` sends it to y = 5.4 in 1 s)."""
+    gx, gy = float(gravity[0]), float(gravity[1])
+    if freeze == "paper" and not (gx == 0.0 and gy < 0.0):
+        raise ValueError(
+            f"freeze='paper' needs gravity straight down (0, -g), g > 0: the seed's floor test and "
+            f"vertical holds assume it; got gravity ({gx:g}, {gy:g}). Use freeze='extended' (any "
+            f"gravity) or 'sleep'"
+        )

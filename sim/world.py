@@ -32,6 +32,7 @@ from .scene import Scene
 from .state import State
 from .tolerances import check_step
 from .validation import (
+    check_policy_gravity,
     limits_why,
     initial_sweeps,
     MAX_SUBSTEPS,
@@ -195,17 +196,7 @@ class World:
         self.initial_iterations = initial_sweeps(initial_iterations, self.warm_starting)
         self.freeze = freeze
         self.policy, self.policy_parameters = resolve(freeze, policy_parameters)
-        gx, gy = self._gravity
-        if freeze == "paper" and not (gx == 0.0 and gy < 0.0):
-            # The seed's states are defined against straight-down gravity: a floor-like surface
-            # is one whose normal is within 1 degree of +y, and VERTICAL_STABLE holds a vertex's
-            # vertical motion. Under any other gravity they freeze what it moves (a box on the
-            # floor under gravity (0, 9.81) was held down, frozen, instead of falling upward).
-            raise ValueError(
-                f"freeze='paper' needs gravity straight down (0, -g), g > 0: the seed's floor "
-                f"test and vertical holds assume it; got gravity ({gx:g}, {gy:g}). Use "
-                f"freeze='extended' (any gravity) or 'sleep'"
-            )
+        check_policy_gravity(freeze, self._gravity)
 
         packed = pack(scene)
         self.n_bodies = packed.n_dynamic

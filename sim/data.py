@@ -57,6 +57,7 @@ class Settings(NamedTuple):
     rest_steps: int  # steps (extended)
     slip_speed: float  # m/s   (extended)
     opening_speed: float  # m/s   (extended)
+    closing_speed: float  # m/s   (extended)
     friction_margin: float  # fraction of mu (extended)
     tip_margin: float  # fraction of a body's size (extended)
     mixed_masses: bool  # two dynamic bodies' masses differ by > soft_step.HARD_RATIO

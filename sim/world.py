@@ -278,6 +278,7 @@ class World:
             rest_steps=int(params.get("rest_steps", 1)),
             slip_speed=float(params.get("slip_speed", 0.0)),
             opening_speed=float(params.get("opening_speed", 0.0)),
+            closing_speed=float(params.get("closing_speed", 0.0)),
             friction_margin=float(params.get("friction_margin", 0.0)),
             tip_margin=float(params.get("tip_margin", 0.0)),
             mixed_masses=mixed_masses(p.inv_mass[:n]),
@@ -482,18 +483,18 @@ class World:
 
     def why_awake(self):
         """(N,) str: why each body is awake after the last step, the first stage of ``extended``'s
-        rest test that refused it ('' for a frozen body): "moving" (|v| + |w| extent at or
-        above rest_speed), "untouched" (slower, but with no contact, no pair whose fat boxes
-        overlap: nothing near it can hold it, and the rest test does not look at it),
-        "changing" (slow, but its velocity changed by more than rest_acceleration dt, or it was
-        not tested in the step before), "counting" (slow and steady for fewer than rest_steps
-        steps), "sliding" (a contact at its friction limit while its surfaces slip), "deep" (a
-        contact deeper than twice its slop, still being pushed open), "neighbour" (it touches an
-        awake body in motion), "uncertified" (no contact forces hold it still with margin, alone
-        or with the bodies it touches), "on_awake" (certified, but resting on, or braced by, an
-        awake body that does not freeze with it); "untested" before the first step. What a pile
-        is still waiting for, which its velocities do not say. Only ``extended`` has a rest test
-        of stages: any other policy raises ValueError."""
+        rest test that refused it ('' for a frozen body): "moving" (|v| + |w| extent at or above
+        rest_speed), "untouched" (slower, but with no contact, no pair whose fat boxes overlap:
+        nothing near it can hold it, and the rest test does not look at it), "changing" (slow, but
+        its velocity changed by more than rest_acceleration dt, or it was not tested in the step
+        before), "counting" (slow and steady for fewer than rest_steps steps), "sliding" (a contact
+        at its friction limit while its surfaces slip), "closing" (a point apart, within slop, whose
+        gap is still closing), "deep" (a contact deeper than twice its slop, still being pushed
+        open), "neighbour" (it touches an awake body in motion), "uncertified" (no contact forces
+        hold it still with margin, alone or with the bodies it touches), "on_awake" (certified, but
+        resting on, or braced by, an awake body that does not freeze with it); "untested" before the
+        first step. What a pile is still waiting for, which its velocities do not say. Only
+        ``extended`` has a rest test of stages: any other policy raises ValueError."""
         if self.freeze != "extended":
             raise ValueError(
                 f"why_awake: only freeze='extended' records why a body is awake (its rest test "

@@ -14,7 +14,10 @@ passes, with no timer (``rest_steps`` = 1):
      and still opening faster than ``opening_speed`` (m/s): the soft contact is pushing it out;
   4. not sliding: none of its contacts has friction at its Coulomb limit (98%) while the surfaces
      slip faster than ``slip_speed`` (m/s). Motion the forces explain is not rest: a box gliding
-     on ice is slow long before its friction stops it;
+     on ice is slow long before its friction stops it. Nor closing: no point of its contacts is
+     apart but within slop while its gap closes faster than ``closing_speed`` (m/s): a body
+     still moving onto a surface has not met it (the certificate counts such a point as a
+     support, which could "stop" a drift toward a wall before the body reached it);
   5. certified (``sim/freeze/certificate.py``): contact forces exist that hold it in static
      equilibrium with margin: its supports' forces inside their friction cones shrunk by
      ``friction_margin``, and still holding with an extra moment of ``tip_margin`` times its size
@@ -116,6 +119,7 @@ from .extended_layout import (
     SUPPORT_NY,
     TESTED,
     TOUCHED,
+    WAIT_CLOSING,
     WAIT_DEEP,
     WAIT_SLIDING,
     WAIT_UNCERTIFIED,
@@ -125,6 +129,7 @@ from .extended_layout import (
     is_support,
 )
 from .extended_rest import (
+    CLOSING,
     DEEP,
     SLIDING,
     on_the_awake,
@@ -151,6 +156,7 @@ PARAMETERS = {
     "rest_steps": 1,
     "slip_speed": 1e-3,
     "opening_speed": 1e-3,
+    "closing_speed": 1e-3,
     "friction_margin": 0.05,
     "tip_margin": 0.02,
 }
@@ -406,12 +412,12 @@ def _candidates(settings, counters, bodies, contacts, activity, touched, queue):
             or (0 <= b < n_dyn and body_int[b, MARK] == 1)
         ):
             continue
-        state = unsettled(c, settings.slip_speed, settings.opening_speed, dt, bodies, contacts)
-        if state == SLIDING:
+        state = unsettled(c, settings, dt, bodies, contacts)
+        if state == SLIDING or state == CLOSING:
             for body in (a, b):
                 if 0 <= body < n_dyn:
                     if body_int[body, MARK] == 1:
-                        body_int[body, WAITING] = WAIT_SLIDING
+                        body_int[body, WAITING] = WAIT_SLIDING if state == SLIDING else WAIT_CLOSING
                     body_int[body, MARK] = 0
         elif state == DEEP:
             for body in (a, b):

@@ -66,7 +66,8 @@ NEVER_TESTED = -1
     # a group (extended_rest.wedges)
     WAIT_ON_AWAKE,  # certified, but rests on (or, braced, is pressed by) an awake body not
     # freezing with it
-) = range(9)
+    WAIT_CLOSING,  # a point apart within its slop whose gap is still closing: moving onto it
+) = range(10)
 WAIT_NAMES = (
     "",
     "moving",
@@ -77,6 +78,7 @@ WAIT_NAMES = (
     "neighbour",
     "uncertified",
     "on_awake",
+    "closing",
 )
 
 #: the states the policy moves a body between

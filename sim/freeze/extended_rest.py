@@ -3,7 +3,8 @@ beyond its own speed (``sim.freeze.extended`` runs them in ``after_solve``; the 
 static equilibrium is ``certificate.py``).
 
   slow_and_steady  a body's own speed and its change since its last test, and the rest count
-  unsettled     a contact still working: sliding at its friction limit, or deep and opening
+  unsettled     a contact still working: sliding at its friction limit, a gap still closing,
+                or deep and opening
   whole_groups  a candidate touching an awake body in motion is no candidate (to a fixed point)
   wedges        candidates refused one by one, certified together with the candidates they touch
                 as one rigid body (``certificate.group_holds``)
@@ -59,7 +60,7 @@ from .extended_layout import (
 #: a contact whose friction is at this share of its Coulomb limit, or more, is sliding
 SLIDING_SHARE = 0.98
 #: what ``unsettled`` finds in a contact
-SLIDING, DEEP = 1, 2
+SLIDING, DEEP, CLOSING = 1, 2, 3
 
 
 @inline_kernel
@@ -145,14 +146,26 @@ def whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
 
 
 @inline_kernel
-def unsettled(c, slip_speed, opening_speed, dt, bodies, contacts):
+def unsettled(c, settings, dt, bodies, contacts):
     """Is contact c still working? ``SLIDING``: its friction at the Coulomb limit while the
-    surfaces slip faster than ``slip_speed`` (m/s); else ``DEEP``: a touching point deeper than
-    twice the pair's slop that opened faster than ``opening_speed`` (m/s) over the step (dt, s);
-    else 0. (One speed served both tests until 2026-12: raising slip_speed to let slow slides
-    through also switched the deep test off. Over 100 seeds of drop(30), piles froze whole at a
-    median step of 225.5 with both tests, 199 with the sliding test off, 204.5 with the deep one
-    off and 163 with both off, the last by freezing bodies in deep, opening contacts.)"""
+    surfaces slip faster than ``slip_speed`` (m/s); else ``CLOSING``: a point apart but within
+    the pair's slop whose gap closed faster than ``closing_speed`` (m/s) over the step (dt, s);
+    else ``DEEP``: a touching point deeper than twice the pair's slop that opened faster than
+    ``opening_speed`` (m/s) over the step; else 0 (the speeds from ``settings``).
+
+    Why CLOSING. A point within slop counts as touching, and the certificate takes it as a
+    support, which can stop the body's momentum (``certificate``, MOTION): without gravity, a box
+    drifting at 1 cm/s toward a static wall 1 mm away was frozen in its first step, and one
+    starting 1 cm away was frozen 5 mm (the slop) short of the wall, still moving. A gap that is
+    still closing has not yet met the surface that would stop it; in drop(30), seeds 0-5, no
+    body froze with such a point (291 freezes), and over 100 seeds the median time to rest
+    stayed 231 steps, 7 piles never frozen.
+
+    (One speed served the sliding and deep tests until 2026-12: raising slip_speed to let slow
+    slides through also switched the deep test off. Over 100 seeds of drop(30), piles froze
+    whole at a median step of 225.5 with both tests, 199 with the sliding test off, 204.5 with
+    the deep one off and 163 with both off, the last by freezing bodies in deep, opening
+    contacts.)"""
     position, velocity, angular_velocity = bodies.position, bodies.velocity, bodies.angular_velocity
     ci = contacts.contact_int
     cf = contacts.contact_float
@@ -163,15 +176,20 @@ def unsettled(c, slip_speed, opening_speed, dt, bodies, contacts):
     sum_pt = 0.0
     slip = 0.0
     deep = False
+    closing = False
     for j in range(ci[c, POINT_COUNT]):
         # deep and still opening: the soft contact is pushing the bodies apart (a contact that
         # carries a load sits at a steady depth, which freezing keeps as it is)
         deep = deep or (
             pf[c, j, END_SEPARATION] < -2.0 * cf[c, SLOP]
-            and pf[c, j, END_SEPARATION] - pf[c, j, SEPARATION] > opening_speed * dt
+            and pf[c, j, END_SEPARATION] - pf[c, j, SEPARATION] > settings.opening_speed * dt
         )
         if pf[c, j, END_SEPARATION] > cf[c, SLOP]:
             continue  # not touching
+        closing = closing or (
+            pf[c, j, END_SEPARATION] > 0.0
+            and pf[c, j, END_SEPARATION] - pf[c, j, SEPARATION] < -settings.closing_speed * dt
+        )
         sum_pn += pf[c, j, NORMAL_IMPULSE]
         sum_pt += pf[c, j, TANGENT_IMPULSE]
         # B's surface against A's along the tangent (ny, -nx)
@@ -186,11 +204,13 @@ def unsettled(c, slip_speed, opening_speed, dt, bodies, contacts):
     # at the limit: the solver clamps |pt| <= mu pn point by point, so a manifold at 98% of it
     # is sliding (a sticking contact sits well inside)
     if (
-        slip > slip_speed
+        slip > settings.slip_speed
         and sum_pn > 0.0
         and abs(sum_pt) >= SLIDING_SHARE * cf[c, FRICTION] * sum_pn
     ):
         return SLIDING
+    if closing:
+        return CLOSING
     return DEEP if deep else 0
 
 

@@ -64,6 +64,35 @@ def test_a_box_drifting_along_the_floor_without_gravity_keeps_drifting(friction)
     assert still.frozen[0]
 
 
+@pytest.mark.parametrize("gap", [0.001, 0.004, 0.01])
+@pytest.mark.parametrize("gravity", [False, True])
+def test_a_box_drifting_onto_a_wall_reaches_it_before_it_freezes(gap, gravity):
+    # A 1 m box moving at 1 cm/s toward a static wall ``gap`` away, nothing else slowing it
+    # (no gravity, or a frictionless floor): it stops where it meets the wall (restitution 0),
+    # as under off. A point within slop counts as touching, so the wall was a support before the
+    # box reached it, and one that could stop its drift: it froze at once 1 mm short (gap 1 mm),
+    # or 5 mm short (gap 1 cm, at the slop), still moving. On the frictionless floor the floor's
+    # contact slips at its (zero) friction limit, which keeps the box awake first ("sliding").
+    def scene():
+        box = sim.Body.box(1.0, 1.0, position=(0.0, 0.5), velocity=(0.01, 0.0), friction=0.0)
+        wall = sim.Body.box(1.0, 4.0, position=(1.0 + gap, 2.0), friction=0.0)
+        if gravity:
+            return sim.Scene(bodies=[box], static_bodies=[wall], floor_friction=0.0)
+        return sim.Scene(bodies=[box], static_bodies=[wall], gravity=(0.0, 0.0), floor_y=None)
+
+    steps = int(gap / 0.01 / (1.0 / 60.0)) + 60  # to the wall, then a second
+    reference = sim.World(scene(), freeze="off").step(steps)
+    assert reference.positions[0, 0] == pytest.approx(gap, abs=1e-5)
+    world = sim.World(scene(), freeze="extended")
+    reasons = set()
+    while not world.frozen[0] and world.step_count < steps:
+        world.step()
+        reasons.update(world.why_awake())
+    assert world.frozen[0]
+    assert world.positions[0, 0] == pytest.approx(gap, abs=1e-5)
+    assert ("sliding" if gravity else "closing") in reasons
+
+
 @pytest.mark.parametrize("gap", [0.305, 0.33, 0.355])
 def test_a_box_fired_at_a_frozen_box_passes_its_momentum_on(gap):
     # A 0.81 kg box at 3 m/s hits a frozen 1 kg box from the side, starting `gap` m away, so

@@ -74,7 +74,7 @@ from analysis.style import STATE_RGB, system_style
 from study import scenarios, targets
 from study.extremes.geometry import Shapes
 from study.metadata import code_state, collect, jsonable
-from study.paths import RECORDINGS, ensure, partial_path
+from study.paths import RECORDINGS, creatable, partial_path, writable
 from study.peers import impulse_vectors, sim_world
 from sim.files import write_text_atomically
 from study.cli import first_paragraph, positive_float
@@ -435,7 +435,7 @@ def record(target, path, steps=None, every=None, arrow_scale=0.5, progress=None)
         every = max(1, math.ceil(steps / MAX_FRAMES))
     if isinstance(every, bool) or not isinstance(every, int) or not 1 <= every <= steps:
         raise ValueError(f"every must be an integer in [1, steps={steps}], got {every!r}")
-    ensure(Path(path).parent)
+    writable(path)
     partial = partial_path(path)
     recorder = Recorder(target, partial, steps, every, arrow_scale)
     try:
@@ -491,7 +491,7 @@ def _record_one(name, args):
 def _record_table(args):
     """Every row of ``args.table`` into ``--out-dir``, then its index.txt (the Make target:
     written last, so an interrupted run is redone): one line per file with its size."""
-    folder = ensure(args.out_dir or RECORDINGS / args.table)
+    folder = creatable(args.out_dir or RECORDINGS / args.table)
     written = []
     for scenario in scenarios.SCENARIOS:
         args.out = str(folder / f"{scenario}.rrd")

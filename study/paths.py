@@ -58,6 +58,47 @@ def ensure(folder):
     return folder
 
 
+def _not_a_folder(folder):
+    """The nearest existing ancestor of ``folder`` (itself included) if it is a file, else None."""
+    for place in (folder, *folder.parents):
+        if place.exists():
+            return None if place.is_dir() else place
+    return None
+
+
+def creatable(folder):
+    """``ensure(folder)``, or a ValueError saying in one line why it cannot be made (for command
+    lines, which turn a ValueError into one line and exit status 2)."""
+    folder = Path(folder)
+    blocker = _not_a_folder(folder)
+    if blocker is not None:
+        raise ValueError(f"cannot make the folder {folder}: {blocker} is a file")
+    try:
+        return ensure(folder)
+    except OSError as exc:
+        raise ValueError(f"cannot make the folder {folder}: {exc.strerror or exc}") from None
+
+
+def writable(path):
+    """A ValueError, in one line, if the file ``path`` or its partial file (``partial_path``)
+    cannot be written; checked before the work that writes it. Unchecked, analysis.trace given
+    a folder as --out failed only at the final rename, after the whole run, and left its partial
+    file behind; an unwritable place, or a file where a folder must be, came out as a traceback."""
+    path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"cannot write {path}: it is a folder")
+    creatable(path.parent)
+    partial = partial_path(path)
+    existed = partial.exists()
+    try:
+        with open(partial, "ab"):
+            pass
+        if not existed:
+            partial.unlink()
+    except OSError as exc:
+        raise ValueError(f"cannot write {path}: {exc.strerror or exc}") from None
+
+
 def partial_path(path):
     """Where a file written in steps goes until it is whole (then renamed to ``path``): beside
     it, in the same folder (so the rename is atomic), ``<stem>.partial<suffix>``."""

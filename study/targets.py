@@ -109,7 +109,10 @@ class Target:
         if "size" in self.options:
             parts.append(f"size{self.options['size']}")
         if "dt" in self.options:
-            parts.append(f"dt{self.options['dt']:.6g}")
+            dt = self.options["dt"]
+            # short where that is exact, else every digit: 0.004 and 0.0040000001 shared a file
+            short = f"{dt:.6g}"
+            parts.append(f"dt{short if float(short) == dt else repr(float(dt))}")
         names = tuple(s.name for s in self.systems)
         if names != tuple(self.default_systems):
             parts.append("+".join(slug(n) for n in names))

@@ -30,6 +30,7 @@ time spent inside the engine's step calls, which benchmarks time (study.timing.t
 Peers never leak into ``sim``: this package imports sim, never the reverse.
 """
 
+import inspect
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -163,18 +164,39 @@ def make_runner(system, scene, dt=1 / 60, iterations=None, **settings):
             f"setting (got {system!r} with {sorted(settings)})"
         )
     iterations = DEFAULT_ITERATIONS[engine] if iterations is None else iterations
-    if engine == "sim":
+    if engine == "sim":  # sim.World names what it does not know
         return SimRunner(
             scene, dt=dt, iterations=iterations, freeze=system[len("sim-") :], **settings
         )
-    sleeping = system.endswith("-sleep")
-    if engine == "pymunk":
-        return PymunkRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
+    runner = PEER_RUNNERS[engine]
+    _check_settings(system, runner, settings)
     if engine == "box2d3":
-        return Box2d3Runner(scene, dt=dt, iterations=iterations, **settings)
-    if engine == "box2d":
-        return Box2dRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
-    return PybulletRunner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
+        return runner(scene, dt=dt, iterations=iterations, **settings)
+    sleeping = system.endswith("-sleep")
+    return runner(scene, dt=dt, iterations=iterations, sleeping=sleeping, **settings)
+
+
+#: each peer engine's runner class
+PEER_RUNNERS = {
+    "pymunk": PymunkRunner,
+    "pybullet": PybulletRunner,
+    "box2d": Box2dRunner,
+    "box2d3": Box2d3Runner,
+}
+
+
+def _check_settings(system, runner, settings):
+    """ValueError naming a setting ``runner`` does not take, and those it does, as sim.World's
+    (a misspelt setting raised TypeError from the runner, which callers that take a ValueError
+    as "the system refuses this", such as analysis.trace, did not catch)."""
+    chosen = {"self", "scene", "dt", "iterations", "sleeping"}  # by make_runner's arguments
+    known = [p for p in inspect.signature(runner.__init__).parameters if p not in chosen]
+    unknown = sorted(set(settings) - set(known))
+    if unknown:
+        raise ValueError(
+            f"{system}: {', '.join(unknown)}: not a setting of {runner.__name__} (it takes "
+            f"{', '.join(known) or 'none'})"
+        )
 
 
 __all__ = [

@@ -59,6 +59,7 @@ from sim.arguments import count, positive
 from sim.scene import Scene
 
 from .lifetime import ClosesOnExit
+from .guards import check_finite
 from .pose import body_label, com_pose
 
 #: Box2D v3's solve sweeps per substep: one biased, one relax (not a setting in Box2D v3).
@@ -225,6 +226,7 @@ class Box2d3Runner(ClosesOnExit):
     def step(self, n=1):
         """Advance ``n`` steps of ``dt``; RuntimeError if a body ends them at one of Box2D's
         speed limits (it would have been slowed silently)."""
+        self.ensure_open()
         n = count(n, "n", 0)
         step, dt, substeps = self.world.step, self.dt, self.substeps
         t0 = time.perf_counter()
@@ -233,6 +235,10 @@ class Box2d3Runner(ClosesOnExit):
         self.engine_seconds += time.perf_counter() - t0
         self.step_count += n
         if self._body_list:
+            check_finite(
+                "box2d3", self.scene, self.step_count, self.positions, self.angles,
+                self.velocities, self.angular_velocities,
+            )  # fmt: skip
             speed = np.hypot(*self.velocities.T).max()
             spin = np.abs(self.angular_velocities).max()
             # float32: a clamped body sits at the limit to round-off
@@ -259,27 +265,32 @@ class Box2d3Runner(ClosesOnExit):
     @property
     def positions(self):
         """(N,2) m, centres of mass."""
+        self.ensure_open()
         return self._rows(self._bodies.get_positions, 2)
 
     @property
     def angles(self):
         """(N,) rad, CCW, in (-pi, pi] (Box2D v3 keeps a rotation, not an angle)."""
+        self.ensure_open()
         rot = self._rows(self._bodies.get_rotations, 2)  # (cos, sin)
         return np.arctan2(rot[:, 1], rot[:, 0])
 
     @property
     def velocities(self):
         """(N,2) m/s of the centres of mass."""
+        self.ensure_open()
         return self._rows(self._bodies.get_linear_velocities, 2)
 
     @property
     def angular_velocities(self):
         """(N,) rad/s."""
+        self.ensure_open()
         return self._rows(self._bodies.get_angular_velocities, 1)[:, 0]
 
     @property
     def asleep(self):
         """(N,) bool: Box2D's body is not awake (never, with sleeping off)."""
+        self.ensure_open()
         return np.array([not b.awake for b in self._body_list], dtype=bool)
 
     def close(self):
@@ -287,6 +298,7 @@ class Box2d3Runner(ClosesOnExit):
         if self.world is not None:
             self.world.destroy()
             self.world = None
+        self.closed = True
 
     def __repr__(self):
         return (

@@ -93,6 +93,7 @@ from sim.scene import Scene
 from .lifetime import ClosesOnExit
 from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
+from .guards import BOX2D_INERTIA, BOX2D_MASS, check_finite, check_mass, steps
 from .pose import body_label, com_pose
 from .pybullet_urdf import inset
 
@@ -317,6 +318,7 @@ class Box2dRunner(ClosesOnExit):
         for i, b in enumerate(scene.bodies):
             where = body_label("body", i, b.name)
             com, local, mass, inertia = com_pose(b)
+            check_mass("box2d", scene, i, mass, inertia, BOX2D_MASS, BOX2D_INERTIA)
             v0, w0 = math.hypot(*b.velocity), abs(b.angular_velocity)
             if v0 >= self.max_speed or w0 >= self.max_angular_speed:
                 raise ValueError(
@@ -384,12 +386,12 @@ class Box2dRunner(ClosesOnExit):
         """Advance ``n`` steps of ``dt``. RuntimeError if a body ends the call at Box2D's
         per-step motion limit (see the module docstring): the run is then no longer the
         scene's. The check's time is not in ``engine_seconds``."""
-        if isinstance(n, bool) or int(n) != n or n < 0:
-            raise ValueError(f"n must be an integer >= 0, got {n!r}")
+        self.ensure_open()
+        n = steps(n)
         step, dt = self.world.Step, self.dt
         vi, pi = self.iterations, self.position_iterations
         t0 = time.perf_counter()
-        for _ in range(int(n)):
+        for _ in range(n):
             step(dt, vi, pi)
         self.engine_seconds += time.perf_counter() - t0
         self.step_count += n
@@ -398,6 +400,10 @@ class Box2dRunner(ClosesOnExit):
 
     def _check_speed(self):
         v = self.velocities
+        check_finite(
+            "box2d", self.scene, self.step_count, self.positions, self.angles, v,
+            self.angular_velocities,
+        )  # fmt: skip
         speed = np.hypot(v[:, 0], v[:, 1])
         spin = np.abs(self.angular_velocities)
         fast = np.flatnonzero(
@@ -423,26 +429,31 @@ class Box2dRunner(ClosesOnExit):
     @property
     def positions(self):
         """(N,2) m, centres of mass (the bodies' origins)."""
+        self.ensure_open()
         return np.array([tuple(b.position) for b in self._bodies], dtype=np.float64)
 
     @property
     def angles(self):
         """(N,) rad, CCW, unwrapped (Box2D's sweep angle)."""
+        self.ensure_open()
         return np.array([b.angle for b in self._bodies], dtype=np.float64)
 
     @property
     def velocities(self):
         """(N,2) m/s of the centres of mass."""
+        self.ensure_open()
         return np.array([tuple(b.linearVelocity) for b in self._bodies], dtype=np.float64)
 
     @property
     def angular_velocities(self):
         """(N,) rad/s, CCW."""
+        self.ensure_open()
         return np.array([b.angularVelocity for b in self._bodies], dtype=np.float64)
 
     @property
     def asleep(self):
         """(N,) bool, not Box2D's awake flag. Always False with sleeping off."""
+        self.ensure_open()
         return np.array([not b.awake for b in self._bodies], dtype=bool)
 
     def contacts(self):
@@ -450,6 +461,7 @@ class Box2dRunner(ClosesOnExit):
         body_a, body_b (K,) int (scene body i, static body j as N + j, -1 the floor); point (K,2)
         m, midway between the two surfaces; normal (K,2) unit, from A to B; normal_impulse,
         tangent_impulse (K,) N s, what Box2D's solver applied over the last step."""
+        self.ensure_open()
         rows = []
         for c in self.world.contacts:
             if not c.touching or not c.enabled:
@@ -484,6 +496,7 @@ class Box2dRunner(ClosesOnExit):
         """Drop the Box2D world (idempotent); pybox2d frees it with its last reference."""
         self._bodies = []
         self.world = None
+        self.closed = True
 
     def __repr__(self):
         return (

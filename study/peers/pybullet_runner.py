@@ -88,6 +88,7 @@ from sim.scene import Scene
 from .lifetime import ClosesOnExit
 from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
+from .guards import PYBULLET_MASS, check_finite, check_mass, steps
 from .pose import com_pose
 from .pybullet_urdf import (
     COLLISION_MARGIN,
@@ -215,6 +216,7 @@ class PybulletRunner(ClosesOnExit):
         try:
             for i, b in enumerate(scene.bodies):
                 com, local, mass, inertia = com_pose(b)
+                check_mass("pybullet", scene, i, mass, inertia, PYBULLET_MASS)
                 geometry, kind = geometry_xml(local, folder, f"body{i}")
                 shapes[kind] += 1
                 path = Path(folder) / f"body{i}.urdf"
@@ -373,9 +375,8 @@ class PybulletRunner(ClosesOnExit):
     # ---- stepping ---------------------------------------------------------------------------
     def step(self, n=1):
         """Advance ``n`` steps of ``dt``."""
-        if isinstance(n, bool) or int(n) != n or n < 0:
-            raise ValueError(f"n must be an integer >= 0, got {n!r}")
-        n = int(n)
+        self.ensure_open()
+        n = steps(n)
         if n == 0:
             return self
         c = self._client
@@ -408,6 +409,8 @@ class PybulletRunner(ClosesOnExit):
                 step(physicsClientId=c)
             self.engine_seconds += clock() - t0
             self.step_count += n
+        # the runner's read, not Bullet's (not timed), kept for the observables until the next step
+        check_finite("pybullet", self.scene, self.step_count, *self._read()[:4])
         return self
 
     @property
@@ -461,27 +464,32 @@ class PybulletRunner(ClosesOnExit):
     @property
     def positions(self):
         """(N,2) m, centres of mass."""
+        self.ensure_open()
         return self._read()[0].copy()
 
     @property
     def angles(self):
         """(N,) rad, CCW, unwrapped (from the planar joint's rotation coordinate)."""
+        self.ensure_open()
         return self._read()[1].copy()
 
     @property
     def velocities(self):
         """(N,2) m/s of the centres of mass."""
+        self.ensure_open()
         return self._read()[2].copy()
 
     @property
     def angular_velocities(self):
         """(N,) rad/s, CCW."""
+        self.ensure_open()
         return self._read()[3].copy()
 
     @property
     def asleep(self):
         """(N,) bool: velocities exactly 0.0 and pose unchanged over the last step (Bullet does
         not report sleep). Always False with sleeping off."""
+        self.ensure_open()
         n = len(self._ids)
         if not self.sleeping or self._previous is None or self.step_count == 0:
             return np.zeros(n, dtype=bool)
@@ -530,6 +538,7 @@ class PybulletRunner(ClosesOnExit):
         m (on B), "normal": (K,2) unit, A to B (Bullet's contactNormalOnB points from B to A:
         turned round), "normal_impulse": (K,) N s, pushing B along the normal}. Bullet reports
         a force, its impulse over the step divided by dt: times dt again."""
+        self.ensure_open()
         index = {uid: i for i, uid in enumerate(self._ids)}
         index.update({uid: len(self._ids) + j for j, uid in enumerate(self._static_ids)})
         found = pb.getContactPoints(physicsClientId=self._client)
@@ -552,6 +561,7 @@ class PybulletRunner(ClosesOnExit):
     # ---- lifetime ---------------------------------------------------------------------------
     def close(self):
         """Disconnect the pybullet client (idempotent)."""
+        self.closed = True
         client, self._client = getattr(self, "_client", -1), -1
         if client is not None and client >= 0:
             try:

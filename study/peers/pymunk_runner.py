@@ -41,6 +41,7 @@ measures make it depend on neither:
 """
 
 import math
+import time
 
 import numpy as np
 import pymunk
@@ -53,6 +54,7 @@ from sim.scene import Scene
 from .lifetime import ClosesOnExit
 from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
+from .guards import check_finite, check_mass, steps
 from .pose import com_pose
 
 #: First shape id given out by the space: above every vertex index a sim polygon can have.
@@ -140,6 +142,9 @@ class PymunkRunner(ClosesOnExit):
         # a copy: edits to the caller's scene after this do not reach the run (nor its reports)
         self.scene = scene.snapshot()
         self.step_count = 0
+        #: s of wall time inside Chipmunk's step calls (what benchmarks time; study.timing): the
+        #: check for a non-finite state after each call is the runner's, not Chipmunk's
+        self.engine_seconds = 0.0
         scene = self.scene
 
         space = pymunk.Space()
@@ -156,8 +161,9 @@ class PymunkRunner(ClosesOnExit):
         # pymunk body -> its index in contacts(): static body j is N + j, the floor -1 (sim's)
         self._static_index = {}
         x_lo, x_hi = math.inf, -math.inf
-        for b in scene.bodies:
+        for i, b in enumerate(scene.bodies):
             com, local, mass, inertia = com_pose(b)
+            check_mass("pymunk", scene, i, mass, inertia)
             local = canonical_vertices(local)
             pm = pymunk.Body(mass, inertia)
             pm.position, pm.angle = com, b.angle
@@ -203,6 +209,8 @@ class PymunkRunner(ClosesOnExit):
             "pymunk_version": pymunk.version,
             "chipmunk_version": pymunk.chipmunk_version,
             "dt": self.dt,
+            # what study.timing times for this runner: not the runner's own Python reads
+            "timed": "engine_seconds: wall time inside Chipmunk's step calls",
             "iterations": space.iterations,
             "sleeping": self.sleeping,
             "sleep_time_threshold": space.sleep_time_threshold,
@@ -245,10 +253,19 @@ class PymunkRunner(ClosesOnExit):
 
     def step(self, n=1):
         """Advance ``n`` steps of ``dt``."""
+        self.ensure_open()
+        n = steps(n)
         step, dt = self.space.step, self.dt
+        t0 = time.perf_counter()
         for _ in range(n):
             step(dt)
+        self.engine_seconds += time.perf_counter() - t0
         self.step_count += n
+        if n:
+            check_finite(
+                "pymunk", self.scene, self.step_count, self.positions, self.angles,
+                self.velocities, self.angular_velocities,
+            )  # fmt: skip
         return self
 
     @property
@@ -260,26 +277,31 @@ class PymunkRunner(ClosesOnExit):
     @property
     def positions(self):
         """(N,2) m, centres of mass."""
+        self.ensure_open()
         return np.array([tuple(b.position) for b in self._bodies], dtype=np.float64)
 
     @property
     def angles(self):
         """(N,) rad, CCW."""
+        self.ensure_open()
         return np.array([b.angle for b in self._bodies], dtype=np.float64)
 
     @property
     def velocities(self):
         """(N,2) m/s of the centres of mass."""
+        self.ensure_open()
         return np.array([tuple(b.velocity) for b in self._bodies], dtype=np.float64)
 
     @property
     def angular_velocities(self):
         """(N,) rad/s."""
+        self.ensure_open()
         return np.array([b.angular_velocity for b in self._bodies], dtype=np.float64)
 
     @property
     def asleep(self):
         """(N,) bool, Chipmunk's is_sleeping per body."""
+        self.ensure_open()
         return np.array([b.is_sleeping for b in self._bodies], dtype=bool)
 
     def contacts(self):
@@ -290,6 +312,7 @@ class PymunkRunner(ClosesOnExit):
         total impulse (``Arbiter.total_impulse``, the impulse on its first shape), so each of
         the pair's points gets an even share of it: the sum over a pair is exact, the split
         between its points is not."""
+        self.ensure_open()
         index = {b: i for i, b in enumerate(self._bodies)}
         index.update(self._static_index)
         seen, pair, point, normal, impulse = set(), [], [], [], []
@@ -328,6 +351,7 @@ class PymunkRunner(ClosesOnExit):
     def close(self):
         """Nothing to release (the space is freed with the runner); here so every runner can be
         closed alike."""
+        self.closed = True
 
     def __repr__(self):
         return (

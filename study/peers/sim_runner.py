@@ -95,6 +95,7 @@ class SimRunner(ClosesOnExit):
 
     def step(self, n=1):
         """Advance ``n`` steps of ``dt``."""
+        self.ensure_open()
         self.world.step(n)
         return self
 
@@ -110,26 +111,31 @@ class SimRunner(ClosesOnExit):
     @property
     def positions(self):
         """(N,2) m, centres of mass."""
+        self.ensure_open()
         return self.world.positions
 
     @property
     def angles(self):
         """(N,) rad, CCW."""
+        self.ensure_open()
         return self.world.angles
 
     @property
     def velocities(self):
         """(N,2) m/s."""
+        self.ensure_open()
         return self.world.velocities
 
     @property
     def angular_velocities(self):
         """(N,) rad/s."""
+        self.ensure_open()
         return self.world.angular_velocities
 
     @property
     def asleep(self):
         """(N,) bool: the body is frozen (out of sim's awake list: no work is done for it)."""
+        self.ensure_open()
         return self.world.frozen
 
     def contacts(self):
@@ -137,12 +143,14 @@ class SimRunner(ClosesOnExit):
         static body j as N + j, the floor -1), "point": (K,2) m, "normal": (K,2) unit, A to B,
         "normal_impulse": (K,) N s pushing B along the normal over the whole step}
         (World.contacts)."""
+        self.ensure_open()
         c = self.world.contacts()
         keys = ("body_a", "body_b", "point", "normal", "normal_impulse")
         return {k: c[k] for k in keys}
 
     def close(self):
         """Nothing to release; here so every runner can be closed alike."""
+        self.closed = True
 
     def __repr__(self):
         return f"SimRunner({self.world!r})"

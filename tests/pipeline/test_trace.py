@@ -423,7 +423,10 @@ def test_different_runs_get_different_default_names(tmp_path, monkeypatch):
     assert len(set(paths)) == len(runs), paths
     assert paths[0].name == "pyramid__size3__pymunk__steps4.rrd"
     assert paths[3].name == "pyramid__size3__pybullet+pymunk__steps4.rrd"
-    assert paths[2].name == "pyramid__size3__dt0.00416667__pymunk__steps4.rrd"
+    # every digit of a dt that six do not give exactly (0.004 and 0.0040000001 shared "dt0.004")
+    assert paths[2].name == "pyramid__size3__dt0.004166666666666667__pymunk__steps4.rrd"
+    near = [targets.resolve("pyramid", size=2, dt=dt).file_stem() for dt in (0.004, 0.0040000001)]
+    assert near == ["pyramid__size2__dt0.004", "pyramid__size2__dt0.0040000001"]
     assert paths[5].name.startswith("scene-") and paths[6].name.startswith("scene-")
     assert (
         targets.resolve("table_failures/slope_creep").file_stem() == "table_failures__slope_creep"
@@ -490,3 +493,30 @@ def test_size_is_only_a_size_and_systems_must_name_one(capsys):
             "python -m analysis.trace: error: seed_fig3 has no size argument (--size sets the "
             "body count of rest_row, stack, pyramid, drop, arch)",
         ), err
+
+
+@pytest.mark.parametrize("case", ["a folder", "under a file", "in /proc", "table under a file"])
+def test_an_output_that_cannot_be_written_is_one_line_before_anything_runs(
+    tmp_path, case, capsys, monkeypatch
+):
+    """A folder given as --out failed only at the final rename, after the whole run, and left its
+    partial file; a file where a folder must be, or a place nothing can be written, came out as a
+    traceback (a reviewer, 2026-12-07)."""
+    monkeypatch.setattr(trace, "RECORDINGS", tmp_path / "recordings")
+    (tmp_path / "afile").write_text("")
+    (tmp_path / "adir").mkdir()
+    argv = {
+        "a folder": ["single_box", "--out", str(tmp_path / "adir")],
+        "under a file": ["single_box", "--out", str(tmp_path / "afile" / "x.rrd")],
+        "in /proc": ["single_box", "--out", "/proc/freeze2d-test.rrd"],
+        "table under a file": ["--table", "table_failures", "--out-dir", str(tmp_path / "afile")],
+    }[case]
+    ran = []
+    monkeypatch.setattr(trace.Recorder, "run", lambda self, progress: ran.append(1))
+    with pytest.raises(SystemExit) as stop:
+        trace.main([*argv, "--systems", "sim-off"] if case != "table under a file" else argv)
+    assert stop.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("python -m analysis.trace: error: cannot "), err
+    assert not ran
+    assert sorted(p.name for p in tmp_path.rglob("*")) == ["adir", "afile"]

@@ -235,10 +235,7 @@ class Box2d3Runner(ClosesOnExit):
         self.engine_seconds += time.perf_counter() - t0
         self.step_count += n
         if self._body_list:
-            check_finite(
-                "box2d3", self.scene, self.step_count, self.positions, self.angles,
-                self.velocities, self.angular_velocities,
-            )  # fmt: skip
+            check_finite("box2d3", self.scene, self.step_count, position=self.positions)
             speed = np.hypot(*self.velocities.T).max()
             spin = np.abs(self.angular_velocities).max()
             # float32: a clamped body sits at the limit to round-off

@@ -399,13 +399,13 @@ class Box2dRunner(ClosesOnExit):
         return self
 
     def _check_speed(self):
-        v = self.velocities
+        v, w = self.velocities, self.angular_velocities
         check_finite(
-            "box2d", self.scene, self.step_count, self.positions, self.angles, v,
-            self.angular_velocities,
+            "box2d", self.scene, self.step_count, position=self.positions, velocity=v,
+            angular_velocity=w,
         )  # fmt: skip
         speed = np.hypot(v[:, 0], v[:, 1])
-        spin = np.abs(self.angular_velocities)
+        spin = np.abs(w)
         fast = np.flatnonzero(
             (speed >= self.max_speed * (1 - FLOAT32_TOL))
             | (spin >= self.max_angular_speed * (1 - FLOAT32_TOL))

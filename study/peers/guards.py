@@ -61,19 +61,18 @@ def check_mass(engine, scene, i, mass, inertia, mass_range=None, inertia_range=N
     )
 
 
-def check_finite(engine, scene, step_count, positions, angles, velocities, angular_velocities):
-    """SimulationError, as sim.World raises, naming the first body whose pose or velocity is NaN
-    or infinite after step ``step_count``."""
-    bad = ~(
-        np.isfinite(positions).all(axis=1)
-        & np.isfinite(angles)
-        & np.isfinite(velocities).all(axis=1)
-        & np.isfinite(angular_velocities)
-    )
-    if bad.any():
-        i = int(np.flatnonzero(bad)[0])
-        raise SimulationError(
-            f"{engine}: {body_label('body', i, scene.body_name(i))} is non-finite after step "
-            f"{step_count} (position {positions[i].tolist()}, velocity "
-            f"{velocities[i].tolist()}): the run cannot go on"
-        )
+def check_finite(engine, scene, step_count, **observables):
+    """SimulationError, as sim.World raises, naming the first body with a NaN or infinite value
+    in any of ``observables`` (name: (N,) or (N,2) array) after step ``step_count``. A runner
+    passes what it reads anyway, or its positions alone: a non-finite velocity makes the
+    position non-finite in the next step, and reading every observable of 10^4 pymunk bodies
+    cost twice the step (32 ms against 15)."""
+    for name, values in observables.items():
+        values = np.asarray(values)
+        bad = ~np.isfinite(values.reshape(len(values), -1)).all(axis=1)
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise SimulationError(
+                f"{engine}: {body_label('body', i, scene.body_name(i))} is non-finite after "
+                f"step {step_count} ({name} {values[i].tolist()}): the run cannot go on"
+            )

@@ -410,7 +410,11 @@ class PybulletRunner(ClosesOnExit):
             self.engine_seconds += clock() - t0
             self.step_count += n
         # the runner's read, not Bullet's (not timed), kept for the observables until the next step
-        check_finite("pybullet", self.scene, self.step_count, *self._read()[:4])
+        position, angle, velocity, angular_velocity = self._read()[:4]
+        check_finite(
+            "pybullet", self.scene, self.step_count, position=position, angle=angle,
+            velocity=velocity, angular_velocity=angular_velocity,
+        )  # fmt: skip
         return self
 
     @property

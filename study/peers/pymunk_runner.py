@@ -262,10 +262,7 @@ class PymunkRunner(ClosesOnExit):
         self.engine_seconds += time.perf_counter() - t0
         self.step_count += n
         if n:
-            check_finite(
-                "pymunk", self.scene, self.step_count, self.positions, self.angles,
-                self.velocities, self.angular_velocities,
-            )  # fmt: skip
+            check_finite("pymunk", self.scene, self.step_count, position=self.positions)
         return self
 
     @property

@@ -103,7 +103,34 @@ def draw(table, meta):
         "frames": steps,
         "com_outside_support_step": int(left["step"].iloc[0]) if len(left) else float("nan"),
         **fs.body_a_numbers(table, POLICIES),
+        **_paper_against_off(table, a_events),
     }
+
+
+def _paper_against_off(table, a_events):
+    """What the paper's prose says of A under ``paper`` against ``off``, read from the run: how
+    far A ends along its slide beyond where off's A ends (m, < 0: short of it), and, over A's
+    first stay on one vertex (VS: the steps from entering it to the next event), how far A
+    turned under each (rad). Written from a reading of the figure until 2026-12-07, the text
+    said "turning more slowly ... ends short"; the run had it turn faster and end 0.078 m
+    beyond."""
+    a = {p: fs.bodies(table, p).query("name == 'A'").set_index("step") for p in ("paper", "off")}
+    last = int(table["step"].max())
+    along = np.sign(a["off"].loc[last, "x"] - a["off"].loc[0, "x"])
+    out = {
+        "paper_end_beyond_off_m": float(
+            along * (a["paper"].loc[last, "x"] - a["off"].loc[last, "x"])
+        )
+    }
+    steps = [int(s) for s in a_events["step"]]
+    vs = [k for k, c in enumerate(a_events["cause"]) if c == "one_vertex_on_floor"]
+    if vs and vs[0] + 1 < len(steps):
+        start, end = steps[vs[0]], steps[vs[0] + 1]
+        out["vs_steps"] = [start, end]
+        out["vs_turn_rad"] = {
+            p: float(abs(a[p].loc[end, "angle"] - a[p].loc[start, "angle"])) for p in a
+        }
+    return out
 
 
 main = style.entry(NAME, draw)

@@ -232,11 +232,11 @@ def _seed_sample(table, first=5):
 def _reference(table):
     """How long each scene moves with freezing off (experiments.fig_time_to_rest,
     reference_motion), per reference system (sim-off, each peer with its sleeping off):
-    ``_reference_of`` each. None when the table has no such rows."""
+    ``reference_of`` each. None when the table has no such rows."""
     if "part" not in table or not (table["part"] == "reference").any():
         return None
     t = table[table["part"] == "reference"]
-    return {system: _reference_of(s) for system, s in t.groupby("system", sort=False)}
+    return {system: reference_of(s) for system, s in t.groupby("system", sort=False)}
 
 
 def _reference_table(numbers, reference, shown):
@@ -270,11 +270,13 @@ def _reference_table(numbers, reference, shown):
     return pd.DataFrame(rows)
 
 
-def _reference_of(t):
+def reference_of(t):
     """One reference system's rows: per scene and speed (m/s, as a string key) the last step at
     which a body moved at least that fast (0 never), the speeds at which it still moved at the
-    cap, and over the piles (drop seeds) the median of those steps per speed (None if any pile
-    still moved then at the cap)."""
+    cap, and over the piles (drop seeds) the median of those steps per speed, a pile still moving
+    at the cap counted as beyond it (``median_beyond_cap``: None only when the median is such a
+    pile; until 2026-12-07 any one such pile made it None, and pybullet's piles, one of five at
+    the cap, were said to move "past the cap" where their median was step 1799)."""
     speed_of = {m: m[len("moving_until_") :] for m in t["metric"].unique()}
     steps = {}
     at_cap = {}
@@ -285,10 +287,9 @@ def _reference_of(t):
     piles = [scene for scene in steps if str(scene).startswith("drop")]
     pile_median = (
         {
-            speed: (
-                None
-                if any(speed in at_cap.get(scene, []) for scene in piles)
-                else float(np.median([steps[scene][speed] for scene in piles]))
+            speed: median_beyond_cap(
+                [steps[scene][speed] for scene in piles],
+                [speed in at_cap.get(scene, []) for scene in piles],
             )
             for speed in dict.fromkeys(speed_of.values())
         }

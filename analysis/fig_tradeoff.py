@@ -187,12 +187,30 @@ def defaults_comparison(scene_numbers, rows):
     return out
 
 
+def one_speedup_per_default(table):
+    """``table`` with every sweep row of a system's defaults given one speed-up (and one
+    ``speedup_min``): the median over those rows. Each swept parameter's sweep includes the
+    defaults, so they are run and timed once per parameter (three times for ``extended``, once
+    for Box2D): the same setting with the same outcome, and a different speed-up only by timing
+    noise. Taken row by row, a system's front held the best of its default's timings (more of
+    them, the more parameters it sweeps), and the paper quoted ``extended``'s default on
+    pyramid(10) at 160x in one place and, as its "fastest setting", at 199x in another (the full
+    run of 2026-12-07; a reader found it)."""
+    table = table.copy()
+    defaults = table[(table["role"] == "sweep") & table["is_default"]]
+    for _, rows in defaults.groupby(["scene", "system"]):
+        for column in ("speedup", "speedup_min"):
+            table.loc[rows.index, column] = float(np.median(rows[column]))
+    return table
+
+
 def draw(table, meta):
     missing = REQUIRED - set(table.columns)
     if missing:
         raise ValueError(f"{NAME}: results lack columns {sorted(missing)}")
     table = table.copy()
     table["is_default"] = table["is_default"].astype(str).str.lower() == "true"
+    table = one_speedup_per_default(table)
     floor = float(meta.get("parameters", {}).get("error_floor", 1e-9))
     slop = float(meta["parameters"]["slop"])
     scenes = list(dict.fromkeys(table["scene"]))
@@ -321,6 +339,18 @@ def draw(table, meta):
                     "pose_error_max_m": d["pose_error_max_m"],
                 }
             fastest = pts.loc[pts["speedup"].idxmax()]
+            outcome = ["freeze_error_max_m", "pose_error_max_m", "awake_fraction"]
+            if not default.empty:
+                # settings that run exactly as the defaults do: their speed-ups differ by timing
+                # noise alone (on pyramid(10) every extended setting, 142x to 199x)
+                same = pts[(pts[outcome] == default.iloc[0][outcome]).all(axis=1)]
+                entry["as_defaults"] = {
+                    "settings": int(len(same)),
+                    "of": int(len(pts)),
+                    "speedup_min": float(same["speedup"].min()),
+                    "speedup_max": float(same["speedup"].max()),
+                    "fastest_among_them": bool(fastest.name in same.index),
+                }
             entry["fastest"] = {
                 "setting": setting_label(fastest),
                 "speedup": fastest["speedup"],

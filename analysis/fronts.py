@@ -43,9 +43,13 @@ def pareto(points, column):
 
 
 def setting_label(row):
-    """'parameter=value' of a table row (3 significant digits), 'sleeping off' for a baseline."""
+    """'parameter=value' of a table row (3 significant digits), 'sleeping off' for a baseline,
+    'defaults' for a sweep's point at the system's defaults (every sweep has one: labelled by
+    its parameter, the defaults read as a setting of their own, "rest_speed=0.02")."""
     if row["parameter"] == "none":
         return "sleeping off"
+    if row.get("role") == "sweep" and str(row.get("is_default")).lower() == "true":
+        return "defaults"
     return f"{row['parameter']}={row['value']:.3g}"
 
 

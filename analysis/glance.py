@@ -169,7 +169,8 @@ def frozen_cost_line(sc):
         )
         # against extended's a: off's own a is not resolved beside thousands of solved bodies
         + f"); solved under `off` the same resting "
-        f"body costs {fmt(off['b'] / ext['a'], 2)} awake bodies."
+        f"body costs {fmt(off['b'] / ext['a'], 2)} times an awake body in flight under `extended` "
+        f"(`off`'s own a is not resolved beside thousands of solved bodies)."
     )
 
 

@@ -527,7 +527,10 @@ def main(argv=None, data_dir=None):
         "stages": list(STAGES),
     }
     folder = data_folder(args.quick, data_dir)
-    metadata = collect(scenes, parameters, script=NAME, seed=DROP_SEED, started=started)
+    # the piles' seeds as timed (one per repeat, from DROP_SEED on, skipping any a system refused:
+    # DROP_SEED alone was recorded while seeds 0-4, 6 and 7 ran)
+    used = sorted({int(x) for s in table["seeds"].dropna() for x in str(s).split()})
+    metadata = collect(scenes, parameters, script=NAME, seed=used or None, started=started)
     csv_path, _ = write_results(NAME, table, metadata, folder=folder)
     profile_path, _ = write_results(
         PROFILE_NAME, profile, {**metadata, "script": NAME, "table": PROFILE_NAME}, folder=folder

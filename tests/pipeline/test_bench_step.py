@@ -102,6 +102,7 @@ def test_quick_run_writes_every_row_and_the_metadata(quick):
     seeds = [s["params"]["seed"] for s in meta["scenes"] if s["name"] == "drop"]
     assert seeds == list(range(repeats)) * len(q["drop"])
     assert (settling["seeds"] == " ".join(map(str, range(repeats)))).all()
+    assert meta["seed"] == list(range(repeats))  # the piles' seeds as timed, not the first alone
     assert settling["seeds_skipped"].isna().all()
     assert set(settling["label"]) == {f"drop({n})" for n in q["drop"]}
     assert meta["parameters"]["targets"] == {}  # no target scene in quick sizes

@@ -295,3 +295,24 @@ def test_the_certificate_cost_is_the_median_of_whole_repeated_runs(monkeypatch):
     assert tried > 0 and value["freeze_after_per_certificate"] == pytest.approx(
         1e3 * 3 * busy / tried
     )
+
+
+def test_a_reference_pile_at_the_cap_counts_as_beyond_it_in_the_median():
+    """Five piles, one still moving at the cap: the median is the middle pile (pybullet's 1799 in
+    the full run of 2026-12-07, which was reported as "past the cap"); with three at the cap the
+    median is one of them, None."""
+
+    def rows(steps, capped):
+        return pd.DataFrame(
+            {
+                "scene": [f"drop(30,seed={k})" for k in range(len(steps))],
+                "metric": "moving_until_0.02",
+                "value": steps,
+                "flag": ["at cap" if c else "" for c in capped],
+            }
+        )
+
+    one = rows([1786, 1793, 1799, 1799, 1800], [False] * 4 + [True])
+    assert analysis.reference_of(one)["pile_median_steps"] == {"0.02": 1799.0}
+    three = rows([10, 20, 1800, 1800, 1800], [False, False, True, True, True])
+    assert analysis.reference_of(three)["pile_median_steps"] == {"0.02": None}

@@ -186,7 +186,7 @@ def test_the_frozen_cost_bullet_says_what_the_fit_can_tell():
     line = frozen_cost_line(_fit(0.05, 0.01))
     assert "A frozen body costs 0.05 of an awake one" in line
     # the solved body against extended's a (off's own is not resolved beside the solved row)
-    assert "the same resting body costs 0.33 awake bodies" in line
+    assert "the same resting body costs 0.33 times an awake body in flight under `extended`" in line
     assert "at most 0.07 at two standard errors" in line
     line = frozen_cost_line(_fit(0.001, 0.003))
     assert "too little to measure" in line and "at most 0.007 at two standard errors" in line

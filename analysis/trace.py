@@ -286,11 +286,12 @@ class Recorder:
                 except Exception as exc:  # the system's failure is a result
                     self._stop(t, step, f"{type(exc).__name__}: {exc}")
                     continue
-                rec.log(
-                    f"timeline/step_ms/{t.path}",
-                    rr.Scalars(1e3 * (time.perf_counter() - t0) / advance),
-                )
-            positions, angles = t.runner.positions, t.runner.angles
+                per_step = rr.Scalars(1e3 * (time.perf_counter() - t0) / advance)
+                rec.log(f"timeline/step_ms/{t.path}", per_step)
+            try:  # a peer refuses to hand out a non-finite state (study.peers.guards)
+                positions, angles = t.runner.positions, t.runner.angles
+            except sim.SimulationError:
+                positions = angles = np.array([np.nan])
             if not (np.isfinite(positions).all() and np.isfinite(angles).all()):
                 self._stop(t, step, "non-finite state")
                 continue

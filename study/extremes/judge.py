@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from sim import SimulationError
 from study.extremes.geometry import clip_to_box, deepest_overlap
 from study.extremes.scenes import ARRIVAL_S
 
@@ -32,6 +33,7 @@ class Judge:
         self.shapes = shapes
         self.start = None
         self.finite = True
+        self.error = ""  # what a system said when it refused to hand out a non-finite state
         self.tunnelled = ""
         self.e_avail = math.nan
         self.energy_growth = 0.0
@@ -46,8 +48,12 @@ class Judge:
         self.last = None
 
     def sample(self, runner, time_s=None, overlap=True):
-        pos, ang = runner.positions, runner.angles
-        vel, angvel = runner.velocities, runner.angular_velocities
+        try:
+            pos, ang = runner.positions, runner.angles
+            vel, angvel = runner.velocities, runner.angular_velocities
+        except SimulationError as exc:  # a peer refuses to hand out a non-finite state
+            self.finite, self.error = False, f"{type(exc).__name__}: {exc}"
+            return False
         asleep = np.asarray(runner.asleep, dtype=bool)
         if not (
             np.isfinite(pos).all()

@@ -148,7 +148,7 @@ def simulate(task):
     out.ms_per_step = 1e3 * stepping / timed_steps if timed_steps > 0 else math.nan
     out.wall_s = time.perf_counter() - t_start
     if not judge.finite and not out.error:
-        out.error = "non-finite state (no error raised)"
+        out.error = judge.error or "non-finite state (no error raised)"
     return out
 
 

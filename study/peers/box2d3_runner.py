@@ -59,7 +59,7 @@ from sim.arguments import count, positive
 from sim.scene import Scene
 
 from .lifetime import ClosesOnExit
-from .guards import check_finite
+from .guards import finite
 from .pose import body_label, com_pose
 
 #: Box2D v3's solve sweeps per substep: one biased, one relax (not a setting in Box2D v3).
@@ -235,7 +235,6 @@ class Box2d3Runner(ClosesOnExit):
         self.engine_seconds += time.perf_counter() - t0
         self.step_count += n
         if self._body_list:
-            check_finite("box2d3", self.scene, self.step_count, position=self.positions)
             speed = np.hypot(*self.velocities.T).max()
             spin = np.abs(self.angular_velocities).max()
             # float32: a clamped body sits at the limit to round-off
@@ -263,26 +262,38 @@ class Box2d3Runner(ClosesOnExit):
     def positions(self):
         """(N,2) m, centres of mass."""
         self.ensure_open()
-        return self._rows(self._bodies.get_positions, 2)
+        return finite(
+            "box2d3", self.scene, self.step_count, "position",
+            self._rows(self._bodies.get_positions, 2),
+        )  # fmt: skip
 
     @property
     def angles(self):
         """(N,) rad, CCW, in (-pi, pi] (Box2D v3 keeps a rotation, not an angle)."""
         self.ensure_open()
         rot = self._rows(self._bodies.get_rotations, 2)  # (cos, sin)
-        return np.arctan2(rot[:, 1], rot[:, 0])
+        return finite(
+            "box2d3", self.scene, self.step_count, "angle",
+            np.arctan2(rot[:, 1], rot[:, 0]),
+        )  # fmt: skip
 
     @property
     def velocities(self):
         """(N,2) m/s of the centres of mass."""
         self.ensure_open()
-        return self._rows(self._bodies.get_linear_velocities, 2)
+        return finite(
+            "box2d3", self.scene, self.step_count, "velocity",
+            self._rows(self._bodies.get_linear_velocities, 2),
+        )  # fmt: skip
 
     @property
     def angular_velocities(self):
         """(N,) rad/s."""
         self.ensure_open()
-        return self._rows(self._bodies.get_angular_velocities, 1)[:, 0]
+        return finite(
+            "box2d3", self.scene, self.step_count, "angular velocity",
+            self._rows(self._bodies.get_angular_velocities, 1)[:, 0],
+        )  # fmt: skip
 
     @property
     def asleep(self):

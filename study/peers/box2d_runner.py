@@ -93,7 +93,7 @@ from sim.scene import Scene
 from .lifetime import ClosesOnExit
 from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
-from .guards import BOX2D_INERTIA, BOX2D_MASS, check_finite, check_mass, steps
+from .guards import BOX2D_INERTIA, BOX2D_MASS, check_mass, finite, steps
 from .pose import body_label, com_pose
 from .pybullet_urdf import inset
 
@@ -399,11 +399,7 @@ class Box2dRunner(ClosesOnExit):
         return self
 
     def _check_speed(self):
-        v, w = self.velocities, self.angular_velocities
-        check_finite(
-            "box2d", self.scene, self.step_count, position=self.positions, velocity=v,
-            angular_velocity=w,
-        )  # fmt: skip
+        v, w = self.velocities, self.angular_velocities  # (checked finite as they are read)
         speed = np.hypot(v[:, 0], v[:, 1])
         spin = np.abs(w)
         fast = np.flatnonzero(
@@ -430,25 +426,37 @@ class Box2dRunner(ClosesOnExit):
     def positions(self):
         """(N,2) m, centres of mass (the bodies' origins)."""
         self.ensure_open()
-        return np.array([tuple(b.position) for b in self._bodies], dtype=np.float64)
+        return finite(
+            "box2d", self.scene, self.step_count, "position",
+            np.array([tuple(b.position) for b in self._bodies], dtype=np.float64),
+        )  # fmt: skip
 
     @property
     def angles(self):
         """(N,) rad, CCW, unwrapped (Box2D's sweep angle)."""
         self.ensure_open()
-        return np.array([b.angle for b in self._bodies], dtype=np.float64)
+        return finite(
+            "box2d", self.scene, self.step_count, "angle",
+            np.array([b.angle for b in self._bodies], dtype=np.float64),
+        )  # fmt: skip
 
     @property
     def velocities(self):
         """(N,2) m/s of the centres of mass."""
         self.ensure_open()
-        return np.array([tuple(b.linearVelocity) for b in self._bodies], dtype=np.float64)
+        return finite(
+            "box2d", self.scene, self.step_count, "velocity",
+            np.array([tuple(b.linearVelocity) for b in self._bodies], dtype=np.float64),
+        )  # fmt: skip
 
     @property
     def angular_velocities(self):
         """(N,) rad/s, CCW."""
         self.ensure_open()
-        return np.array([b.angularVelocity for b in self._bodies], dtype=np.float64)
+        return finite(
+            "box2d", self.scene, self.step_count, "angular velocity",
+            np.array([b.angularVelocity for b in self._bodies], dtype=np.float64),
+        )  # fmt: skip
 
     @property
     def asleep(self):

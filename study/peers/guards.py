@@ -63,10 +63,7 @@ def check_mass(engine, scene, i, mass, inertia, mass_range=None, inertia_range=N
 
 def check_finite(engine, scene, step_count, **observables):
     """SimulationError, as sim.World raises, naming the first body with a NaN or infinite value
-    in any of ``observables`` (name: (N,) or (N,2) array) after step ``step_count``. A runner
-    passes what it reads anyway, or its positions alone: a non-finite velocity makes the
-    position non-finite in the next step, and reading every observable of 10^4 pymunk bodies
-    cost twice the step (32 ms against 15)."""
+    in any of ``observables`` (name: (N,) or (N,2) array) after step ``step_count``."""
     for name, values in observables.items():
         values = np.asarray(values)
         bad = ~np.isfinite(values.reshape(len(values), -1)).all(axis=1)
@@ -76,3 +73,14 @@ def check_finite(engine, scene, step_count, **observables):
                 f"{engine}: {body_label('body', i, scene.body_name(i))} is non-finite after "
                 f"step {step_count} ({name} {values[i].tolist()}): the run cannot go on"
             )
+
+
+def finite(engine, scene, step_count, name, values):
+    """``values``, an observable a runner is about to hand out, if every entry is finite; else
+    ``check_finite``'s SimulationError. Where a peer's state is checked: as it is read, so that
+    a NaN never leaves the runner, and a step reads nothing more than the engine's own. Checked
+    after every step instead (the whole state read back), the full run took 29 min against 23:
+    fig_speedup's frozen scenes, stepped once per call, paid 11 ms for 10^4 pymunk bodies' poses
+    after a 0.03 ms step."""
+    check_finite(engine, scene, step_count, **{name: values})
+    return values

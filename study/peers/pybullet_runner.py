@@ -88,7 +88,7 @@ from sim.scene import Scene
 from .lifetime import ClosesOnExit
 from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
-from .guards import PYBULLET_MASS, check_finite, check_mass, steps
+from .guards import PYBULLET_MASS, check_mass, finite, steps
 from .pose import com_pose
 from .pybullet_urdf import (
     COLLISION_MARGIN,
@@ -409,12 +409,6 @@ class PybulletRunner(ClosesOnExit):
                 step(physicsClientId=c)
             self.engine_seconds += clock() - t0
             self.step_count += n
-        # the runner's read, not Bullet's (not timed), kept for the observables until the next step
-        position, angle, velocity, angular_velocity = self._read()[:4]
-        check_finite(
-            "pybullet", self.scene, self.step_count, position=position, angle=angle,
-            velocity=velocity, angular_velocity=angular_velocity,
-        )  # fmt: skip
         return self
 
     @property
@@ -469,25 +463,28 @@ class PybulletRunner(ClosesOnExit):
     def positions(self):
         """(N,2) m, centres of mass."""
         self.ensure_open()
-        return self._read()[0].copy()
+        return finite("pybullet", self.scene, self.step_count, "position", self._read()[0].copy())
 
     @property
     def angles(self):
         """(N,) rad, CCW, unwrapped (from the planar joint's rotation coordinate)."""
         self.ensure_open()
-        return self._read()[1].copy()
+        return finite("pybullet", self.scene, self.step_count, "angle", self._read()[1].copy())
 
     @property
     def velocities(self):
         """(N,2) m/s of the centres of mass."""
         self.ensure_open()
-        return self._read()[2].copy()
+        return finite("pybullet", self.scene, self.step_count, "velocity", self._read()[2].copy())
 
     @property
     def angular_velocities(self):
         """(N,) rad/s, CCW."""
         self.ensure_open()
-        return self._read()[3].copy()
+        return finite(
+            "pybullet", self.scene, self.step_count, "angular velocity",
+            self._read()[3].copy(),
+        )  # fmt: skip
 
     @property
     def asleep(self):

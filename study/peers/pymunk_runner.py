@@ -54,7 +54,7 @@ from sim.scene import Scene
 from .lifetime import ClosesOnExit
 from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
-from .guards import check_finite, check_mass, steps
+from .guards import check_mass, finite, steps
 from .pose import com_pose
 
 #: First shape id given out by the space: above every vertex index a sim polygon can have.
@@ -142,8 +142,7 @@ class PymunkRunner(ClosesOnExit):
         # a copy: edits to the caller's scene after this do not reach the run (nor its reports)
         self.scene = scene.snapshot()
         self.step_count = 0
-        #: s of wall time inside Chipmunk's step calls (what benchmarks time; study.timing): the
-        #: check for a non-finite state after each call is the runner's, not Chipmunk's
+        #: s of wall time inside Chipmunk's step calls (what benchmarks time; study.timing)
         self.engine_seconds = 0.0
         scene = self.scene
 
@@ -261,8 +260,6 @@ class PymunkRunner(ClosesOnExit):
             step(dt)
         self.engine_seconds += time.perf_counter() - t0
         self.step_count += n
-        if n:
-            check_finite("pymunk", self.scene, self.step_count, position=self.positions)
         return self
 
     @property
@@ -275,25 +272,37 @@ class PymunkRunner(ClosesOnExit):
     def positions(self):
         """(N,2) m, centres of mass."""
         self.ensure_open()
-        return np.array([tuple(b.position) for b in self._bodies], dtype=np.float64)
+        return finite(
+            "pymunk", self.scene, self.step_count, "position",
+            np.array([tuple(b.position) for b in self._bodies], dtype=np.float64),
+        )  # fmt: skip
 
     @property
     def angles(self):
         """(N,) rad, CCW."""
         self.ensure_open()
-        return np.array([b.angle for b in self._bodies], dtype=np.float64)
+        return finite(
+            "pymunk", self.scene, self.step_count, "angle",
+            np.array([b.angle for b in self._bodies], dtype=np.float64),
+        )  # fmt: skip
 
     @property
     def velocities(self):
         """(N,2) m/s of the centres of mass."""
         self.ensure_open()
-        return np.array([tuple(b.velocity) for b in self._bodies], dtype=np.float64)
+        return finite(
+            "pymunk", self.scene, self.step_count, "velocity",
+            np.array([tuple(b.velocity) for b in self._bodies], dtype=np.float64),
+        )  # fmt: skip
 
     @property
     def angular_velocities(self):
         """(N,) rad/s."""
         self.ensure_open()
-        return np.array([b.angular_velocity for b in self._bodies], dtype=np.float64)
+        return finite(
+            "pymunk", self.scene, self.step_count, "angular velocity",
+            np.array([b.angular_velocity for b in self._bodies], dtype=np.float64),
+        )  # fmt: skip
 
     @property
     def asleep(self):

@@ -122,14 +122,23 @@ def test_a_non_finite_peer_state_is_a_simulation_error(system, mass, monkeypatch
     monkeypatch.setattr(guards, "MASS_RANGE", (0.0, np.inf))
     with make_runner(system, sim.Scene(bodies=[sim.Body.box(1.0, 1.0, density=mass)])) as runner:
         with pytest.raises(sim.SimulationError, match=f"{system}: body 0 is non-finite"):
+            # a peer checks its state as it is read (Box2D reads its velocities in every step)
             runner.step(60)
+            runner.positions  # noqa: B018
 
 
-def test_pymunk_reports_a_non_finite_state():
+def test_a_peer_never_hands_out_a_non_finite_state():
+    """Checked as it is read, not after every step: reading back 10^4 pymunk bodies' poses after
+    each step cost 11 ms against a 0.03 ms frozen step, and doubled the full run's fig_speedup."""
     with make_runner("pymunk", sim.scenes.single_box()) as runner:
         next(iter(runner.space.bodies)).velocity = (float("nan"), 0.0)
-        with pytest.raises(sim.SimulationError, match="pymunk: body 0 is non-finite after step 1"):
-            runner.step(1)
+        runner.step(1)
+        for read in (lambda: runner.positions, lambda: runner.velocities):
+            with pytest.raises(
+                sim.SimulationError, match="pymunk: body 0 is non-finite after step 1"
+            ):
+                read()
+        assert np.isfinite(runner.angles).all()  # what is finite is still handed out
 
 
 def test_every_runner_keeps_sims_mass_range():

@@ -2,6 +2,7 @@
 then, unless a rule whose verdict no later step can take back had already failed it
 (study.extremes.rules.classify; runs.simulate stops the run)."""
 
+import numpy as np
 import pytest
 
 from experiments import table_extremes as T
@@ -86,3 +87,24 @@ def test_only_a_run_that_reached_its_end_is_judged_below_the_floor(monkeypatch):
     out = runs.simulate({**task, "budget_s": 0.0})
     assert out.status_hint == "not run" and out.tunnelled == ""
     assert rules.classify(out, None)[0] == "not run"
+
+
+def test_a_peer_that_refuses_a_non_finite_state_fails_the_cell_with_its_words(monkeypatch):
+    """A peer raises SimulationError as its state is read once it is non-finite
+    (study.peers.guards): the run is failed as non-finite, in the peer's words, not stopped with
+    a traceback (the judge reads the state; before, the peers handed out NaN)."""
+    from sim import SimulationError
+    from study.peers.pymunk_runner import PymunkRunner
+
+    def refuse(self):
+        if self.step_count:
+            raise SimulationError(f"pymunk: body 0 is non-finite after step {self.step_count}")
+        return np.zeros((self.scene.n_bodies, 2))
+
+    monkeypatch.setattr(PymunkRunner, "velocities", property(refuse))
+    task = {**runs.run_task("stack_height", 10, "pymunk", T.QUICK), "steps": 4, "sample_every": 2}
+    out = runs.simulate(task)
+    assert not out.finite and out.steps_done == 2
+    assert out.error == "SimulationError: pymunk: body 0 is non-finite after step 2"
+    status, reason = rules.classify(out, None)
+    assert status == "failed" and "non-finite" in reason

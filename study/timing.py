@@ -9,11 +9,12 @@ def timed(runner, steps):
     """Wall time of ``runner.step(steps)``, s, with the garbage collector paused (as timeit does:
     a collection landing inside one system's repeat would be charged to that system).
 
-    A runner that does work of its own around its engine's steps (Box2D's reads every body's
-    velocity through Python to catch its motion cap; pybullet's with sleeping reads every pose
-    before the last step to tell sleep) keeps the time inside the engine's step calls in
-    ``engine_seconds``: that is what is returned for it, so that every system is timed on its
-    engine's stepping alone. Every other runner (and a sim.World) is timed whole."""
+    A peer's runner does work of its own around its engine's steps (each checks its arguments;
+    Box2D's reads every body's velocity through Python to catch its motion cap; pybullet's with
+    sleeping reads every pose before the last step to tell sleep) and keeps the time inside the
+    engine's step calls in ``engine_seconds``: that is what is returned for it, so that every
+    peer is timed on its engine's stepping alone (pymunk's since 2026-12-07; before, its whole
+    call). sim's runner (and a sim.World) is timed whole."""
     engine = getattr(runner, "engine_seconds", None)
     gc_was_on = gc.isenabled()
     gc.disable()

@@ -284,16 +284,22 @@ def draw(table, meta):
         }
         # does extended's front dominate every other system's settings, measure by measure?
         measures = [(column, short) for column, _, short in (FREEZE_MEASURE,) + MEASURES]
+        # each system's defaults once (every sweep holds them: counted per sweep, sim-sleep's and
+        # pymunk-sleep's were two of the "40 other settings", of 38)
+        repeated = rows[(rows["role"] == "sweep") & rows["is_default"]].duplicated(["system"])
+        distinct = rows.drop(repeated[repeated].index)
         scene_numbers["beyond_extended_front"] = {
-            short: beyond_front(rows, column, CHALLENGER, FREEZING) for column, short in measures
+            short: beyond_front(distinct, column, CHALLENGER, FREEZING)
+            for column, short in measures
         }
         scene_numbers["beating_extended_front"] = {
-            short: beating_front(rows, column, CHALLENGER, FREEZING) for column, short in measures
+            short: beating_front(distinct, column, CHALLENGER, FREEZING)
+            for column, short in measures
         }
-        others = rows[
-            rows["system"].isin(FREEZING)
-            & (rows["system"] != CHALLENGER)
-            & (rows["role"] == "sweep")
+        others = distinct[
+            distinct["system"].isin(FREEZING)
+            & (distinct["system"] != CHALLENGER)
+            & (distinct["role"] == "sweep")
         ]
         scene_numbers["beyond_extended_front_counts"] = {
             short: {

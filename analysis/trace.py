@@ -288,19 +288,18 @@ class Recorder:
                     continue
                 per_step = rr.Scalars(1e3 * (time.perf_counter() - t0) / advance)
                 rec.log(f"timeline/step_ms/{t.path}", per_step)
-            try:  # a peer refuses to hand out a non-finite state (study.peers.guards)
+            try:  # a peer refuses to hand out any non-finite observable (study.peers.guards)
                 positions, angles = t.runner.positions, t.runner.angles
+                if not (np.isfinite(positions).all() and np.isfinite(angles).all()):
+                    raise sim.SimulationError(t.system.name)  # a sim.World hands NaN out
+                t.pose = positions, angles
+                self._bodies(t, positions, angles)
+                self._events(t, step)
+                if t is self.reference:  # tracks before it do not run
+                    reference = t.pose
+                self._scalars(t, reference)
             except sim.SimulationError:
-                positions = angles = np.array([np.nan])
-            if not (np.isfinite(positions).all() and np.isfinite(angles).all()):
                 self._stop(t, step, "non-finite state")
-                continue
-            t.pose = positions, angles
-            self._bodies(t, positions, angles)
-            self._events(t, step)
-            if t is self.reference:  # tracks before it do not run
-                reference = t.pose
-            self._scalars(t, reference)
 
     def _bodies(self, t, positions, angles):
         rec = self.rec

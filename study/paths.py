@@ -89,8 +89,8 @@ def writable(path):
         raise ValueError(f"cannot write {path}: it is a folder")
     creatable(path.parent)
     partial = partial_path(path)
-    existed = partial.exists()
     try:
+        existed = partial.exists()  # (a name too long for the file system raises here)
         with open(partial, "ab"):
             pass
         if not existed:

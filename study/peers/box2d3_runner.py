@@ -59,7 +59,7 @@ from sim.arguments import count, positive
 from sim.scene import Scene
 
 from .lifetime import ClosesOnExit
-from .guards import finite
+from .guards import check_mass, finite
 from .pose import body_label, com_pose
 
 #: Box2D v3's solve sweeps per substep: one biased, one relax (not a setting in Box2D v3).
@@ -141,7 +141,8 @@ class Box2d3Runner(ClosesOnExit):
                     f"Box2D v3 clamps speeds at {MAX_LINEAR_SPEED:g} m/s and spins at "
                     f"{self.max_angular_speed:g} rad/s (a turn of pi/4 per substep)"
                 )
-            com, local, _, _ = com_pose(b)
+            com, local, mass, inertia = com_pose(b)
+            check_mass("box2d3", scene, i, mass, inertia)  # sim's range, as every peer
             body = world.create_dynamic_body(
                 position=(float(com[0]), float(com[1])),
                 rotation=float(b.angle),

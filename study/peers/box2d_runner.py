@@ -93,7 +93,7 @@ from sim.scene import Scene
 from .lifetime import ClosesOnExit
 from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
-from .guards import BOX2D_INERTIA, BOX2D_MASS, check_mass, finite, steps
+from .guards import BOX2D_INERTIA, BOX2D_MASS, check_mass, checked_contacts, finite, steps
 from .pose import body_label, com_pose
 from .pybullet_urdf import inset
 
@@ -464,6 +464,7 @@ class Box2dRunner(ClosesOnExit):
         self.ensure_open()
         return np.array([not b.awake for b in self._bodies], dtype=bool)
 
+    @checked_contacts("box2d")
     def contacts(self):
         """The touching contacts' manifold points after the last step, as in sim.World.contacts:
         body_a, body_b (K,) int (scene body i, static body j as N + j, -1 the floor); point (K,2)

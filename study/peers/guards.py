@@ -21,6 +21,8 @@ inertia): a scene sim refuses is refused by every system, and no comparison hold
 only some systems can run.
 """
 
+import functools
+
 import numpy as np
 
 from sim import SimulationError
@@ -66,7 +68,7 @@ def check_finite(engine, scene, step_count, **observables):
     in any of ``observables`` (name: (N,) or (N,2) array) after step ``step_count``."""
     for name, values in observables.items():
         values = np.asarray(values)
-        bad = ~np.isfinite(values.reshape(len(values), -1)).all(axis=1)
+        bad = ~np.isfinite(values).all(axis=tuple(range(1, values.ndim)))  # per row
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
             raise SimulationError(
@@ -84,3 +86,36 @@ def finite(engine, scene, step_count, name, values):
     after a 0.03 ms step."""
     check_finite(engine, scene, step_count, **{name: values})
     return values
+
+
+def finite_contacts(engine, scene, step_count, contacts):
+    """``contacts`` (a runner's ``contacts()`` dict) if every point, normal and impulse is
+    finite; else a SimulationError naming the first contact and its pair. (Checked on the
+    observables only, Box2D's ``contacts()`` still handed out NaN points and normals after its
+    state had gone non-finite.)"""
+    for name in ("point", "normal", "normal_impulse", "tangent_impulse"):
+        if name not in contacts:
+            continue
+        values = np.asarray(contacts[name])
+        bad = ~np.isfinite(values).all(axis=tuple(range(1, values.ndim)))  # per row
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            pair = (int(contacts["body_a"][k]), int(contacts["body_b"][k]))
+            raise SimulationError(
+                f"{engine}: contact point {k} (bodies {pair[0]} and {pair[1]}) is non-finite "
+                f"after step {step_count} ({name} {values[k].tolist()}): the run cannot go on"
+            )
+    return contacts
+
+
+def checked_contacts(engine):
+    """Decorator of a runner's ``contacts()``: its result through ``finite_contacts``."""
+
+    def wrap(method):
+        @functools.wraps(method)
+        def contacts(self):
+            return finite_contacts(engine, self.scene, self.step_count, method(self))
+
+        return contacts
+
+    return wrap

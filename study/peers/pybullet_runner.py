@@ -88,7 +88,7 @@ from sim.scene import Scene
 from .lifetime import ClosesOnExit
 from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
-from .guards import PYBULLET_MASS, check_mass, finite, steps
+from .guards import PYBULLET_MASS, check_mass, checked_contacts, finite, steps
 from .pose import com_pose
 from .pybullet_urdf import (
     COLLISION_MARGIN,
@@ -533,6 +533,7 @@ class PybulletRunner(ClosesOnExit):
         px, _, pz = raw_pos[i]
         return np.stack([m[0, 0] * x + m[0, 2] * z + px, m[2, 0] * x + m[2, 2] * z + pz], axis=1)
 
+    @checked_contacts("pybullet")
     def contacts(self):
         """The contact points of the last step, as SimRunner.contacts gives them: {"body_a",
         "body_b": (K,) int (scene body i, static body j as N + j, the floor -1), "point": (K,2)

@@ -54,7 +54,7 @@ from sim.scene import Scene
 from .lifetime import ClosesOnExit
 from .bullets import bullets
 from .limits import LIMITS_WHY, MAX_ITERATIONS
-from .guards import check_mass, finite, steps
+from .guards import check_mass, checked_contacts, finite, steps
 from .pose import com_pose
 
 #: First shape id given out by the space: above every vertex index a sim polygon can have.
@@ -310,6 +310,7 @@ class PymunkRunner(ClosesOnExit):
         self.ensure_open()
         return np.array([b.is_sleeping for b in self._bodies], dtype=bool)
 
+    @checked_contacts("pymunk")
     def contacts(self):
         """The contact points of the last step, as SimRunner.contacts gives them: {"body_a",
         "body_b": (K,) int (scene body i, static body j as N + j, the floor -1), "point": (K,2)

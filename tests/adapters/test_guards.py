@@ -141,8 +141,20 @@ def test_a_peer_never_hands_out_a_non_finite_state():
         assert np.isfinite(runner.angles).all()  # what is finite is still handed out
 
 
+def test_contacts_of_a_non_finite_state_are_refused_too():
+    """Box2D's contacts() handed out NaN points and normals after its state went non-finite (a
+    reviewer, 2026-12-07): they are checked as the observables are."""
+    with make_runner("box2d", sim.scenes.stack(2)) as runner:
+        runner.step(3)
+        runner.world.bodies[1].angularVelocity = float("nan")
+        with pytest.raises(sim.SimulationError, match="non-finite after step 4"):
+            runner.step(1)
+        with pytest.raises(sim.SimulationError, match="box2d: contact point .* is non-finite"):
+            runner.contacts()
+
+
 def test_every_runner_keeps_sims_mass_range():
     scene = sim.Scene(bodies=[sim.Body.box(1.0, 1.0, position=(0, 0.5), density=1e-120)])
-    for system in ("pymunk", "pybullet", "box2d"):
+    for system in ("pymunk", "pybullet", "box2d", "box2d3"):
         with pytest.raises(ValueError, match=f"{system}: body 0 has mass 1e-120 kg"):
             make_runner(system, scene)

@@ -428,6 +428,12 @@ def test_analysis_draws_and_quotes(quick_run, monkeypatch, tmp_path):
     for scene, sn in numbers["scenes"].items():
         for short, points in sn["beyond_extended_front"].items():
             counts = sn["beyond_extended_front_counts"][short]
+            # each other system's settings once, its defaults once however many sweeps hold them
+            rows = table[(table["scene"] == scene) & (table["role"] == "sweep")]
+            rows = rows[rows["system"].isin(swept - {analysis.CHALLENGER})]
+            defaults = rows["is_default"].astype(str).str.lower() == "true"
+            distinct = (~defaults).sum() + rows.loc[defaults, "system"].nunique()
+            assert counts["settings"] == distinct < len(rows)
             assert counts["beyond"] == len(points)
             assert counts["faster_than_extended"] + counts["more_accurate_at_its_speed"] == len(
                 points

@@ -495,7 +495,9 @@ def test_size_is_only_a_size_and_systems_must_name_one(capsys):
         ), err
 
 
-@pytest.mark.parametrize("case", ["a folder", "under a file", "in /proc", "table under a file"])
+@pytest.mark.parametrize(
+    "case", ["a name too long", "a folder", "under a file", "in /proc", "table under a file"]
+)
 def test_an_output_that_cannot_be_written_is_one_line_before_anything_runs(
     tmp_path, case, capsys, monkeypatch
 ):
@@ -506,6 +508,7 @@ def test_an_output_that_cannot_be_written_is_one_line_before_anything_runs(
     (tmp_path / "afile").write_text("")
     (tmp_path / "adir").mkdir()
     argv = {
+        "a name too long": ["single_box", "--out", str(tmp_path / ("n" * 250 + ".rrd"))],
         "a folder": ["single_box", "--out", str(tmp_path / "adir")],
         "under a file": ["single_box", "--out", str(tmp_path / "afile" / "x.rrd")],
         "in /proc": ["single_box", "--out", "/proc/freeze2d-test.rrd"],
@@ -520,3 +523,22 @@ def test_an_output_that_cannot_be_written_is_one_line_before_anything_runs(
     assert len(err) == 1 and err[0].startswith("python -m analysis.trace: error: cannot "), err
     assert not ran
     assert sorted(p.name for p in tmp_path.rglob("*")) == ["adir", "afile"]
+
+
+def test_a_peer_refusing_a_non_finite_velocity_stops_its_own_track_only(tmp_path, monkeypatch):
+    """A peer refuses to hand out a non-finite observable (study.peers.guards); the recording
+    reads velocities too (kinetic energy): a pymunk run whose velocities went NaN while its
+    poses were still finite killed the whole recording, the other systems' tracks with it."""
+    from study.peers.pymunk_runner import PymunkRunner
+
+    def refuse(self):
+        if self.step_count >= 2:
+            raise sim.SimulationError(f"pymunk: body 0 is non-finite after step {self.step_count}")
+        return np.zeros((self.scene.n_bodies, 2))
+
+    monkeypatch.setattr(PymunkRunner, "velocities", property(refuse))
+    target = targets.resolve("single_box", systems=["sim-off", "pymunk"])
+    tracks = trace.record(target, tmp_path / "a.rrd", steps=4, every=1)
+    stopped = {t.system.name: t.stopped for t in tracks}
+    assert stopped["sim-off"] == "" and "non-finite state" in stopped["pymunk"]
+    assert (tmp_path / "a.rrd").exists()

@@ -114,6 +114,7 @@ def _fake_bench_step(monkeypatch):
             "relax_iterations": [1],
             "build_s": [0.0],
             "speedup_vs_pymunk": [1.0],
+            "seeds": [None],  # a row of a scene with no seed, as bench_step writes it
         }
     )
     profile = pd.DataFrame({"stage": ["solve"], "label": ["rest_row(2)"], "ms_per_step": [0.1]})

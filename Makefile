@@ -30,6 +30,17 @@ IS_QUICK   := $(filter 1 yes true on,$(QUICK_WORD))
 QUICKFLAG  := $(if $(IS_QUICK),--quick,)
 
 # Where outputs go. Quick runs get their own tree, so a quick result is never taken for a full one.
+# A tree named by FREEZE2D_RESULTS (the scripts' own setting; PAPER_OUT then <tree>/paper, as the
+# analyses take it, unless FREEZE2D_PAPER_OUT names another) is the tree make builds and checks
+# too: ignored, make looked at results/ and did nothing, or had the recipes write elsewhere.
+ifneq ($(filter environment command line,$(origin FREEZE2D_RESULTS)),)
+RESULTS_DIR ?= $(FREEZE2D_RESULTS)
+ifneq ($(filter environment command line,$(origin FREEZE2D_PAPER_OUT)),)
+PAPER_OUT   ?= $(FREEZE2D_PAPER_OUT)
+else
+PAPER_OUT   ?= $(FREEZE2D_RESULTS)/paper
+endif
+endif
 ifneq ($(IS_QUICK),)
 RESULTS_DIR ?= results/quick
 PAPER_OUT   ?= results/quick/paper
@@ -107,7 +118,7 @@ SOURCES := $(shell find sim study experiments analysis -name '*.py' -not -path '
 DEPS    := .make/deps.mk
 $(DEPS): tools/makedeps.py $(SOURCES) Makefile
 	@mkdir -p $(dir $@)
-	@$(PYTHON_SYS) tools/makedeps.py $(ALL) > $@.tmp && mv $@.tmp $@
+	@$(PYTHON_SYS) tools/makedeps.py --out $@ $(ALL)
 include $(DEPS)
 
 reproduce: paper recordings glance

@@ -11,6 +11,7 @@ profile of the target scenes, and sim-off without its landing sweeps on the sett
 (``variants``, reported apart)."""
 
 from analysis import style
+from study.metadata import ResultsError
 
 NAME = "bench_step"
 PEERS = ("pymunk", "box2d", "box2d3")  # the peers timed (experiments/bench_step.py SYSTEMS)
@@ -93,6 +94,19 @@ def _settings(table, system):
     }
 
 
+def check_same_run(meta, profile_meta):
+    """Refuse a table and a profile from two runs: one run writes both files with the same
+    provenance (its date and parameters). Copied over the other's table only, a second run's
+    bench_step.csv made a table of one run beside the profile of another, silently."""
+    for key in ("date_utc", "parameters"):
+        if profile_meta.get(key) != meta.get(key):
+            raise ResultsError(
+                f"{PROFILE}.csv and {NAME}.csv come from different runs ({key}: "
+                f"{profile_meta.get(key)!r} against {meta.get(key)!r}): rerun "
+                f"`python -m experiments.{NAME}`"
+            )
+
+
 def draw(table, meta):
     out = _ratios(table)
     found = clamped(table)
@@ -127,7 +141,8 @@ def draw(table, meta):
         NAME,
     )
 
-    profile, _ = style.load(PROFILE, script=NAME)
+    profile, profile_meta = style.load(PROFILE, script=NAME)
+    check_same_run(meta, profile_meta)
     wide = profile.pivot_table(index="stage", columns="label", values="ms_per_step", sort=False)
     wide = wide[[c for c in out["label"] if c in wide.columns]]
     style.write_table(wide.round(4).reset_index(), PROFILE)

@@ -14,6 +14,7 @@ import re
 from pathlib import Path
 
 from analysis.paper import setup_numbers
+from sim.files import write_text_atomically
 from analysis.style import fmt
 from study import paths
 from study.metadata import ResultsError, make_quick
@@ -416,7 +417,7 @@ def extremes_line(ex):
 def write(readme=None):
     text = "\n".join(lines()) + "\n"
     path = paths.ensure(paths.GENERATED) / "glance.md"
-    path.write_text(text)
+    write_text_atomically(path, text)  # (a full disk left a README cut off mid-sentence)
     print(f"wrote {path}")
     if readme is not None:
         readme = Path(readme)
@@ -424,7 +425,7 @@ def write(readme=None):
         pattern = re.compile(re.escape(START) + ".*?" + re.escape(END), re.S)
         if not pattern.search(old):
             raise ReadmeError(f"{readme} has no {START} ... {END} block to fill")
-        readme.write_text(pattern.sub(lambda _: f"{START}\n{text}{END}", old))
+        write_text_atomically(readme, pattern.sub(lambda _: f"{START}\n{text}{END}", old))
         print(f"updated {readme}")
     return text
 

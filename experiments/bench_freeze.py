@@ -93,6 +93,7 @@ from tqdm import tqdm
 
 import sim
 from study.common import (
+    interrupted,
     DT,
     SLOP,
     build,
@@ -480,7 +481,10 @@ def main(argv=None, data_dir=None):
     config = QUICK if args.quick else FULL
     repeats = or_default(args.repeats, config["repeats"])
 
-    table, fits = run(config, repeats)
+    try:
+        table, fits = run(config, repeats)
+    except KeyboardInterrupt:
+        raise SystemExit(interrupted(NAME, data_folder(args.quick, data_dir))) from None
     targets = verdicts(table, config, fits)
     settings = {}
     probe = sim.scenes.single_box()

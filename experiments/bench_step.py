@@ -97,6 +97,7 @@ from tqdm import tqdm
 
 import sim
 from study.common import (
+    interrupted,
     DT,
     SLOP,
     build,
@@ -499,7 +500,10 @@ def main(argv=None, data_dir=None):
     repeats = or_default(args.repeats, config["repeats"])
     steps = or_default(args.steps, config["steps"])
 
-    table, profile, scenes = run(config, repeats, steps)
+    try:
+        table, profile, scenes = run(config, repeats, steps)
+    except KeyboardInterrupt:
+        raise SystemExit(interrupted(NAME, data_folder(args.quick, data_dir))) from None
     settings = {}
     for name in SETTLING_SYSTEMS:
         with build_system(name, sim.scenes.rest_row(2)) as runner:

@@ -46,7 +46,7 @@ from tqdm import tqdm
 
 import sim
 from study.cli import first_paragraph, or_default, positive_int
-from study.common import build, data_folder
+from study.common import interrupted, build, data_folder
 from study.timing import interleaved
 from study.metadata import code_state, collect, write_results
 from study.peers import PybulletRunner, make_runner, solver_summary
@@ -405,7 +405,10 @@ def main(argv=None, data_dir=None):
     repeats = or_default(args.repeats, sizes["repeats"])
     steps = or_default(args.steps, sizes["steps"])
 
-    table = run(sizes, repeats, steps)
+    try:
+        table = run(sizes, repeats, steps)
+    except KeyboardInterrupt:
+        raise SystemExit(interrupted(NAME, data_folder(args.quick, data_dir))) from None
     scenes = [scene for _, scene, _, _ in cases(sizes)] + [
         sim.scenes.pyramid(sizes["cost_pyramid"])
     ]

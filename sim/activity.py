@@ -124,7 +124,7 @@ def initial_activity(
         body_real=np.zeros((n_dynamic, policy.REAL_COLUMNS)),
         body_int=np.zeros((n_dynamic, policy.INT_COLUMNS), np.int64),
         links=np.zeros((max(16, 4 * n_dynamic), 2), np.int64),
-        link_load=np.zeros((max(16, 4 * n_dynamic), 3)),
+        link_load=np.zeros((max(16, 4 * n_dynamic), getattr(policy, "LINK_COLUMNS", 3))),
     )
     initial = getattr(policy, "initial", None)
     if initial is not None:

@@ -63,12 +63,34 @@ def flag(value, what):
 def numeric_array(value):
     """Is ``value`` (an array, or nested sequences) made of real numbers: integers or floats,
     not text, switches (bools), complex numbers or other objects? float64 conversion takes all
-    of those ("2" becomes 2.0, True 1.0), so a check of types must come first."""
+    of those ("2" becomes 2.0, True 1.0), so a check of types must come first. A switch among
+    numbers in a list is looked for item by item: numpy reads [True, 2.5] as a float array."""
     try:
         kind = np.asarray(value).dtype.kind
     except (TypeError, ValueError):
         return False
-    return kind in "iuf"
+    return kind in "iuf" and not holds_switch(value)
+
+
+def kind_of(value):
+    """What a value refused by ``numeric_array`` holds, for the message: "a switch (True or
+    False)" when one hides among numbers, else "<dtype> values"."""
+    if holds_switch(value):
+        return "a switch (True or False)"
+    return f"{np.asarray(value).dtype} values"  # (ragged sequences raise: the caller's message)
+
+
+def holds_switch(value):
+    """Does ``value`` (a number, an array, or nested lists and tuples) hold a bool anywhere?"""
+    if isinstance(value, (bool, np.bool_)):
+        return True
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind == "b":
+            return True
+        return value.dtype.kind == "O" and any(holds_switch(x) for x in value.ravel())
+    if isinstance(value, (list, tuple)):
+        return any(holds_switch(x) for x in value)
+    return False
 
 
 def beyond_float(value):

@@ -11,6 +11,7 @@ import numbers
 
 import numpy as np
 
+from .arguments import numeric_array
 from .polygons import thinnest_width_many
 from .geometry import (
     MAX_COORDINATE,
@@ -37,7 +38,7 @@ def _validated_polygon(vertices, name):
         given = np.asarray(vertices)
     except (TypeError, ValueError):
         given = None
-    if given is None or given.dtype.kind not in "iuf":  # (arguments.numeric_array)
+    if given is None or not numeric_array(vertices):
         return validate_polygon(vertices, name)  # raises the reference's message
     v = np.asarray(given, dtype=np.float64)
     if v.size > 2 * _REMEMBERED_VERTICES:

@@ -306,7 +306,7 @@ class Activity(NamedTuple):
     body_real: np.ndarray  # (N, policy.REAL_COLUMNS) float64, the policy's own
     body_int: np.ndarray  # (N, policy.INT_COLUMNS) int64, the policy's own
     links: np.ndarray  # (L,2) int64 the policy's body pairs (extended: support, body)
-    link_load: np.ndarray  # (L,3) float64 per link, the policy's own
+    link_load: np.ndarray  # (L, policy.LINK_COLUMNS or 3) float64 per link, the policy's own
 
 
 # ---- named stages of a step, timed when settings.profile is on --------------------------------

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .arguments import beyond_float, numeric_array
+from .arguments import beyond_float, kind_of, numeric_array
 from .jit import inline_kernel, kernel, lean_kernel
 
 #: Largest vertex count a polygon may have: feature ids pack vertex indices into 10 bits.
@@ -53,7 +53,7 @@ def validate_polygon(vertices, name="polygon"):
                 f"{name}: vertices contain NaN or inf (an integer beyond float's range)"
             )
         try:
-            got = f"{np.asarray(vertices).dtype} values"
+            got = kind_of(vertices)
         except (TypeError, ValueError) as exc:  # ragged: no one array
             raise PolygonError(
                 f"{name}: vertices are not an array of (x, y) numbers ({exc})"

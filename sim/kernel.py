@@ -311,6 +311,8 @@ def solve_step(settings, counters, bodies, contacts, activity, solver, t):
         # m: what gravity closes in a substep (a point this near at the start is resting)
         np.hypot(settings.gravity_x, settings.gravity_y) / (inv_h * inv_h),
         solver.row_mark,
+        # the bodies' velocities at the start of the step (unloaded after it)
+        (bodies.velocity, bodies.angular_velocity, activity.awake),
     )
     t = _lap(settings, solver, STAGE_RESTITUTION, t)
     store(counters, contacts, solver, settings.load_rate, IMPACT_SPEED)

@@ -17,7 +17,7 @@ import tomli_w
 
 from .body import Body, check_fields, failing_fields, finite_number, finite_pair
 from .files import write_text_atomically
-from .arguments import numeric_array, plain_copy
+from .arguments import kind_of, numeric_array, plain_copy
 from .geometry import validate_polygon
 from .polygons import check_packed, polygon_suspects
 
@@ -385,7 +385,7 @@ def _floats(value, what):
     if not numeric_array(value):  # float64 took text, switches or complex numbers
         raise ValueError(
             f"Scene.from_arrays: {what} must be numbers, not text, switches or complex numbers "
-            f"(got {np.asarray(value).dtype} values)"
+            f"(got {kind_of(value)})"
         )
     return a
 

@@ -22,7 +22,7 @@ import sim
 from sim.tolerances import body_slop
 from study import executor, paths, systems
 from study.cli import first_paragraph
-from study.metadata import code_state, git_state, jsonable, collect, package_versions, write_results
+from study.metadata import code_state, jsonable, collect, package_versions, write_results
 from study.peers import engine_of, make_runner
 from study.timing import timed
 
@@ -142,9 +142,11 @@ def store_path(name, args):
 
 def sweep_store(name, args, config):
     """(path, header) for ``executor.run_tasks(..., store=path, header=header)``: the header names
-    the commit, the configuration, a hash of the solver's and the script's sources and the
-    versions of the packages a result records, so a store left by other code (uncommitted edits
-    included) or by other engines (a changed pin: pymunk's, numba's) is never resumed."""
+    the configuration, a hash of the solver's, the study library's and the scripts' sources and
+    the versions of the packages a result records, so a store left by other code (uncommitted
+    edits included) or by other engines (a changed pin: pymunk's, numba's) is never resumed. Not
+    the commit: the sources are what runs, and a commit that changed none of them (the README's
+    results block, a note) threw away an interrupted sweep's finished runs."""
     digest = hashlib.sha256()
     for f in sorted(
         list((paths.ROOT / "sim").rglob("*.py"))
@@ -153,12 +155,21 @@ def sweep_store(name, args, config):
     ):
         digest.update(f.read_bytes())
     header = {
-        "commit": git_state()["commit"],
         "config": jsonable(config),
         "source": digest.hexdigest()[:16],
         "packages": package_versions(),
     }
     return store_path(name, args), header
+
+
+def interrupted(name, folder):
+    """The one line a timed experiment (no store: timings are never resumed) prints when Ctrl-C
+    stops it; returns the exit status, 130 as the shell's. Without it bench_step, bench_freeze
+    and peer_agreement printed a 14-frame traceback."""
+    table = Path(folder) / f"{name}.csv"
+    kept = f" ({table} left as it was)" if table.exists() else ""
+    print(f"python -m experiments.{name}: stopped (Ctrl-C); nothing kept{kept}", file=sys.stderr)
+    return 130
 
 
 def stopped(name, args):

@@ -89,6 +89,12 @@ def write_results(name, dataframe, metadata, folder=None):
     metadata = {**metadata, "csv": {"rows": len(dataframe), "sha256": _sha256(text.encode())}}
     write_text_atomically(csv_path, text)
     write_text_atomically(json_path, json.dumps(jsonable(metadata), indent=2) + "\n")
+    if metadata.get("code_changed_during_run") is True:
+        # The code changed while this ran: the results may mix two versions of it. Dated now,
+        # they were newer than the edit, and make took them as up to date. Dated at the epoch,
+        # the next make reruns the experiment (the files stay, marked in their metadata).
+        for path in (csv_path, json_path):
+            os.utime(path, (0, 0))
     return csv_path, json_path
 
 

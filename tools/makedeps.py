@@ -1,6 +1,6 @@
 """The Makefile's dependencies, read from the code: which source files each output is made from.
 
-    python3 tools/makedeps.py NAME [NAME ...]      make rules on standard output
+    python3 tools/makedeps.py --out FILE NAME [NAME ...]    make rules into FILE (atomically)
 
 A results file depends on every repository module its script imports, directly or through other
 modules (``fig_speedup`` imports ``protocols``, which imports ``common``, which imports
@@ -17,6 +17,7 @@ Printed rules only add prerequisites; the recipes stay in the Makefile:
 """
 
 import ast
+import os
 import sys
 from pathlib import Path
 
@@ -98,7 +99,30 @@ def rules(names):
     return "\n".join(out) + "\n"
 
 
+def write(path, text):
+    """``text`` into ``path`` whole or not at all: a temporary file beside it, flushed to disk,
+    renamed over it; a failed write (a full disk) raises, so the caller's make stops. Written
+    through the shell's redirection (until 2026-12-07), a full disk cut the rules off mid-path
+    with exit status 0: the cut file was newer than every source, and every make command after it
+    failed on "No rule to make target 'sim/fre'" until it was deleted by hand."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.tmp")
+    try:
+        with open(tmp, "w") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except OSError as exc:
+        try:
+            tmp.unlink(missing_ok=True)
+        except OSError:  # (its folder is not one)
+            pass
+        sys.exit(f"tools/makedeps.py: cannot write {path}: {exc}")
+
+
 if __name__ == "__main__":
-    sys.stdout.write(
-        "# made by tools/makedeps.py from the imports; do not edit\n" + rules(sys.argv[1:])
-    )
+    args = sys.argv[1:]
+    if len(args) < 2 or args[0] != "--out":
+        sys.exit("usage: python3 tools/makedeps.py --out FILE NAME [NAME ...]")
+    write(args[1], "# made by tools/makedeps.py from the imports; do not edit\n" + rules(args[2:]))

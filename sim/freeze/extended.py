@@ -44,11 +44,15 @@ passes, with no timer (``rest_steps`` = 1):
 
 What freezing records (the support graph): for each contact whose impulse on the body points
 against gravity, the partner is a *support*; a link (support, body) is stored when the support is
-dynamic. From its supports the body keeps a summary for the wake test: the dominant support normal
-n_s, the support points' extent [lo, hi] along the tangent t_s = perp(n_s), the smallest support
-friction mu_s, and the *load* it was in equilibrium under: its weight plus every non-support
-impulse on it (bodies resting on it, side contacts), as a force and a moment about its centre of
-mass. A body freezing onto an already frozen body adds its own push to that body's load.
+dynamic. From its supports the body keeps a summary for the wake test: the support direction n_s
+(of their impulses on it, summed), the support points' extent
+[lo, hi] along the tangent t_s = perp(n_s), the *cone* of directions its supports can push in
+together (each support point's friction cone about its own normal, the span of their edges), and
+the *load* it was in equilibrium under: its weight plus every non-support impulse on it (bodies
+resting on it, side contacts), as a force and a moment about its centre of mass. A body freezing
+onto an already frozen body adds its own push to that body's load, and the change reaches the
+frozen bodies under that one too (``extended_wake.transmit``): each support link carries a fixed
+share of what its body carries.
 
 Waking (every transition back to motion), checked every step only for frozen bodies that awake
 bodies touch (so resting bodies cost nothing otherwise):
@@ -56,9 +60,11 @@ bodies touch (so resting bodies cost nothing otherwise):
     set it moving faster than ``impact_speed`` (m/s): impulse / its mass. A speed, not an impulse,
     so that the rule is the same at every size (with a threshold of 0.5 N s, a stack of 1 mm boxes
     was never woken by a box falling onto it, and stood where ``off``'s toppled);
-  - push: the frozen body's load plus this step's impulses from awake bodies would need more
-    friction than mu_s provides at its supports (a horizontal push), or would lift it off its
-    supports;
+  - push: the frozen body's load plus this step's impulses from awake bodies would need a
+    reaction outside its supports' cone (more friction than they have, or a pull: lifted off).
+    The pushes on a frozen body that holds are passed on to the frozen bodies under it, which
+    are judged with them (a block landing on the end of a frozen plank tips the pedestal under
+    the plate under it);
   - tipping: the resultant's line of action leaves the support extent [lo, hi] (the centre of
     pressure leaves the base, as when a weight lands on the overhanging end of a plank);
   - support removed or moved: when any body wakes, everything it supports wakes in the same step,
@@ -69,28 +75,26 @@ Per-body state: body_int[:, REST_COUNT] steps slow in a row; the columns are nam
 
 This module is the policy as the dispatch sees it (NAME, PARAMETERS, the two hooks); the hooks'
 stages live by job, as Box2D v3 splits its solver stages: ``extended_rest.py`` the rest test
-(unsettled contacts, whole groups), ``extended_wake.py`` the wake rules and the support graph,
-``extended_layout.py`` the per-body state both read. The hooks keep the loops over the step's
+(unsettled contacts, whole groups), ``extended_freezing.py`` freezing the certified bodies with
+the summary of their supports and loads, ``extended_wake.py`` the wake rules and the support
+graph, ``extended_layout.py`` the per-body state they read. The hooks keep the loops over the step's
 contacts (the order in which they read and write the state is the policy); the stages are what
 those loops call.
 """
 
 import numpy as np
 
-from ..activity import CAUSE, freeze, record
+from ..activity import CAUSE
 from ..data import (
     ANCHOR_BX,
     ANCHOR_BY,
     BODY_A,
     BODY_B,
-    FRICTION,
     NORMAL_X,
     NORMAL_Y,
     N_ACTIVE,
     N_AWAKE,
     N_CERTIFICATES,
-    N_LINKS,
-    NORMAL_IMPULSE,
     POINT_COUNT,
     STEP_COUNT,
 )
@@ -99,26 +103,11 @@ from . import certificate, extended_layout
 from .contact_math import impact_impulses
 from .extended_layout import (
     BRACED,
-    FREE,
-    FROZEN,
-    LOAD_M,
-    LOAD_X,
-    LOAD_Y,
     MARK,
-    NEVER_TESTED,
     PUSH_M,
     PUSH_NORMAL,
     PUSH_X,
     PUSH_Y,
-    REST_COUNT,
-    SUPPORT_H,
-    SUPPORT_HI,
-    SUPPORT_LO,
-    SUPPORT_MU,
-    SUPPORT_NX,
-    SUPPORT_NY,
-    TESTED,
-    TOUCHED,
     WAIT_CLOSING,
     WAIT_DEEP,
     WAIT_SLIDING,
@@ -126,26 +115,20 @@ from .extended_layout import (
     WAITING,
     impulse_on,
     is_movable,
-    is_support,
 )
+from .extended_freezing import freeze_certified
 from .extended_rest import (
     CLOSING,
     DEEP,
     SLIDING,
-    on_the_awake,
     slow_and_steady,
     unsettled,
     wedges,
     whole_groups,
 )
 from .extended_wake import (
-    add_load,
-    drop_links_of_awake,
-    equilibrium_broken,
-    push_on_support,
+    judge_touched,
     touch,
-    wake_one,
-    wake_supported,
 )
 
 NAME = "extended"
@@ -175,6 +158,7 @@ BELOW = {"friction_margin": 1.0, "tip_margin": 1.0}
 #: in the columns ``extended_layout`` names
 REAL_COLUMNS = extended_layout.REAL_COLUMNS
 INT_COLUMNS = extended_layout.INT_COLUMNS
+LINK_COLUMNS = extended_layout.LINK_COLUMNS
 
 
 def initial(activity, velocity, angular_velocity):
@@ -217,19 +201,22 @@ def before_solve(settings, counters, bodies, contacts, activity):
     # bodies at all is paid by every scene under extended, and b stays the marginal cost.
     touched = np.empty(min(2 * counters[N_ACTIVE], settings.n_dynamic) + 1, np.int64)
     queue = np.empty(settings.n_dynamic, np.int64)
-    return _impacts(settings, counters, bodies, contacts, activity, touched, queue)
+    ring = np.empty(settings.n_dynamic + 1, np.int64)
+    reached = np.empty(settings.n_dynamic, np.int64)
+    return _impacts(settings, counters, bodies, contacts, activity, (touched, queue, ring, reached))
 
 
 @lean_kernel
-def _impacts(settings, counters, bodies, contacts, activity, touched, queue):
-    """``before_solve``'s work, in its work arrays ``touched`` and ``queue``."""
+def _impacts(settings, counters, bodies, contacts, activity, work):
+    """``before_solve``'s work, in its work arrays ``work``: (touched, queue, ring, reached)."""
+    touched = work[0]
     position = bodies.position
     ci = contacts.contact_int
     cf = contacts.contact_float
     awake_slot, body_real, body_int = activity.awake_slot, activity.body_real, activity.body_int
     n_dyn = settings.n_dynamic
     count = counters[N_ACTIVE]
-    n_touched = 0
+    n_touched = np.int64(0)  # not a literal (sim/jit, LITERALS)
     for k in range(count):
         c = contacts.active[k]
         a = ci[c, BODY_A]
@@ -259,21 +246,8 @@ def _impacts(settings, counters, bodies, contacts, activity, touched, queue):
                         wy - position[frozen_body, 1]
                     ) * px
                     body_real[frozen_body, PUSH_NORMAL] += p
-    n_queue = np.int64(0)  # not a literal 0 (sim/jit, LITERALS)
-    for k in range(n_touched):
-        i = touched[k]
-        body_int[i, TOUCHED] = 0
-        if body_real[i, PUSH_NORMAL] * bodies.inv_mass[i] > settings.impact_speed:
-            cause = _IMPACT
-        elif body_real[i, PUSH_NORMAL] > 0.0:
-            cause = equilibrium_broken(i, body_real, position)
-        else:
-            cause = -1
-        if cause >= 0:
-            n_queue = wake_one(
-                i, cause, n_queue, queue, settings, counters, bodies, contacts, activity
-            )
-    return wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity)
+    impacts = np.bool_(True)  # not a literal (sim/jit, LITERALS)
+    return judge_touched(n_touched, impacts, work, settings, counters, bodies, contacts, activity)
 
 
 @inline_kernel
@@ -285,7 +259,10 @@ def after_solve(settings, counters, bodies, contacts, activity):
     # this one allocates the work arrays and runs the certificate, which allocates its own
     touched = np.empty(min(2 * counters[N_ACTIVE], settings.n_dynamic) + 1, np.int64)
     queue = np.empty(settings.n_dynamic, np.int64)
-    if not _candidates(settings, counters, bodies, contacts, activity, touched, queue):
+    ring = np.empty(settings.n_dynamic + 1, np.int64)
+    reached = np.empty(settings.n_dynamic, np.int64)
+    work = (touched, queue, ring, reached)
+    if not _candidates(settings, counters, bodies, contacts, activity, work):
         return
     awake, awake_slot = activity.awake, activity.awake_slot
     body_int = activity.body_int
@@ -321,13 +298,15 @@ def after_solve(settings, counters, bodies, contacts, activity):
         if not held[k]:
             body_int[candidates[k], MARK] = 2
             body_int[candidates[k], WAITING] = WAIT_UNCERTIFIED
-    _freeze_certified(settings, counters, bodies, contacts, activity)
+    freeze_certified(settings, counters, bodies, contacts, activity)
 
 
 @lean_kernel
-def _candidates(settings, counters, bodies, contacts, activity, touched, queue):
+def _candidates(settings, counters, bodies, contacts, activity, work):
     """``after_solve``'s first part: loads and wakes of frozen bodies, the rest test, and the
-    candidates for the certificate (body_int[:, MARK] == 1). Returns whether there are any."""
+    candidates for the certificate (body_int[:, MARK] == 1). Returns whether there are any.
+    ``work``: the work arrays (touched, queue, ring, reached)."""
+    touched = work[0]
     position = bodies.position
     ci = contacts.contact_int
     pf = contacts.point_float
@@ -337,7 +316,7 @@ def _candidates(settings, counters, bodies, contacts, activity, touched, queue):
     dt = settings.dt
     count = counters[N_ACTIVE]
     # ---- 1. pushes and tipping: frozen bodies touched by awake bodies ----------------------------
-    n_touched = 0
+    n_touched = np.int64(0)  # not a literal (sim/jit, LITERALS)
     for kk in range(count):
         c = contacts.active[kk]
         a = ci[c, BODY_A]
@@ -365,16 +344,8 @@ def _candidates(settings, counters, bodies, contacts, activity, touched, queue):
                 rx = wx - position[frozen_body, 0]
                 ry = wy - position[frozen_body, 1]
                 body_real[frozen_body, PUSH_M] += rx * py - ry * px
-    n_queue = np.int64(0)  # not a literal 0 (sim/jit, LITERALS)
-    for k in range(n_touched):
-        i = touched[k]
-        body_int[i, TOUCHED] = 0
-        cause = equilibrium_broken(i, body_real, position)
-        if cause >= 0:
-            n_queue = wake_one(
-                i, cause, n_queue, queue, settings, counters, bodies, contacts, activity
-            )
-    wake_supported(n_queue, queue, settings, counters, bodies, contacts, activity)
+    impacts = np.bool_(False)  # not a literal (sim/jit, LITERALS)
+    judge_touched(n_touched, impacts, work, settings, counters, bodies, contacts, activity)
 
     # ---- 2. the rest test: the awake bodies with a contact (slow_and_steady) ----------------
     # An awake body without one keeps the MARK of its last test, never 1: every body marked 1 in
@@ -427,157 +398,3 @@ def _candidates(settings, counters, bodies, contacts, activity, touched, queue):
     if not whole_groups(count, n_dyn, awake, n_awake, contacts, awake_slot, body_int):
         return False
     return True
-
-
-@lean_kernel
-def _freeze_certified(settings, counters, bodies, contacts, activity):
-    """``after_solve``'s last part: freeze every body still marked (MARK 1), with the summary of
-    its supports and loads that the wake rules read."""
-    position = bodies.position
-    inv_mass = bodies.inv_mass
-    ci = contacts.contact_int
-    cf = contacts.contact_float
-    pf = contacts.point_float
-    states, awake, awake_slot, events = (
-        activity.states,
-        activity.awake,
-        activity.awake_slot,
-        activity.events,
-    )
-    body_real, body_int = activity.body_real, activity.body_int
-    links, link_load = activity.links, activity.link_load
-    n_dyn = settings.n_dynamic
-    dt = settings.dt
-    gx = settings.gravity_x
-    gy = settings.gravity_y
-    g = np.hypot(gx, gy)
-    up_x = -gx / g if g > 0 else 0.0
-    up_y = -gy / g if g > 0 else 1.0
-    count = counters[N_ACTIVE]
-    n_awake = counters[N_AWAKE]
-    on_the_awake(count, n_dyn, contacts, awake_slot, body_int, up_x, up_y)
-    # freeze the survivors: summarise supports and loads, link dynamic supports
-    for k in range(n_awake):
-        i = awake[k]
-        if body_int[i, MARK] == 1:
-            body_real[i, LOAD_X] = gx * dt / inv_mass[i]
-            body_real[i, LOAD_Y] = gy * dt / inv_mass[i]
-            body_real[i, LOAD_M] = 0.0
-            body_real[i, SUPPORT_NX] = 0.0
-            body_real[i, SUPPORT_NY] = 0.0
-            body_real[i, SUPPORT_MU] = np.inf
-    for kk in range(count):
-        c = contacts.active[kk]
-        a = ci[c, BODY_A]
-        b = ci[c, BODY_B]
-        for i, other in ((a, b), (b, a)):
-            if not (is_movable(i, n_dyn, awake_slot) and body_int[i, MARK] == 1):
-                continue
-            sx = 0.0
-            sy = 0.0
-            onto_frozen = 0 <= other < n_dyn and awake_slot[other] < 0
-            # A push enters the load only from what stays still with i: the floor, a static or
-            # frozen body, or one freezing with it (whose link takes its push back when it
-            # wakes). An awake body's push is read live every step (PUSH, ``_candidates``): in
-            # the load too it counted twice, and stayed there after the body left (a box with a
-            # triangle balanced on its apex, which later tipped off, kept the triangle's weight
-            # for good, and a box sliding into it was stopped dead where off's moved it).
-            holds_still = not is_movable(other, n_dyn, awake_slot) or body_int[other, MARK] == 1
-            for j in range(ci[c, POINT_COUNT]):
-                px, py = impulse_on(i, c, j, contacts)
-                if is_support(px, py, up_x, up_y):
-                    sx += px
-                    sy += py
-                    if onto_frozen:
-                        # resting on an already frozen body: that body now carries this push,
-                        # the opposite of the support impulse, at this very point
-                        add_load(other, -px, -py, c, j, contacts, position, body_real)
-                elif holds_still:  # a load
-                    wx = pf[c, j, ANCHOR_BX] + position[b, 0]
-                    wy = pf[c, j, ANCHOR_BY] + position[b, 1]
-                    body_real[i, LOAD_X] += px
-                    body_real[i, LOAD_Y] += py
-                    body_real[i, LOAD_M] += (wx - position[i, 0]) * py - (wy - position[i, 1]) * px
-            if sx != 0.0 or sy != 0.0:
-                body_real[i, SUPPORT_NX] += sx  # impulse-weighted support direction
-                body_real[i, SUPPORT_NY] += sy
-                body_real[i, SUPPORT_MU] = min(body_real[i, SUPPORT_MU], cf[c, FRICTION])
-                if 0 <= other < n_dyn:
-                    n_links = counters[N_LINKS]
-                    if n_links == links.shape[0]:
-                        drop_links_of_awake(counters, activity)
-                        n_links = counters[N_LINKS]
-                    if n_links < links.shape[0]:
-                        links[n_links, 0] = other
-                        links[n_links, 1] = i
-                        # what i puts on its support (the support's load holds it, whether the
-                        # support froze before or with i): taken back when i wakes
-                        fx, fy, m = push_on_support(i, other, c, contacts, position, up_x, up_y)
-                        link_load[n_links, 0] = fx
-                        link_load[n_links, 1] = fy
-                        link_load[n_links, 2] = m
-                        counters[N_LINKS] = n_links + 1
-    # support extent along the tangent of the dominant support normal
-    for k in range(n_awake):
-        i = awake[k]
-        if body_int[i, MARK] == 1:
-            nx = body_real[i, SUPPORT_NX]
-            ny = body_real[i, SUPPORT_NY]
-            norm = np.hypot(nx, ny)
-            if norm > 0.0:
-                body_real[i, SUPPORT_NX] = nx / norm
-                body_real[i, SUPPORT_NY] = ny / norm
-            else:  # held with no support against gravity: zero-g scenes
-                body_real[i, SUPPORT_NX] = up_x
-                body_real[i, SUPPORT_NY] = up_y
-            body_real[i, SUPPORT_LO] = np.inf
-            body_real[i, SUPPORT_HI] = -np.inf
-            body_real[i, SUPPORT_H] = 0.0
-            body_int[i, TOUCHED] = 0  # scratch: number of support points
-    for kk in range(count):
-        c = contacts.active[kk]
-        a = ci[c, BODY_A]
-        b = ci[c, BODY_B]
-        for i in (a, b):
-            if not (is_movable(i, n_dyn, awake_slot) and body_int[i, MARK] == 1):
-                continue
-            tx = -body_real[i, SUPPORT_NY]
-            ty = body_real[i, SUPPORT_NX]
-            # a side contact with a body that cannot move (a wall, a frozen neighbour, one
-            # freezing in this step) holds i against turning too: the certificate counts it, so
-            # the extent does. Left out, a body certified on one floor point and a frozen
-            # neighbour had an extent of one point, and any load on it woke it as tipping (most
-            # wakes of the drop(30) piles)
-            other = a if i == b else b
-            immovable = not is_movable(other, n_dyn, awake_slot) or body_int[other, MARK] == 1
-            for j in range(ci[c, POINT_COUNT]):
-                px, py = impulse_on(i, c, j, contacts)
-                up = is_support(px, py, up_x, up_y)
-                if up or (immovable and pf[c, j, NORMAL_IMPULSE] > 0.0):
-                    wx = pf[c, j, ANCHOR_BX] + position[b, 0]
-                    wy = pf[c, j, ANCHOR_BY] + position[b, 1]
-                    s = wx * tx + wy * ty
-                    body_real[i, SUPPORT_LO] = min(body_real[i, SUPPORT_LO], s)
-                    body_real[i, SUPPORT_HI] = max(body_real[i, SUPPORT_HI], s)
-                    if up:  # the support line's offset: from the points that hold i up
-                        body_real[i, SUPPORT_H] += wx * ty - wy * tx  # along n = -perp(t)
-                        body_int[i, TOUCHED] += 1
-    k = 0
-    while k < counters[N_AWAKE]:
-        i = awake[k]
-        if body_int[i, MARK] == 1:
-            if body_int[i, TOUCHED] > 0:
-                body_real[i, SUPPORT_H] /= body_int[i, TOUCHED]
-            body_int[i, TOUCHED] = 0
-            body_int[i, MARK] = 0
-            body_int[i, REST_COUNT] = 0
-            # no test in a row with a test from before the freeze: a body woken in the next
-            # step (after that step's solve, in which it was immovable) was compared with its
-            # velocity from before the freeze, counted as steady, and could freeze again in the
-            # step it woke (a box frozen on the floor and woken by a box landing on it)
-            body_int[i, TESTED] = NEVER_TESTED
-            freeze(i, settings, counters, bodies, contacts, activity)
-            states[i] = FROZEN
-            record(events, counters, i, FREE, FROZEN, _RESTED)
-            continue  # freeze() moved the last awake body into slot k
-        k += 1

@@ -21,7 +21,7 @@ from ..state import State
     SUPPORT_LO,
     SUPPORT_HI,
     SUPPORT_H,
-    SUPPORT_MU,
+    CONE_LO,
     LOAD_X,
     LOAD_Y,
     LOAD_M,
@@ -32,11 +32,40 @@ from ..state import State
     PREVIOUS_VX,
     PREVIOUS_VY,
     PREVIOUS_W,
-) = range(16)
-REAL_COLUMNS = 16
+    SUPPORT_UP,
+    CONE_HI,
+    EXTRA_X,
+    EXTRA_Y,
+    EXTRA_M,
+    SEND_X,
+    SEND_Y,
+    SEND_M,
+    BASE_X,
+    BASE_Y,
+    BASE_M,
+) = range(27)
+REAL_COLUMNS = 27
+# CONE_LO, CONE_HI: the directions (rad from the support direction SUPPORT_N*, toward
+# t = perp(n)) between which the supports together can push: every support point's friction cone
+# about its own normal, summed (``extended_wake.balance_broken``).
+# SUPPORT_UP: the part of a frozen body's support impulses against gravity (N s), the total its
+# support links' shares are fractions of (``extended_wake.transmit``). BASE_*: what the body
+# passed to its supports when it froze (its LOAD then, plus the pushes of the awake bodies on it
+# then): their loads hold that much of it, and only a change from it reaches them. EXTRA_*: such
+# a change that reached the body from what rests on it (``transmit``'s scratch, this step's
+# only); SEND_*: the part not yet passed on to its own supports
+# link_load columns (one row per link (support, body) of ``activity.links``): the push (N s) and
+# its moment about the support's centre (N m s) that the body puts on its support, taken back
+# from the support's load when the body wakes; and the body's *share*: the fraction of a load
+# added to the body later that this support carries (``extended_wake.transmit``), fixed while the
+# body is frozen so that taking a load back undoes adding it; and where the push acts (m, world)
+LINK_FX, LINK_FY, LINK_M, LINK_SHARE, LINK_PX, LINK_PY = range(6)
+LINK_COLUMNS = 6
 # body_int columns
-REST_COUNT, MARK, TOUCHED, WAITING, BRACED, TESTED = range(6)
-INT_COLUMNS = 6
+REST_COUNT, MARK, TOUCHED, WAITING, BRACED, TESTED, PASSING, REACHED = range(8)
+INT_COLUMNS = 8
+#: PASSING, REACHED: ``extended_wake.transmit``'s scratch (queued to pass a load on; reached by
+#: one), 0 outside it
 #: TESTED: the step (counters[STEP_COUNT]) of the body's last rest test (0: the World's start,
 #: with its starting velocities; NEVER_TESTED once frozen, so that a woken body's first test
 #: counts as changing). Only bodies with a contact are tested
@@ -99,6 +128,16 @@ def impulse_on(body, c, j, contacts):
     if contacts.contact_int[c, BODY_B] == body:
         return px, py
     return -px, -py
+
+
+@inline_kernel
+def normal_on(body, c, contacts):
+    """The unit normal (x, y) of contact c, pointing into ``body``."""
+    nx = contacts.contact_float[c, NORMAL_X]
+    ny = contacts.contact_float[c, NORMAL_Y]
+    if contacts.contact_int[c, BODY_B] == body:
+        return nx, ny
+    return -nx, -ny
 
 
 #: an impulse on a body is a *support* when its component against gravity exceeds this fraction

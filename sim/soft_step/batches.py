@@ -21,7 +21,6 @@ from .layout import (
     MB,
     MU,
     NMASS1,
-    NMASS2,
     NX,
     NY,
     ON1,
@@ -447,14 +446,21 @@ def relax_hard(
 
 
 @wide_inline
-def _approaches(n_batches, wide, lane_row, gravity_x, gravity_y, held):
+def _approaches(n_batches, wide, lane_row, gravity_x, gravity_y, held, start):
     """Each point's approach speed for the bounce into the batch's scratch fields APPROACH1 and
     APPROACH2 (free while the sweeps hold velocities), once before the sweeps (they do not change
     it): ``bounce.approach``, where the point is now, reached in free flight; gravity accelerates
     a body that is movable and not held up by another contact (``bounce.mark_held``), so two
     falling bodies fall together and a box falls onto a box resting on the floor as onto the
     floor. On rest_row(5000) with every box bouncy the restitution stage takes 0.24 ms a step (0.18
-    before the approach was carried forward; 0.32 computed in every sweep instead)."""
+    before the approach was carried forward; 0.32 computed in every sweep instead).
+
+    The velocity it starts from is the bodies' at the start of the step (``start``: velocity,
+    angular_velocity and awake, still the step's start until the bodies are unloaded) read at
+    the point's arms now (RNA, RNB), where the bounce measures and pushes: with e = 1 it gives
+    back the energy it took only so (ARCHITECTURE section 2.3; at the start's arms, RELV, a
+    tilted box dropped from 3 m rose to 5 m)."""
+    velocity, angular_velocity, awake = start
     for b in range(n_batches):
         o = b * STRIDE_U
         if not has_restitution(wide, o):
@@ -463,14 +469,33 @@ def _approaches(n_batches, wide, lane_row, gravity_x, gravity_y, held):
         for l in range(LANES_U):
             nx = wide[o + NX + l]
             ny = wide[o + NY + l]
-            held_a = held[lane_row[ob + l]]
-            held_b = held[lane_row[ob + l + LANES_U]]
+            row_a = lane_row[ob + l]
+            row_b = lane_row[ob + l + LANES_U]
+            held_a = held[row_a]
+            held_b = held[row_b]
+            # the start velocities (row 0: cannot move, none); B's relative to A's along n
+            dvn = 0.0
+            wa = 0.0
+            wb = 0.0
+            if row_a > U64(0):
+                i = awake[row_a - U64(1)]
+                dvn -= velocity[i, 0] * nx + velocity[i, 1] * ny
+                wa = angular_velocity[i]
+            if row_b > U64(0):
+                i = awake[row_b - U64(1)]
+                dvn += velocity[i, 0] * nx + velocity[i, 1] * ny
+                wb = angular_velocity[i]
+            relv1 = dvn + wb * wide[o + RNB1 + l]
+            relv2 = dvn + wb * wide[o + POINT2 + RNB1 + l]
+            if row_a > U64(0):  # (a fixed A's arms are not kept: FIXED SIDE)
+                relv1 -= wa * wide[o + RNA1 + l]
+                relv2 -= wa * wide[o + POINT2 + RNA1 + l]
             # m/s^2: gravity's share of the pair's relative normal acceleration (B's against A's)
             falls_b = 1.0 if (wide[o + MB + l] > 0.0 and not held_b) else 0.0
             falls_a = 1.0 if (wide[o + MA + l] > 0.0 and not held_a) else 0.0
             acceleration = (falls_b - falls_a) * (gravity_x * nx + gravity_y * ny)
-            wide[o + APPROACH1 + l] = approach(wide, o, l, U64(0), nx, ny, acceleration)
-            wide[o + APPROACH2 + l] = approach(wide, o, l, POINT2, nx, ny, acceleration)
+            wide[o + APPROACH1 + l] = approach(wide, o, l, U64(0), nx, ny, acceleration, relv1)
+            wide[o + APPROACH2 + l] = approach(wide, o, l, POINT2, nx, ny, acceleration, relv2)
 
 
 @wide_inline
@@ -499,9 +524,9 @@ def _restitution_lane(wide, o, l, threshold):
     k22 = _mass_term(wide, o, l, rn2a, rn2a, rn2b, rn2b, False)
     k12 = _mass_term(wide, o, l, rn1a, rn2a, rn1b, rn2b, False)
     both1, both2 = two_row_impulses(old1, old2, r1, r2, k11, k12, k22, True)
-    # one point bouncing: its row alone, at the start of the step's point mass
-    one1 = _fmax(0.0, old1 - wide[o + NMASS1 + l] * r1)
-    one2 = _fmax(0.0, old2 - wide[o + NMASS2 + l] * r2)
+    # one point bouncing: its row alone, at its mass at the arms it pushes at
+    one1 = _fmax(0.0, old1 - r1 / k11) if k11 > 0.0 else old1
+    one2 = _fmax(0.0, old2 - r2 / k22) if k22 > 0.0 else old2
     both = bounce1 & bounce2
     new1 = both1 if both else (one1 if bounce1 else old1)
     new2 = both2 if both else (one2 if bounce2 else old2)
@@ -513,7 +538,17 @@ def _restitution_lane(wide, o, l, threshold):
 
 @wide_kernel
 def restitution(
-    n_colours, colour_batches, wide, lane_row, state, threshold, gravity_x, gravity_y, touch, held
+    n_colours,
+    colour_batches,
+    wide,
+    lane_row,
+    state,
+    threshold,
+    gravity_x,
+    gravity_y,
+    touch,
+    held,
+    start,
 ):
     """Restitution after the substeps: RESTITUTION_SWEEPS sweeps, for bodies with several
     contacts (a lane's two points are solved together; solved one after the other, the first
@@ -528,7 +563,7 @@ def restitution(
     if not bouncy:
         return
     mark_held(n_batches, wide, lane_row, gravity_x, gravity_y, touch, held)
-    _approaches(n_batches, wide, lane_row, gravity_x, gravity_y, held)
+    _approaches(n_batches, wide, lane_row, gravity_x, gravity_y, held, start)
     for _ in range(RESTITUTION_SWEEPS):
         _restitution_sweep(n_colours, colour_batches, wide, lane_row, state, threshold)
     for k in range(n_batches * U64(2) * LANES_U):

@@ -25,7 +25,6 @@ from .layout import (
     RAY1,
     RBX1,
     RBY1,
-    RELV1,
     SEP1,
     STRIDE_U,
     TN1,
@@ -69,14 +68,15 @@ def start_separation(wide, o, l, p, nx, ny):
 
 
 @wide_inline
-def approach(wide, o, l, p, nx, ny, acceleration):
-    """m/s: point p's approach speed for the bounce (``free_flight_approach``): from its velocity
-    and separation at the start of the step (RELV, ``start_separation``) to its separation now
-    (SEP, after the last substep; 0 if it overlaps, a NaN carried through)."""
+def approach(wide, o, l, p, nx, ny, acceleration, relv):
+    """m/s: point p's approach speed for the bounce (``free_flight_approach``): from ``relv``, its
+    velocity along the normal at the start of the step, and its separation then
+    (``start_separation``) to its separation now (SEP, after the last substep; 0 if it overlaps,
+    a NaN carried through)."""
     sep = wide[o + p + SEP1 + l]
     now = 0.0 if sep <= 0.0 else sep
     start = start_separation(wide, o, l, p, nx, ny)
-    return free_flight_approach(wide[o + p + RELV1 + l], start, now, acceleration)
+    return free_flight_approach(relv, start, now, acceleration)
 
 
 @wide_inline

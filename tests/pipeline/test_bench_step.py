@@ -313,3 +313,16 @@ def test_the_analysis_reads_the_variant_apart_with_its_own_ratios(quick):
     ratios = _ratios(table).set_index("label")
     sims = table[table["system"] == "sim-off"].set_index("label")
     assert ratios["pymunk_over_sim"].to_dict() == pytest.approx(sims["speedup_vs_pymunk"].to_dict())
+
+
+def test_a_table_and_a_profile_from_two_runs_are_refused():
+    """bench_step writes its table and its profile with one run's provenance; a table copied from
+    another run beside the old profile was drawn as one run (until 2026-12-07)."""
+    from analysis import bench_step as analysis_bench_step
+    from study.metadata import ResultsError
+
+    meta = {"date_utc": "2026-12-07T10:00:00+00:00", "parameters": {"repeats": 3}}
+    analysis_bench_step.check_same_run(meta, dict(meta))  # one run: fine
+    for other in ({**meta, "date_utc": "2026-12-07T11:00:00+00:00"}, {**meta, "parameters": {}}):
+        with pytest.raises(ResultsError, match="come from different runs"):
+            analysis_bench_step.check_same_run(meta, other)

@@ -121,3 +121,20 @@ def test_every_distribution_the_code_imports_has_its_version_recorded():
     assert "llvmlite" in imported and "numba" in imported
     missing = imported - {normal(name) for name in metadata.PACKAGES}
     assert not missing, f"imported but not recorded in study.metadata.PACKAGES: {sorted(missing)}"
+
+
+@pytest.mark.parametrize("changed", [True, False, "unknown"])
+def test_results_made_while_the_code_changed_are_dated_so_make_reruns_them(tmp_path, changed):
+    """Dated when written, results of a run during which a module was edited were newer than the
+    edit, and make took them as up to date (until 2026-12-07): they are dated at the epoch, and
+    the next make reruns the experiment. Results of unchanged code keep their date."""
+    import pandas as pd
+
+    from study.metadata import write_results
+
+    paths_ = write_results(
+        "x", pd.DataFrame({"a": [1]}), {"code_changed_during_run": changed}, folder=tmp_path
+    )
+    for path in paths_:
+        assert path.exists()
+        assert (path.stat().st_mtime == 0) == (changed is True)

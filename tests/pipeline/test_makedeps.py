@@ -2,6 +2,8 @@
 reruns exactly the experiments and analyses that run it, and nothing else."""
 
 import json
+
+import pytest
 import os
 import re
 import subprocess
@@ -9,7 +11,6 @@ import sys
 import time
 from pathlib import Path
 
-import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
@@ -368,3 +369,17 @@ def test_a_quick_value_that_is_neither_on_nor_off_is_refused():
         ["make", "-s", "print-RESULTS_DIR", "QUICK=maybe"], cwd=ROOT, capture_output=True, text=True
     )
     assert out.returncode != 0 and "QUICK=maybe is neither on nor off" in out.stderr
+
+
+def test_a_failed_write_of_the_rules_stops_with_the_file_named_and_leaves_nothing(tmp_path):
+    """The rules are written whole or not at all, and a failure is an error make sees (through
+    the shell's redirection, a full disk cut deps.mk short with exit status 0)."""
+    blocker = tmp_path / "not_a_folder"
+    blocker.write_text("")
+    with pytest.raises(SystemExit, match="cannot write .*deps.mk"):
+        makedeps.write(blocker / "deps.mk", "rules\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["not_a_folder"]
+    good = tmp_path / "deps.mk"
+    makedeps.write(good, "rules\n")
+    assert good.read_text() == "rules\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["deps.mk", "not_a_folder"]

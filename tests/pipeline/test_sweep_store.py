@@ -27,3 +27,18 @@ def test_a_store_made_under_other_package_versions_is_not_resumed(tmp_path, monk
     executor.run_tasks(calls.append, TASKS, workers=1, store=store, header=header)
     assert calls == TASKS  # every run made again
     assert store.with_suffix(".jsonl.stale").exists()  # the old runs set aside, not mixed in
+
+
+def test_a_store_resumes_across_a_commit_that_changed_no_source(tmp_path, monkeypatch):
+    """The header names what runs (configuration, sources, engines), not the commit: a commit of
+    the README's results block threw an interrupted sweep's finished runs away (until
+    2026-12-07)."""
+    args = argparse.Namespace(quick=True, data_dir=tmp_path / "data")
+    store, header = common.sweep_store("fake", args, {"n": 3})
+    executor.run_tasks(lambda t: t["x"], TASKS[:2], workers=1, store=store, header=header)
+    another = {"commit": "another", "dirty": False}
+    monkeypatch.setattr(common, "git_state", lambda: another, raising=False)
+    store, header = common.sweep_store("fake", args, {"n": 3})
+    calls = []
+    executor.run_tasks(calls.append, TASKS, workers=1, store=store, header=header)
+    assert calls == TASKS[2:]  # only the run not made before

@@ -696,3 +696,24 @@ def test_paper_holds_a_vertical_stable_body_only_against_what_it_touches():
     world = sim.World(sim.Scene(bodies=[a, b]), freeze="paper").step(20)
     assert "held_by_contact" not in [c for _, body, _, _, c in world.events if body == 1]
     assert world.angles[1] < tilt - 0.1  # still turning down onto its face
+
+
+@pytest.mark.parametrize("speed", [0.5, 0.9, 1.5])
+def test_paper_a_slow_slider_does_not_pass_through_a_frozen_box(speed):
+    """A 1 m box sliding on a frictionless floor into a frozen 1 m box. The slider is sliding
+    ROTATION_STABLE under ``paper``, immovable to the solver like the frozen box: below the
+    impulse threshold (1 N s) the two were never solved against each other, and the slider
+    passed through (at 0.5 and 0.9 m/s, until 2026-12-07). It pushes the box on, as under
+    ``off``: equal boxes, a perfectly inelastic hit, both at speed / 2."""
+    target = sim.Body.box(1.0, 1.0, position=(0.0, 0.5), friction=0.0)
+    mover = sim.Body.box(1.0, 1.0, position=(-1.5, 0.5), velocity=(speed, 0.0), friction=0.0)
+    scene = sim.Scene(bodies=[target, mover], floor_friction=0.0)
+    finals = {}
+    for freeze in ("off", "paper"):
+        world = sim.World(scene, freeze=freeze)
+        world.step(120)
+        finals[freeze] = world.positions[:, 0].copy(), world.velocities[:, 0].copy()
+    x, v = finals["paper"]
+    assert x[1] < x[0] - 0.99  # the mover is still behind the target
+    np.testing.assert_allclose(x, finals["off"][0], atol=0.01)
+    np.testing.assert_allclose(v, [speed / 2, speed / 2], atol=0.01)

@@ -604,3 +604,22 @@ def test_an_integer_beyond_floats_range_is_refused_by_name(kwargs, match):
     # float(10**400) raised a bare OverflowError from the argument checks
     with pytest.raises(ValueError, match=match):
         sim.World(sim.scenes.single_box(), freeze="extended", **kwargs)
+
+
+_BOX = np.array([(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)])
+
+
+@pytest.mark.parametrize(
+    "build",
+    [
+        lambda: sim.Body(vertices=[(0, 0), (True, 0), (0, 1)]),
+        lambda: sim.Scene.from_arrays(_BOX, [[True, 2.5]]),
+        lambda: sim.Scene.from_arrays(_BOX, [[0.0, 2.5], [3.0, 2.5]], density=[True, 2.0]),
+        lambda: sim.Scene.from_arrays(_BOX, [[0.0, 2.5]], velocity=[(1.0, np.False_)]),
+    ],
+)
+def test_a_switch_among_numbers_in_a_list_is_refused(build):
+    """numpy reads [True, 2.5] as the float array [1.0, 2.5]: a switch hidden among numbers was
+    taken as 1.0 (until 2026-12-07), where the same switch alone is refused."""
+    with pytest.raises(ValueError, match=r"switch \(True or False\)"):
+        build()

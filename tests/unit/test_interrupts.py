@@ -90,3 +90,25 @@ def test_cutting_a_run_into_pieces_changes_nothing(monkeypatch):
     assert np.array_equal(one.positions, cut.positions)
     assert np.array_equal(one.velocities, cut.velocities)
     assert one.max_penetration == cut.max_penetration and one.penetration == cut.penetration
+
+
+@pytest.mark.parametrize("name", ["bench_step", "bench_freeze", "peer_agreement"])
+def test_ctrl_c_in_a_timed_experiment_is_one_line_and_status_130(
+    name, monkeypatch, tmp_path, capsys
+):
+    """The timed experiments have their own command line (no sweep store to resume): Ctrl-C
+    printed a 14-frame traceback there (until 2026-12-07). Now one line, nothing written."""
+    import importlib
+
+    module = importlib.import_module(f"experiments.{name}")
+
+    def stopped(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(module, "run", stopped)
+    with pytest.raises(SystemExit) as exit_:
+        module.main(["--quick"], data_dir=tmp_path)
+    assert exit_.value.code == 130
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"python -m experiments.{name}: stopped (Ctrl-C); nothing kept"]
+    assert list(tmp_path.iterdir()) == []

@@ -25,7 +25,15 @@ from numba.core import inline_closurecall
 import sim
 import sim.kernel
 from sim import activity, numba_inlining, sweep
-from sim.freeze import certificate, extended, extended_rest, extended_wake, paper, sleep
+from sim.freeze import (
+    certificate,
+    extended,
+    extended_freezing,
+    extended_rest,
+    extended_wake,
+    paper,
+    sleep,
+)
 
 #: every kernel the step loop calls each step, or each step a policy is active, that allocates
 #: nothing (a lean kernel cannot allocate: Numba refuses to compile it)
@@ -42,12 +50,14 @@ LEAN = {
     "paper._after_solve": paper._after_solve,
     "extended._impacts": extended._impacts,
     "extended._candidates": extended._candidates,
-    "extended._freeze_certified": extended._freeze_certified,
+    "extended_freezing.freeze_certified": extended_freezing.freeze_certified,
     "certificate._holds_into": certificate._holds_into,
     "extended_rest.whole_groups": extended_rest.whole_groups,
     "extended_rest.on_the_awake": extended_rest.on_the_awake,
     "extended_wake.wake_supported": extended_wake.wake_supported,
     "extended_wake.drop_links_of_awake": extended_wake.drop_links_of_awake,
+    "extended_wake.judge_touched": extended_wake.judge_touched,
+    "extended_wake.transmit": extended_wake.transmit,
 }
 
 

@@ -200,6 +200,39 @@ def test_a_bounce_off_a_ceiling_adds_no_energy(speed, gap):
     assert now - energy > -(0.5 * G * G * h * world.time + 0.05)
 
 
+@pytest.mark.parametrize("tilt", [0.1, 0.3, 0.6])
+def test_a_turning_corner_bounces_without_gaining_energy(tilt):
+    """A 1 m box tilted ``tilt`` rad, thrown at 5 m/s into a static wall with e = 1 and no
+    friction, without gravity: its corners strike in turn, and it turns (11.8 rad/s after the
+    first strike at 0.3 rad). Each bounce may keep or lose energy, never gain it. Until 2026-12-07
+    the bounce took the approach speed at the arms of the start of the step and pushed at the
+    arms the substeps had turned to: it left with 21% more energy at 0.3 rad."""
+    wall = sim.Body.box(1.0, 10.0, position=(3.0, 0.0))
+    box = sim.Body.box(1.0, 1.0, velocity=(5.0, 0.0), angle=tilt, restitution=1.0, friction=0.0)
+    scene = sim.Scene(bodies=[box], static_bodies=[wall], floor_y=None, gravity=(0.0, 0.0))
+    world = sim.World(scene, dt=1 / 60)
+    before = world.kinetic_energy()
+    world.step(90)
+    assert world.velocities[0, 0] < -1.0  # it bounced back
+    assert world.kinetic_energy() <= before * (1 + 1e-9)
+    assert world.kinetic_energy() > 0.9 * before  # an elastic bounce, not a dead stop
+
+
+@pytest.mark.parametrize("tilt", [0.15, 0.3])
+def test_a_tilted_box_dropped_with_full_restitution_rises_no_higher_than_it_fell(tilt):
+    """A 1 x 0.5 m box dropped from 3 m tilted ``tilt`` rad, e = 1, no friction: it lands on a
+    corner, turns, and bounces on. Its energy (kinetic plus potential) may only fall; until
+    2026-12-07 it doubled at 0.3 rad and the box rose to 5 m."""
+    box = sim.Body.box(1.0, 0.5, position=(0.0, 3.0), angle=tilt, restitution=1.0, friction=0.0)
+    world = sim.World(sim.Scene(bodies=[box], floor_friction=0.0), dt=1 / 60)
+    start = world.kinetic_energy() + world.masses[0] * G * 3.0
+    for _ in range(600):
+        world.step()
+        energy = world.kinetic_energy() + world.masses[0] * G * world.positions[0, 1]
+        assert energy <= start * (1 + 1e-9)
+        assert world.positions[0, 1] < 3.0 + 1e-9
+
+
 @pytest.mark.parametrize("e", [0.5, 0.9])
 @pytest.mark.parametrize("boxes", [1, 2])
 def test_a_box_dropped_flat_bounces_flat(e, boxes):

@@ -33,9 +33,12 @@ QUICKFLAG  := $(if $(IS_QUICK),--quick,)
 # A tree named by FREEZE2D_RESULTS (the scripts' own setting; PAPER_OUT then <tree>/paper, as the
 # analyses take it, unless FREEZE2D_PAPER_OUT names another) is the tree make builds and checks
 # too: ignored, make looked at results/ and did nothing, or had the recipes write elsewhere.
-ifneq ($(filter environment command line,$(origin FREEZE2D_RESULTS)),)
+# (Not the values a make exports to what it runs, FREEZE2D_FROM_MAKE set: a make run by a test
+# under `make test` would take the outer make's tree for its own.)
+given = $(or $(filter command line,$(origin $(1))),$(and $(filter environment,$(origin $(1))),$(if $(FREEZE2D_FROM_MAKE),,yes)))
+ifneq ($(call given,FREEZE2D_RESULTS),)
 RESULTS_DIR ?= $(FREEZE2D_RESULTS)
-ifneq ($(filter environment command line,$(origin FREEZE2D_PAPER_OUT)),)
+ifneq ($(call given,FREEZE2D_PAPER_OUT),)
 PAPER_OUT   ?= $(FREEZE2D_PAPER_OUT)
 else
 PAPER_OUT   ?= $(FREEZE2D_RESULTS)/paper
@@ -48,6 +51,7 @@ else
 RESULTS_DIR ?= results
 PAPER_OUT   ?= paper
 endif
+export FREEZE2D_FROM_MAKE := 1
 export FREEZE2D_RESULTS   := $(abspath $(RESULTS_DIR))
 export FREEZE2D_PAPER_OUT := $(abspath $(PAPER_OUT))
 DATA := $(RESULTS_DIR)/data

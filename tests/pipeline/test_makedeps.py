@@ -352,6 +352,9 @@ def test_make_runs_serially_even_when_asked_for_jobs():
 )
 def test_quick_0_no_false_mean_the_full_sizes(quick, tree, flag):
     # any non-empty QUICK meant quick: `make reproduce QUICK=0` ran the small sizes
+    # a tree named in the environment is make's tree (FREEZE2D_RESULTS): not here
+    env = {k: v for k, v in os.environ.items() if not k.startswith("FREEZE2D_")}
+
     def value(variable):
         return subprocess.run(
             ["make", "-s", f"print-{variable}", f"QUICK={quick}"],
@@ -359,9 +362,33 @@ def test_quick_0_no_false_mean_the_full_sizes(quick, tree, flag):
             capture_output=True,
             text=True,
             check=True,
+            env=env,
         ).stdout.strip()
 
     assert (value("RESULTS_DIR"), value("QUICKFLAG")) == (tree, flag)
+
+
+def test_a_tree_named_by_freeze2d_results_is_makes_tree_unless_make_exported_it():
+    """make honours FREEZE2D_RESULTS given on its command line or in the environment (it looked
+    at results/ and did nothing, until 2026-12-07), but not the one a make exports to what it
+    runs (a make run by a test under `make test`)."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith("FREEZE2D_")}
+
+    def value(variable, *args, **extra):
+        return subprocess.run(
+            ["make", "-s", f"print-{variable}", *args],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=True,
+            env={**env, **extra},
+        ).stdout.strip()
+
+    assert value("RESULTS_DIR", FREEZE2D_RESULTS="/tmp/tree") == "/tmp/tree"
+    assert value("PAPER_OUT", FREEZE2D_RESULTS="/tmp/tree") == "/tmp/tree/paper"
+    assert value("RESULTS_DIR", "FREEZE2D_RESULTS=/tmp/tree") == "/tmp/tree"
+    exported = {"FREEZE2D_RESULTS": "/tmp/tree", "FREEZE2D_FROM_MAKE": "1"}
+    assert value("RESULTS_DIR", **exported) == "results"
 
 
 def test_a_quick_value_that_is_neither_on_nor_off_is_refused():

@@ -190,6 +190,9 @@ def run(config, args):
         "reference_speeds_m_per_s": REFERENCE_SPEEDS,
         "reference_systems": REFERENCE_SYSTEMS,
         "certificate_repeats": CERTIFICATE_REPEATS,
+        # the sample's piles are run but not returned as scenes: their seeds are named here so
+        # the record's seed holds them (study.metadata.collect adds the scenes' own)
+        "seed": list(range(sample["seeds"])),
         "seed_sample": {
             "scene": "drop",
             **sample,

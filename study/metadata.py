@@ -20,6 +20,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from sim.files import write_text_atomically
@@ -53,7 +54,9 @@ def collect(scene_or_scenes, parameters, script, seed=None, started=None):
     scene_or_scenes  a sim.Scene, a list of them, or None
     parameters       the run's settings (dt, iterations, sizes, ...) as given on the command line
     script           the experiment's name, e.g. "bench_step"
-    seed             the seed (or seeds) the run used; None: the seeds of the scenes, if any
+    seed             a seed (or seeds) the run used beyond its scenes' own (a drift scene's random
+                     velocities, piles run but not listed as scenes); the record's ``seed`` is
+                     these and the scenes' seeds together, sorted (None: no seed at all)
     started          ``code_state()`` taken when the run started (default: now)
 
     ``git`` is the code's state when the run started: the code that ran (read at the end, an edit
@@ -66,7 +69,7 @@ def collect(scene_or_scenes, parameters, script, seed=None, started=None):
         "script": script,
         "scenes": _describe_scenes(scene_or_scenes),
         "parameters": jsonable(dict(parameters)),
-        "seed": seed if seed is not None else _seeds_of(scene_or_scenes),
+        "seed": _seeds_of(scene_or_scenes, seed),
         **code_provenance(started or code_state()),
         "packages": package_versions(),
         "python": sys.version.split()[0],
@@ -177,15 +180,19 @@ def _sha256(data):
 
 
 # ---- pieces ------------------------------------------------------------------------------------
-def _seeds_of(scene_or_scenes):
-    """The seeds of the scenes built from one (their ``params["seed"]``), sorted, or None if no
-    scene is random. A script that gives no seed of its own records these: the top-level seed was
-    null in 11 of 15 results files (2026-12-07), fig_time_to_rest's random piles among them."""
-    if scene_or_scenes is None:
-        return None
-    scenes = [scene_or_scenes] if hasattr(scene_or_scenes, "bodies") else list(scene_or_scenes)
-    seeds = sorted({s.params["seed"] for s in scenes if s.params.get("seed") is not None})
-    return seeds or None
+def _seeds_of(scene_or_scenes, given=None):
+    """Every seed a run used, sorted, or None if none: ``given`` (an int or a list: the script's
+    own) and its scenes' (their ``params["seed"]``). The top-level seed was null in 11 of 15
+    results files (2026-12-07), fig_time_to_rest's random piles among them; and a script that
+    gave its own seed hid its scenes' (bench_freeze recorded its drift seed 0, not the seeds 0-2
+    of its piles; fig_time_to_rest's catalogue seeds, not its 100-pile sample's)."""
+    seeds = set()
+    if given is not None:
+        seeds.update([given] if np.ndim(given) == 0 else list(given))
+    if scene_or_scenes is not None:
+        scenes = [scene_or_scenes] if hasattr(scene_or_scenes, "bodies") else scene_or_scenes
+        seeds.update(s.params["seed"] for s in scenes if s.params.get("seed") is not None)
+    return sorted(int(s) for s in seeds) or None
 
 
 def _describe_scenes(scene_or_scenes):

@@ -203,7 +203,7 @@ $(ALL): $(STAMP)
 # SCENE: a builder, a failure-catalogue scenario or a scene file (.toml); `make trace-list` names
 # them all. Open the file it writes with `.venv/bin/rerun <file>`.
 trace: $(STAMP)
-	$(PY) -m analysis.trace $(if $(CELL),$(CELL),$(SCENE)) $(if $(SYSTEMS),--systems $(SYSTEMS),)
+	$(PY) -m analysis.trace $(if $(CELL),$(CELL),$(SCENE)) $(if $(SYSTEMS),--systems '$(SYSTEMS)',)
 
 trace-list: $(STAMP)
 	$(PY) -m analysis.trace --list

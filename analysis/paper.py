@@ -68,6 +68,10 @@ def provenance(metadata):
     return [{"commit": label, "results": names} for label, names in order]
 
 
+#: what the set-up numbers take from the first of SETUP_FROM's metadata
+SETUP_KEYS = ("cpu", "cpu_count", "platform", "python", "packages", "date_utc")
+
+
 def setup_numbers():
     """Machine, versions and provenance from the experiments' metadata."""
     quick, meta, metadata = set(), None, {}
@@ -78,7 +82,7 @@ def setup_numbers():
     for name in SETUP_FROM:
         path = paths.DATA / f"{name}.json"
         if path.exists():
-            meta = read_metadata(path, name)
+            meta = read_metadata(path, name, required=SETUP_KEYS)
             break
     if meta is None:
         raise ResultsError(

@@ -58,7 +58,6 @@ overwrite each other: ``pyramid --size 40 --systems pymunk`` -> ``pyramid__size4
 """
 
 import argparse
-import json
 import math
 import os
 import sys
@@ -70,10 +69,11 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 import sim
+from analysis import trace_about
 from analysis.style import STATE_RGB, system_style
 from study import scenarios, targets
 from study.extremes.geometry import Shapes
-from study.metadata import code_state, collect, jsonable
+from study.metadata import code_state
 from study.paths import RECORDINGS, creatable, partial_path, writable
 from study.peers import impulse_vectors, sim_world
 from sim.files import write_text_atomically
@@ -226,47 +226,12 @@ class Recorder:
         )
 
     def provenance(self):
-        """What produced the recording, as a results file records it (study.metadata.collect:
-        the commit and uncommitted changes since the run started, package versions, machine)."""
-        t = self.target
-        parameters = {
-            "target": t.label,
-            "kind": t.kind,
-            "systems": [s.name for s in t.systems],
-            "dt": t.dt,
-            "steps": self.steps,
-            "every": self.every,
-            "arrow_scale": self.arrow_scale,
-        }
-        return collect(t.scene, parameters, script="analysis.trace", started=self.started)
+        """What produced the recording (``analysis.trace_about.provenance``)."""
+        return trace_about.provenance(self)
 
     def about(self):
-        """What ran, as markdown: the target, each system's settings or why it did not run, and
-        the provenance."""
-        t = self.target
-        reference = self.reference.system.name if self.reference is not None else "none"
-        lines = [
-            f"# {t.label}",
-            "",
-            f"{t.kind}; scene `{t.scene.name}` {json.dumps(jsonable(t.scene.params))}; "
-            f"{len(t.scene.bodies)} bodies; dt {t.dt:g} s; {self.steps} steps "
-            f"(recorded every {self.every}{' and at the last' if self.steps % self.every else ''}"
-            f"); reference {reference}",
-            "",
-        ]
-        if self.reference_note:
-            lines += [self.reference_note, ""]
-        for track in self.tracks:
-            settings = track.runner.settings if track.runner is not None else {}
-            lines += [
-                f"## {track.system.name}",
-                "",
-                track.stopped or f"```\n{json.dumps(jsonable(settings), indent=1)}\n```",
-                "",
-            ]
-        provenance = json.dumps(jsonable(self.provenance()), indent=1)
-        lines += ["## provenance", "", f"```\n{provenance}\n```", ""]
-        return "\n".join(lines)
+        """The about page, markdown (``analysis.trace_about.about``)."""
+        return trace_about.about(self)
 
     # ---- frames ------------------------------------------------------------------------------
     def frame(self, step, advance):
@@ -294,7 +259,7 @@ class Recorder:
                     raise sim.SimulationError(t.system.name)  # a sim.World hands NaN out
                 t.pose = positions, angles
                 self._bodies(t, positions, angles)
-                self._events(t, step)
+                self._events(t, step, advance)
                 if t is self.reference:  # tracks before it do not run
                     reference = t.pose
                 self._scalars(t, reference)
@@ -326,11 +291,17 @@ class Recorder:
                 ),
             )
 
-    def _events(self, t, step):
+    def _events(self, t, step, advance):
+        """Log the events of the steps since the last frame: sim's at the steps they happened
+        (with --every K they sat at the frame's step, their text saying another), a peer's as
+        seen at this frame ("by step N" when frames are more than a step apart: only the
+        change since the last frame is known)."""
         rec = self.rec
         world = t.world
         if world is not None:
             for at, body, before, after, cause in world.events[t.n_events :]:
+                rec.set_time("step", sequence=at)
+                rec.set_time("time", duration=at * self.target.dt)
                 rec.log(
                     f"events/{t.path}",
                     rr.TextLog(
@@ -338,14 +309,17 @@ class Recorder:
                         f"{after.name} ({cause})"
                     ),
                 )
+            rec.set_time("step", sequence=step)  # back to the frame's
+            rec.set_time("time", duration=step * self.target.dt)
             t.n_events = len(world.events)
             return
+        when = f"step {step}" if advance <= 1 else f"by step {step} (since step {step - advance})"
         asleep = np.asarray(t.runner.asleep, dtype=bool)
         for body in np.flatnonzero(asleep != t.asleep):
             what = "fell asleep" if asleep[body] else "woke"
             rec.log(
                 f"events/{t.path}",
-                rr.TextLog(f"{t.system.name} step {step}: {t.scene.body_name(int(body))} {what}"),
+                rr.TextLog(f"{t.system.name} {when}: {t.scene.body_name(int(body))} {what}"),
             )
         t.asleep = asleep
 
@@ -491,14 +465,24 @@ def _record_one(name, args):
 def _record_table(args):
     """Every row of ``args.table`` into ``--out-dir``, then its index.txt (the Make target:
     written last, so an interrupted run is redone): one line per file with its size."""
+    changed = [o for o in ("systems", "steps", "every") if getattr(args, o) is not None]
+    if changed and args.out_dir is None:  # the default folder holds the rows make keeps
+        raise ValueError(
+            f"--table {args.table} with --{', --'.join(changed)} records rows that are not the "
+            f"table's whole rows: give --out-dir DIR (the default, {RECORDINGS / args.table}, "
+            f"holds the rows `make reproduce` writes and keeps)"
+        )
     folder = creatable(args.out_dir or RECORDINGS / args.table)
     written = []
     for scenario in scenarios.SCENARIOS:
         args.out = str(folder / f"{scenario}.rrd")
         written.append(_record_one(f"{args.table}/{scenario}", args))
     total = sum(p.stat().st_size for p in written)
+    systems = ", ".join(args.systems) if args.systems else "every system of the table"
     lines = [
-        f"# {args.table}: one recording per row, every system of the table "
+        f"# {args.table}: one recording per row, {systems}"
+        f"{f', {args.steps} steps' if args.steps else ''}"
+        f"{f', every {args.every}' if args.every else ''} "
         f"(python -m analysis.trace {args.table}/<row>); {total / 1e6:.1f} MB in all"
     ]
     lines += [f"{p.name}\t{p.stat().st_size / 1e6:.2f} MB" for p in written]
@@ -578,7 +562,14 @@ def main(argv=None):
         args.systems = [s.strip() for s in args.systems.split(",") if s.strip()]
         if not args.systems:  # "," fell back to the default systems
             parser.error(f"--systems {raw_systems!r} names no system")
-    if (args.name is None) == (args.table is None) or args.table and args.out:  # --out: ignored
+    # --out with --table, or --out-dir without it, was silently ignored
+    if (
+        (args.name is None) == (args.table is None)
+        or args.table
+        and args.out
+        or args.out_dir
+        and not args.table
+    ):
         parser.error("give a NAME [--out FILE] or --table [--out-dir DIR]; --list shows the names")
     try:
         if args.table is None:

@@ -12,14 +12,13 @@ import numbers
 import numpy as np
 
 from .arguments import numeric_array
-from .polygons import thinnest_width_many
+from .polygons import thinnest_width_many, validate_polygon
 from .geometry import (
     MAX_COORDINATE,
     MAX_SPEED,
     MAX_VERTICES,
     PolygonError,
     mass_properties,
-    validate_polygon,
 )
 
 #: Polygons (shape, bytes of the float64 vertex array) that passed ``validate_polygon``: a scene of

@@ -13,7 +13,6 @@ import math
 
 import numpy as np
 
-from .arguments import beyond_float, kind_of, numeric_array
 from .jit import inline_kernel, kernel, lean_kernel
 
 #: Largest vertex count a polygon may have: feature ids pack vertex indices into 10 bits.
@@ -30,76 +29,6 @@ MAX_SPEED = 1e12
 
 class PolygonError(ValueError):
     """A polygon that the solver cannot use (non-convex, clockwise, degenerate, non-finite)."""
-
-
-def validate_polygon(vertices, name="polygon"):
-    """Return ``vertices`` as a (K, 2) float64 array, or raise ``PolygonError`` naming ``name``.
-
-    Rejects: fewer than 3 vertices, more than ``MAX_VERTICES``, NaN/inf, repeated vertices, zero
-    area, clockwise order, and any reflex vertex (non-convex). Collinear consecutive vertices are
-    allowed only within a relative tolerance of 1e-9 (they add a zero-angle corner; the World
-    solves the polygon without them, ``polygons.drop_collinear``).
-    """
-    # before the conversion, which takes text, switches and complex numbers (the last with only a
-    # warning)
-    numeric = numeric_array(vertices)
-    try:
-        v = np.asarray(vertices, dtype=np.float64) if numeric else None
-    except (TypeError, ValueError) as exc:
-        raise PolygonError(f"{name}: vertices are not an array of (x, y) numbers ({exc})") from None
-    if v is None:
-        if beyond_float(vertices):
-            raise PolygonError(
-                f"{name}: vertices contain NaN or inf (an integer beyond float's range)"
-            )
-        try:
-            got = kind_of(vertices)
-        except (TypeError, ValueError) as exc:  # ragged: no one array
-            raise PolygonError(
-                f"{name}: vertices are not an array of (x, y) numbers ({exc})"
-            ) from None
-        raise PolygonError(
-            f"{name}: vertices must be numbers, not text, switches or complex numbers (got {got})"
-        )
-    if v.ndim != 2 or v.shape[1] != 2:
-        raise PolygonError(f"{name}: vertices must have shape (K, 2), got {v.shape}")
-    k = v.shape[0]
-    if k < 3:
-        raise PolygonError(f"{name}: a polygon needs at least 3 vertices, got {k}")
-    if k > MAX_VERTICES:
-        raise PolygonError(f"{name}: at most {MAX_VERTICES} vertices are supported, got {k}")
-    if not np.all(np.isfinite(v)):
-        raise PolygonError(f"{name}: vertices contain NaN or inf")
-    if np.abs(v).max() > MAX_COORDINATE:
-        raise PolygonError(
-            f"{name}: a vertex lies {np.abs(v).max():.4g} m from the body's origin, "
-            f"beyond {MAX_COORDINATE:g} m (the solver's range)"
-        )
-    scale = float(np.max(np.abs(v - v.mean(axis=0))))
-    if scale <= 0.0:
-        raise PolygonError(f"{name}: degenerate polygon (all vertices coincide)")
-    edges = np.roll(v, -1, axis=0) - v
-    lengths = np.hypot(edges[:, 0], edges[:, 1])
-    short = np.flatnonzero(lengths <= 1e-9 * scale)
-    if short.size:
-        i = int(short[0])
-        raise PolygonError(f"{name}: degenerate polygon (vertices {i} and {(i + 1) % k} coincide)")
-    area = signed_area(v)
-    if abs(area) <= 1e-12 * scale * scale:
-        raise PolygonError(f"{name}: degenerate polygon (zero area)")
-    if area < 0.0:
-        raise PolygonError(f"{name}: vertices are clockwise; give them counter-clockwise")
-    nxt = np.roll(edges, -1, axis=0)
-    # cross of consecutive unit edges = sine of the turn angle at the vertex between them
-    turn = (edges[:, 0] * nxt[:, 1] - edges[:, 1] * nxt[:, 0]) / (lengths * np.roll(lengths, -1))
-    reflex = np.flatnonzero(turn < -1e-9)
-    if reflex.size:
-        raise PolygonError(f"{name}: non-convex polygon (reflex vertex {(int(reflex[0]) + 1) % k})")
-    # A convex CCW polygon turns through exactly 2*pi; more means it winds around twice.
-    angles = np.arctan2(turn, np.einsum("ij,ij->i", edges, nxt) / (lengths * np.roll(lengths, -1)))
-    if abs(angles.sum() - 2.0 * math.pi) > 1e-6:
-        raise PolygonError(f"{name}: non-convex polygon (self-intersecting outline)")
-    return v
 
 
 def signed_area(vertices):

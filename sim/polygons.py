@@ -1,4 +1,5 @@
-"""Validation and mass properties of many convex polygons at once (numpy, vectorised).
+"""Validation of convex polygons (one: ``validate_polygon``, the reference; many at once:
+``validate_polygons``) and mass properties of many at once (numpy, vectorised).
 
 Why this module exists: ``sim.geometry`` checks and measures one polygon per call, and on a
 4-vertex box almost all of a call's ~90 us is numpy's per-call overhead. A scene of 10^6 bodies
@@ -13,6 +14,8 @@ Agreement with ``sim.geometry``, which stays the reference:
   ``geometry.mass_properties`` / ``geometry.edge_normals``, and their sums reduce in the order numpy
   reduces one polygon, so the results are equal bit for bit (tests/unit/test_packing.py checks
   this).
+- ``validate_polygon`` lives here, beside its vectorised screen, so that one module owns what a
+  valid polygon is (it moved from ``sim.geometry`` when the needle-tip check outgrew that module).
 - ``validate_polygons`` does not re-implement the error messages: a vectorised screen marks every
   polygon that fails, or comes within a rounding margin of failing, one of ``validate_polygon``'s
   checks, and ``validate_polygon`` itself then judges the marked ones in index order. The verdicts
@@ -23,15 +26,97 @@ import math
 
 import numpy as np
 
-from .geometry import MAX_COORDINATE, MAX_VERTICES, PolygonError, validate_polygon
+from .arguments import beyond_float, kind_of, numeric_array
+from .geometry import MAX_COORDINATE, MAX_VERTICES, PolygonError, signed_area
 
-# The tolerances of geometry.validate_polygon, widened by margins far larger than the rounding
+
+def validate_polygon(vertices, name="polygon"):
+    """Return ``vertices`` as a (K, 2) float64 array, or raise ``PolygonError`` naming ``name``.
+
+    Rejects: fewer than 3 vertices, more than ``MAX_VERTICES``, NaN/inf, repeated vertices, zero
+    area, clockwise order, any reflex vertex (non-convex) and needle tips. Collinear vertices are
+    allowed only within a relative tolerance of 1e-9 (they add a zero-angle corner; the World
+    solves the polygon without them, ``polygons.drop_collinear``).
+    """
+    # before the conversion, which takes text, switches and complex numbers (complex: a warning)
+    numeric = numeric_array(vertices)
+    try:
+        v = np.asarray(vertices, dtype=np.float64) if numeric else None
+    except (TypeError, ValueError) as exc:
+        raise PolygonError(f"{name}: vertices are not an array of (x, y) numbers ({exc})") from None
+    if v is None:
+        if beyond_float(vertices):
+            raise PolygonError(
+                f"{name}: vertices contain NaN or inf (an integer beyond float's range)"
+            )
+        try:
+            got = kind_of(vertices)
+        except (TypeError, ValueError) as exc:  # ragged: no one array
+            raise PolygonError(
+                f"{name}: vertices are not an array of (x, y) numbers ({exc})"
+            ) from None
+        raise PolygonError(
+            f"{name}: vertices must be numbers, not text, switches or complex numbers (got {got})"
+        )
+    if v.ndim != 2 or v.shape[1] != 2:
+        raise PolygonError(f"{name}: vertices must have shape (K, 2), got {v.shape}")
+    k = v.shape[0]
+    if k < 3:
+        raise PolygonError(f"{name}: a polygon needs at least 3 vertices, got {k}")
+    if k > MAX_VERTICES:
+        raise PolygonError(f"{name}: at most {MAX_VERTICES} vertices are supported, got {k}")
+    if not np.all(np.isfinite(v)):
+        raise PolygonError(f"{name}: vertices contain NaN or inf")
+    if np.abs(v).max() > MAX_COORDINATE:
+        raise PolygonError(
+            f"{name}: a vertex lies {np.abs(v).max():.4g} m from the body's origin, "
+            f"beyond {MAX_COORDINATE:g} m (the solver's range)"
+        )
+    scale = float(np.max(np.abs(v - v.mean(axis=0))))
+    if scale <= 0.0:
+        raise PolygonError(f"{name}: degenerate polygon (all vertices coincide)")
+    edges = np.roll(v, -1, axis=0) - v
+    lengths = np.hypot(edges[:, 0], edges[:, 1])
+    short = np.flatnonzero(lengths <= 1e-9 * scale)
+    if short.size:
+        i = int(short[0])
+        raise PolygonError(f"{name}: degenerate polygon (vertices {i} and {(i + 1) % k} coincide)")
+    area = signed_area(v)
+    if abs(area) <= 1e-12 * scale * scale:
+        raise PolygonError(f"{name}: degenerate polygon (zero area)")
+    if area < 0.0:
+        raise PolygonError(f"{name}: vertices are clockwise; give them counter-clockwise")
+    nxt, norm = np.roll(edges, -1, axis=0), lengths * np.roll(lengths, -1)
+    # cross and dot of consecutive unit edges: sine and cosine of the turn at the vertex between
+    turn, cosine = (
+        (edges[:, 0] * nxt[:, 1] - edges[:, 1] * nxt[:, 0]) / norm,
+        (edges * nxt).sum(1) / norm,
+    )
+    reflex = np.flatnonzero(turn < -1e-9)
+    if reflex.size:
+        raise PolygonError(f"{name}: non-convex polygon (reflex vertex {(int(reflex[0]) + 1) % k})")
+    # A tip turning back within 1e-9 of 180 degrees is a needle no collinearity test can tell
+    # from a straight vertex by its sine alone (a 5e-11 m^2 triangle lost all its vertices)
+    needle = np.flatnonzero((np.abs(turn) <= 1e-9) & (cosine < 0.0))
+    if needle.size:
+        raise PolygonError(
+            f"{name}: degenerate polygon (needle tip at vertex {(int(needle[0]) + 1) % k})"
+        )
+    # A convex CCW polygon turns through exactly 2*pi; more means it winds around twice.
+    angles = np.arctan2(turn, cosine)
+    if abs(angles.sum() - 2.0 * math.pi) > 1e-6:
+        raise PolygonError(f"{name}: non-convex polygon (self-intersecting outline)")
+    return v
+
+
+# The tolerances of validate_polygon, widened by margins far larger than the rounding
 # differences between its one-polygon arithmetic and the vectorised arithmetic here (a shoelace
 # sum of <= 1024 terms is off by < 1024 * 2.2e-16 * scale^2 = 2.3e-13 scale^2). A polygon inside a
 # margin is only screened in: the reference then decides.
 _SHORT_EDGE = 1e-9 * (1.0 + 1e-6)  # relative to the polygon's scale (reference: 1e-9)
 _THIN_AREA = 2e-12  # relative to scale^2 (reference: 1e-12)
 _REFLEX_TURN = -1e-9 * (1.0 - 1e-6)  # sine of the turn angle (reference: -1e-9)
+_NEEDLE_TURN = 1e-9 * (1.0 + 1e-6)  # |sine| of a turn backwards (reference: 1e-9)
 _WINDING = 1e-6 * (1.0 - 1e-3)  # rad off 2 pi (reference: 1e-6)
 
 
@@ -88,7 +173,7 @@ def next_rows(vert_start):
 
 def polygon_suspects(vertices, vert_start):
     """(M,) bool: polygons that fail, or come within a rounding margin of failing, a check of
-    ``geometry.validate_polygon``. Every polygon it leaves unmarked passes that function."""
+    ``validate_polygon``. Every polygon it leaves unmarked passes that function."""
     vertices, vert_start = check_packed(vertices, vert_start)
     suspect = np.zeros(len(vert_start) - 1, dtype=bool)
     for k, index, rows in by_vertex_count(vert_start):
@@ -112,15 +197,16 @@ def polygon_suspects(vertices, vert_start):
             sine = (edges[..., 0] * nxt[..., 1] - edges[..., 1] * nxt[..., 0]) / norm
             cosine = (edges[..., 0] * nxt[..., 0] + edges[..., 1] * nxt[..., 1]) / norm
             reflex = np.any(sine < _REFLEX_TURN, axis=1)
+            needle = np.any((np.abs(sine) <= _NEEDLE_TURN) & ~(cosine > 0.0), axis=1)
             winding = ~(np.abs(np.arctan2(sine, cosine).sum(axis=1) - 2.0 * math.pi) <= _WINDING)
         finite = np.isfinite(g).all(axis=(1, 2)) & (np.abs(g).max(axis=(1, 2)) <= MAX_COORDINATE)
-        suspect[index] = ~finite | short | thin | reflex | winding
+        suspect[index] = ~finite | short | thin | reflex | needle | winding
     return suspect
 
 
 def validate_polygons(vertices, vert_start, names):
     """Raise ``PolygonError`` for the first invalid polygon in index order, with exactly the message
-    ``geometry.validate_polygon`` gives it; return None when all are valid.
+    ``validate_polygon`` gives it; return None when all are valid.
 
     names: callable i -> the polygon's name for the message, called only for screened-in polygons.
     """
@@ -170,7 +256,7 @@ def mass_properties_many(vertices, vert_start, density):
 
 
 #: |sine of the turn| at a vertex at or below which it is collinear with its neighbours (the
-#: tolerance ``geometry.validate_polygon`` allows collinear vertices within)
+#: tolerance ``validate_polygon`` allows collinear vertices within)
 COLLINEAR_TURN = 1e-9
 
 
@@ -192,7 +278,10 @@ def drop_collinear(vertices, vert_start):
     with np.errstate(all="ignore"):
         norm = np.hypot(e_in[:, 0], e_in[:, 1]) * np.hypot(e_out[:, 0], e_out[:, 1])
         sine = (e_in[:, 0] * e_out[:, 1] - e_in[:, 1] * e_out[:, 0]) / norm
-    keep = ~(np.abs(sine) <= COLLINEAR_TURN)
+        cosine = (e_in[:, 0] * e_out[:, 0] + e_in[:, 1] * e_out[:, 1]) / norm
+    # collinear: a turn of ~0, never of ~180 degrees (a needle tip, which validate_polygon
+    # refuses; by its sine alone a 1e7 m kite lost its far tip and a box fell through it)
+    keep = ~((np.abs(sine) <= COLLINEAR_TURN) & (cosine > 0.0))
     if keep.all():
         return vertices, vert_start
     kept = np.add.reduceat(keep.astype(np.int64), vert_start[:-1]) if len(keep) else keep

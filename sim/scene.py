@@ -16,10 +16,9 @@ import numpy as np
 import tomli_w
 
 from .body import Body, check_fields, failing_fields, finite_number, finite_pair
-from .files import write_text_atomically
+from .files import check_seal, seal, write_text_atomically
 from .arguments import kind_of, numeric_array, plain_copy
-from .geometry import validate_polygon
-from .polygons import check_packed, polygon_suspects
+from .polygons import check_packed, polygon_suspects, validate_polygon
 
 
 class BodyArrays(NamedTuple):
@@ -299,6 +298,7 @@ class Scene:
                 raise ValueError(
                     f"{path}: not valid TOML for a scene (nested too deeply)"
                 ) from None
+        data = check_seal(data, tomli_w.dumps, path)  # cut short or edited since written
         data.setdefault("name", str(path))
         try:
             return cls.from_dict(data)
@@ -327,7 +327,7 @@ class Scene:
         is touched, and written atomically: a value TOML cannot hold is a ValueError, and a
         failed write leaves the old file whole."""
         try:
-            text = tomli_w.dumps(self.to_dict())
+            text = tomli_w.dumps(seal(self.to_dict(), tomli_w.dumps))
         except TypeError as exc:  # e.g. None or an object in params
             raise ValueError(f"scene {self.name!r}: cannot be written as TOML ({exc})") from None
         write_text_atomically(path, text)

@@ -101,3 +101,35 @@ def turn_reach(angular_velocity, extent, dt):
     floor it could never touch, and their rows, linearised about a turn of 8 rad per substep,
     threw it upward at 45 m/s."""
     return min(abs(angular_velocity) * extent * dt, 2.0 * extent)
+
+
+def check_softness(dt, substeps, damping_ratio):
+    """Raise ValueError if the soft contacts' coefficients (``soft_step.softness``) are not
+    finite at these settings, naming the setting to change. Each setting alone was accepted
+    (any positive float), but a contact's stiffness is set relative to the substep rate
+    substeps/dt and its damping enters as 2 damping_ratio: a subnormal dt (1e-310 s) made the
+    rate infinite and damping_ratio=1e308 overflowed 2 damping_ratio, so the first step's
+    coefficients were NaN and the World blamed a body at rest ("body 0 diverged ... try a
+    smaller dt"). The stiffest contact (STATIC_CAP of the substep rate) and the softest rule
+    in use (DYNAMIC_CAP) are checked: every contact's stiffness lies between them or below,
+    where the coefficients are finite if they are."""
+    from .soft_step import DYNAMIC_CAP, STATIC_CAP, softness
+
+    rate = substeps / dt  # Hz
+    h = dt / substeps  # s
+    if not math.isfinite(rate) or h <= 0.0:
+        raise ValueError(
+            f"dt={dt!r} s is too small for float64: {substeps} substeps of it are a substep rate "
+            f"of {rate:.3g} Hz, and the contacts' stiffness is set relative to that rate. Use a "
+            f"dt above 1e-300 s"
+        )
+    with np.errstate(all="ignore"):  # an overflow is reported below, by name
+        for cap in (STATIC_CAP, DYNAMIC_CAP):
+            coefficients = softness.py_func(np.float64(cap * rate), damping_ratio, np.float64(h))
+            if not np.all(np.isfinite(coefficients)):
+                raise ValueError(
+                    f"damping_ratio={damping_ratio!r} is too large for float64: the soft "
+                    f"contacts' coefficients overflow (2 damping_ratio + stiffness x substep) at "
+                    f"dt={dt:.4g} s with {substeps} substeps. A ratio above 1 is already "
+                    f"overdamped; use one below 1e300"
+                )

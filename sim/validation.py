@@ -76,11 +76,13 @@ FAST_PATHS = ("friction", "quiet")
 
 
 def fast_path_names(value):
-    """The fast paths switched on, as a sorted tuple of names; ValueError for unknown names."""
-    if value is True:
-        return tuple(sorted(FAST_PATHS))
-    if value is False or value is None:
+    """The fast paths switched on, as a sorted tuple of names; ValueError for unknown names. A
+    switch is True or False, numpy's too (np.True_ was refused as not a switch, while every other
+    switch of the World takes it)."""
+    if value is None:
         return ()
+    if isinstance(value, (bool, np.bool_)):
+        return tuple(sorted(FAST_PATHS)) if value else ()
     if isinstance(value, str):
         value = (value,)
     try:

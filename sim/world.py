@@ -30,7 +30,7 @@ from .packing import pack
 from .reports import Inspection, contact_points, deepest_point
 from .scene import Scene
 from .state import State
-from .tolerances import check_step
+from .tolerances import check_softness, check_step
 from .validation import (
     check_policy_gravity,
     limits_why,
@@ -184,6 +184,7 @@ class World:
             None if contact_hertz is None else positive(contact_hertz, "contact_hertz")
         )
         self.damping_ratio = positive(damping_ratio, "damping_ratio", allow_zero=True)
+        check_softness(self.dt, self.substeps, self.damping_ratio)
         self.push_speed = positive(push_speed, "push_speed")
         self.load_time = positive(load_time, "load_time", allow_zero=True)
         self.restitution_threshold = positive(

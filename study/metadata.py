@@ -125,8 +125,10 @@ def rerun_hint(script=None, folder=None):
     return f"rerun the experiment: `make {script}{make}` or `python -m experiments.{script}{flag}`"
 
 
-def read_metadata(json_path, script=None):
-    """The metadata dict in ``json_path``, or ResultsError naming the file (missing, not JSON)."""
+def read_metadata(json_path, script=None, required=()):
+    """The metadata dict in ``json_path``, or ResultsError naming the file (missing, a folder,
+    not JSON, or without one of the ``required`` keys its reader takes: the paper read
+    ``meta["cpu"]`` of a file that lacked it, a KeyError instead of a one-line error)."""
     hint = rerun_hint(script, json_path.parent)
     try:
         meta = json.loads(json_path.read_text())
@@ -136,6 +138,11 @@ def read_metadata(json_path, script=None):
         raise ResultsError(f"{json_path} is damaged ({exc}): {hint}") from None
     if not isinstance(meta, dict):
         raise ResultsError(f"{json_path} is not an experiment's metadata: {hint}")
+    missing = [key for key in required if key not in meta]
+    if missing:
+        raise ResultsError(
+            f"{json_path} is not an experiment's metadata (no {', '.join(missing)}): {hint}"
+        )
     return meta
 
 
@@ -152,11 +159,20 @@ def read_results(folder, name, script=None):
         raw = csv_path.read_bytes()
     except FileNotFoundError:
         raise ResultsError(f"{csv_path} is missing: {hint}") from None
+    except OSError as exc:  # a folder of that name, no permission: one line, not a traceback
+        raise ResultsError(f"{csv_path} cannot be read ({exc.strerror or exc}): {hint}") from None
     record = meta.get("csv")
-    if not isinstance(record, dict) or not {"rows", "sha256"} <= set(record):
+    # the types too: rows "3" gave "has 3 rows where its .json records 3"
+    if (
+        not isinstance(record, dict)
+        or not {"rows", "sha256"} <= set(record)
+        or not isinstance(record["rows"], int)
+        or isinstance(record["rows"], bool)
+        or not isinstance(record["sha256"], str)
+    ):
         raise ResultsError(
             f"{json_path} records no row count and checksum of {csv_path.name} (made by older "
-            f"code): {hint}"
+            f"code, or edited): {hint}"
         )
     try:
         table = pd.read_csv(csv_path)

@@ -96,6 +96,9 @@ class Target:
     #: ("size", "dt"; set by ``resolve``), and a scene file's name with its hash ("file")
     options: dict = field(default_factory=dict)
     default_systems: tuple = ()  # the systems the target runs when none are named
+    #: a scene file's full path and sha256, for the recording's provenance (with --out the file
+    #: name no longer carries the hash, and a hand-edited file looked like its builder's)
+    source: dict = field(default_factory=dict)
 
     @property
     def stem(self):
@@ -198,15 +201,21 @@ def _scene_target(name, size, dt, systems):
     dt = DT if dt is None else positive(dt, "dt")
     steps = DEFAULT_STEPS
     options = {} if dt == DT else {"dt": dt}
+    source = {}
     if name.endswith(".toml"):
         if size is not None:
             raise ValueError(f"{name}: --size is a builder's argument, not a scene file's")
         if not Path(name).is_file():
             raise ValueError(f"scene file {name} not found")
-        scene, kind = sim.Scene.from_file(name), "file"
+        try:  # an unreadable file (permissions, a device) is the user's, not a bug: one line
+            contents = Path(name).read_bytes()
+            scene, kind = sim.Scene.from_file(name), "file"
+        except OSError as exc:
+            raise ValueError(f"cannot read scene file {name}: {exc.strerror or exc}") from None
         # two files of one name in different folders are different scenes: the contents tell
-        digest = hashlib.sha256(Path(name).read_bytes()).hexdigest()[:8]
-        options["file"] = f"{Path(name).stem}-{digest}"
+        digest = hashlib.sha256(contents).hexdigest()
+        options["file"] = f"{Path(name).stem}-{digest[:8]}"
+        source = {"path": str(Path(name).resolve()), "sha256": digest}
     elif name in sim.scenes.BUILDERS:
         build = sim.scenes.BUILDERS[name]
         parameter = SIZE_PARAMETERS.get(name)
@@ -224,12 +233,15 @@ def _scene_target(name, size, dt, systems):
             raise ValueError(f"{name}: a scenario has no size argument")
         scenario = scenarios.get(name)
         scene, kind = scenario.build(), "scenario"
-        steps = int(round(scenario.duration(scene) / dt))
+        duration = scenario.duration(scene)
+        steps = int(round(duration / dt))
+        if steps < 1:  # was "steps must be an integer >= 1, got 0", of a --steps never given
+            raise ValueError(f"{name}: dt {dt:g} s is longer than the scenario's {duration:g} s")
     else:
         raise ValueError(f"unknown scene or cell {name!r}; available:\n{available()}")
     label = Path(name).name if kind == "file" else name
     chosen = [scene_system(s) for s in systems]
-    return Target(label, kind, scene, dt, steps, chosen, options, DEFAULT_SYSTEMS)
+    return Target(label, kind, scene, dt, steps, chosen, options, DEFAULT_SYSTEMS, source)
 
 
 # ---- table cells -------------------------------------------------------------------------------
@@ -255,10 +267,13 @@ def match_value(axis, text):
     try:
         x = float(text)
     except ValueError:
+        x = math.nan
+    # nan and inf compare false with every row: both once named the axis's first row silently
+    if not math.isfinite(x):
         raise ValueError(
-            f"table_extremes/{axis}/{text}: the value must be a number; the rows "
+            f"table_extremes/{axis}/{text}: the value must be a finite number; the rows "
             f"are {', '.join(f'{v:g}' for v in values)}"
-        ) from None
+        )
     best = min(values, key=lambda v: abs(v - x))
     if abs(best - x) > VALUE_TOLERANCE * max(abs(best), abs(x)) and best != x:
         raise ValueError(

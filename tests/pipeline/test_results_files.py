@@ -98,6 +98,33 @@ def test_metadata_without_a_checksum_is_refused(data):
     assert "older code" in _refused(FAKE)
 
 
+@pytest.mark.parametrize("rows, sha", [("200", None), (200.0, None), (True, None), (None, 7)])
+def test_a_checksum_record_of_the_wrong_types_is_refused_not_misreported(data, rows, sha):
+    """rows "3" gave "x.csv has 3 rows where its .json records 3" (a reviewer, 2026-12-07)."""
+    meta = json.loads((data / "fake.json").read_text())
+    if rows is not None:
+        meta["csv"]["rows"] = rows
+    if sha is not None:
+        meta["csv"]["sha256"] = sha
+    (data / "fake.json").write_text(json.dumps(meta))
+    assert "records no row count and checksum of fake.csv" in _refused(FAKE)
+
+
+def test_a_folder_in_place_of_the_csv_is_one_line(data):
+    (data / "fake.csv").unlink()
+    (data / "fake.csv").mkdir()
+    assert f"{data / 'fake.csv'} cannot be read" in _refused(FAKE)
+
+
+def test_the_paper_refuses_metadata_without_the_set_up_it_reads(data):
+    """Valid JSON without "cpu" was a KeyError in analysis.paper (a traceback)."""
+    meta = metadata.collect(None, {}, script="fig_speedup")
+    del meta["cpu"]
+    metadata.write_results("fig_speedup", TABLE, meta)
+    message = _refused(paper.main)
+    assert str(data / "fig_speedup.json") in message and "(no cpu)" in message
+
+
 def test_the_profile_names_its_own_file_and_experiment(data):
     """bench_step writes bench_step_profile.csv as well; the analysis names the missing one and
     the experiment that writes it (there is no make bench_step_profile)."""

@@ -2,6 +2,7 @@
 entities on one step timeline, the divergence against the reference, the colours of frozen
 bodies, the blueprint; and the names a run can be traced by (study.targets)."""
 
+import hashlib
 import inspect
 import math
 import os
@@ -542,3 +543,94 @@ def test_a_peer_refusing_a_non_finite_velocity_stops_its_own_track_only(tmp_path
     stopped = {t.system.name: t.stopped for t in tracks}
     assert stopped["sim-off"] == "" and "non-finite state" in stopped["pymunk"]
     assert (tmp_path / "a.rrd").exists()
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-inf"])
+def test_a_cell_value_that_is_not_a_finite_number_is_refused_not_read_as_the_first_row(value):
+    """nan and inf compare false with every row, so the "no row there" test never fired and
+    table_extremes/knife_edge/nan recorded the 1e-3 row (a reviewer, 2026-12-07)."""
+    for axis in ("knife_edge", "dt"):
+        with pytest.raises(ValueError, match="the value must be a finite number; the rows are"):
+            targets.resolve(f"table_extremes/{axis}/{value}")
+
+
+@pytest.mark.parametrize(
+    "argv, refused",
+    [
+        # --out-dir without --table was ignored: the recording went to results/recordings/
+        (["single_box", "--out-dir", "{tmp}"], "give a NAME [--out FILE] or --table"),
+        # a one-system or shortened table run overwrote the whole rows `make reproduce` keeps
+        (["--table", "table_failures", "--systems", "pymunk"], "give --out-dir DIR"),
+        (["--table", "table_failures", "--steps", "3"], "give --out-dir DIR"),
+        # "steps must be an integer >= 1, got 0", of a --steps never given
+        (["slope_creep", "--dt", "100"], "slope_creep: dt 100 s is longer than the scenario's"),
+    ],
+)
+def test_an_option_that_would_be_ignored_or_misread_is_refused_in_one_line(
+    argv, refused, tmp_path, capsys, monkeypatch
+):
+    monkeypatch.setattr(trace, "RECORDINGS", tmp_path / "recordings")
+    with pytest.raises(SystemExit) as exc:
+        trace.main([a.replace("{tmp}", str(tmp_path / "od")) for a in argv])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()  # argparse's usage, then one line
+    assert refused in err[-1] and err[-1].startswith("python -m analysis.trace: error: "), err
+    assert not list(tmp_path.rglob("*"))  # nothing recorded
+
+
+def test_a_scene_file_that_cannot_be_read_is_one_line(tmp_path, capsys):
+    """Scene.from_file raises OSError for a file that exists but cannot be read; the trace
+    caught ValueError only: a traceback (a reviewer read /proc/self/mem through a link)."""
+    link = tmp_path / "mem.toml"
+    link.symlink_to("/proc/self/mem")
+    with pytest.raises(SystemExit) as exc:
+        trace.main([str(link), "--systems", "sim-off", "--out", str(tmp_path / "x.rrd")])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"cannot read scene file {link}" in err[0], err
+
+
+def test_the_provenance_names_each_scene_that_ran_and_a_scene_files_path_and_hash(tmp_path):
+    """The impact threshold axis throws at each policy's own threshold, and the about page gave
+    only the target's scene (sim-paper's 11.86 m/s for sim-extended's run at 2.58); a scene
+    file's hash was only in the default file name, so with --out a hand-edited file looked like
+    its builder's."""
+    target = targets.resolve(
+        "table_extremes/impact_threshold/1e-6", systems=["sim-paper", "sim-extended"]
+    )
+    own = {s.name: s.scene for s in target.systems if s.scene is not None}
+    assert list(own) == ["sim-extended"]  # sim-paper runs the target's scene
+    assert json_text(own["sim-extended"].params) != json_text(target.scene.params)
+    trace.record(target, tmp_path / "x.rrd", steps=2)
+    text = about(read(tmp_path / "x.rrd"))
+    for name, scene in own.items():
+        section = text.split(f"## {name}\n", 1)[1]
+        assert section.startswith(f"\nits own scene `{scene.name}` {json_text(scene.params)}")
+    path = tmp_path / "mine.toml"
+    sim.scenes.stack(2).to_file(path)
+    target = targets.resolve(str(path), systems=["sim-off"])
+    trace.record(target, tmp_path / "y.rrd", steps=2)
+    text = about(read(tmp_path / "y.rrd"))
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    assert f'"path": "{path.resolve()}"' in text and f'"sha256": "{digest}"' in text
+
+
+def json_text(params):
+    import json
+
+    from study.metadata import jsonable
+
+    return json.dumps(jsonable(params))
+
+
+def test_with_every_k_sims_events_sit_at_their_own_steps_and_a_peers_say_between_frames(tmp_path):
+    """With --every 100 a box freezing at step 1 was logged at step 100 saying "step 1", and a
+    pymunk body falling asleep at step 31 was said to at "step 100"."""
+    target = targets.resolve("stack", systems=["sim-extended", "pymunk-sleep"], size=3)
+    trace.record(target, tmp_path / "x.rrd", steps=200, every=100)
+    entities = read(tmp_path / "x.rrd")
+    events = entities["/events/sim-extended"]
+    for step, (text,) in zip(events["step"], events["TextLog:text"]):
+        assert text.startswith(f"sim-extended step {int(step)}: "), (step, text)
+    (asleep,) = [t[0] for t in entities["/events/pymunk-sleep"]["TextLog:text"]][:1]
+    assert asleep.startswith("pymunk-sleep by step 100 (since step 0): "), asleep

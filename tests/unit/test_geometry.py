@@ -19,7 +19,8 @@ from hypothesis import strategies as st
 
 import naive  # tests/ is on sys.path under pytest's default rootdir-relative import mode
 from sim import geometry
-from sim.geometry import PolygonError, validate_polygon
+from sim.geometry import PolygonError
+from sim.polygons import drop_collinear, validate_polygon
 
 SETTINGS = settings(max_examples=150, deadline=None)
 
@@ -312,7 +313,28 @@ BAD_POLYGONS = {
     "not numbers": [["a", "b"], ["c", "d"], ["e", "f"]],
     "none": None,
     "too many vertices": naive.regular_polygon(geometry.MAX_VERTICES + 1, 1.0),
+    # area 5e-11 m^2, above the zero-area limit: its two tips turn back by 180 degrees within 1e-9
+    "needle": [[0.0, 0.0], [1.0, 0.0], [2.0, 1e-10]],
+    "long needle kite": [[0.0, 0.0], [1e7, -1e-3], [1e7 + 1.0, 0.0], [1e7, 1e-3]],
 }
+
+
+def test_a_needle_tip_is_refused_as_a_needle_and_a_sharp_tip_is_not():
+    """A tip turning back within 1e-9 of 180 degrees passed (its |sine| is that of a straight
+    vertex) and the World dropped its vertices as collinear: a thin triangle lost all three
+    ("polygon 1 has 0 vertices"), a 1e7 m kite its far tip, and a box on it fell through. A tip
+    sharper than any real corner but resolvable (1e-6 rad) is a valid polygon and keeps it."""
+    with pytest.raises(PolygonError, match="needle tip at vertex 0"):
+        validate_polygon(BAD_POLYGONS["long needle kite"], name="ledge")
+    sharp = np.array([[0.0, 0.0], [1.0, -1e-6], [2.0, 0.0], [1.0, 1e-6]])
+    assert validate_polygon(sharp).shape == (4, 2)
+    vertices, start = drop_collinear(sharp, np.array([0, 4]))
+    assert vertices.tolist() == sharp.tolist() and start.tolist() == [0, 4]
+    # drop_collinear, given one unvalidated, keeps a needle's tip and drops only the straight vertex
+    kite = np.array(BAD_POLYGONS["long needle kite"])
+    assert drop_collinear(kite, np.array([0, 4]))[0].tolist() == kite.tolist()
+    needle = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 1e-10]])
+    assert drop_collinear(needle, np.array([0, 4]))[0].tolist() == needle[[0, 2, 3]].tolist()
 
 
 @pytest.mark.parametrize("label", list(BAD_POLYGONS))

@@ -111,6 +111,33 @@ def test_bad_world_settings(kwargs, problem):
         sim.World(sim.scenes.single_box(), **kwargs)
 
 
+@pytest.mark.parametrize(
+    "kwargs,problem",
+    [
+        ({"dt": 1e-310}, r"dt=1e-310 s is too small for float64"),
+        ({"damping_ratio": 1e308}, r"damping_ratio=1e\+308 is too large for float64"),
+    ],
+)
+def test_settings_whose_soft_contacts_overflow_are_refused_by_name(kwargs, problem):
+    """Each was accepted (a positive float), and the first step's soft coefficients were NaN: the
+    World then blamed body 0, at rest, as diverged, and for the subnormal dt advised a smaller
+    one. The neighbours that float64 holds still build and step."""
+    with pytest.raises(ValueError, match=problem):
+        sim.World(sim.scenes.single_box(), **kwargs)
+    for fine in ({"dt": 1e-300}, {"damping_ratio": 1e300}):
+        world = sim.World(sim.scenes.single_box(), **fine)
+        world.step(2)
+        assert np.isfinite(world.positions).all()
+
+
+@pytest.mark.parametrize("switch", [np.True_, np.False_])
+def test_fast_paths_takes_numpys_switches_as_every_other_switch_does(switch):
+    world = sim.World(sim.scenes.single_box(), fast_paths=switch)
+    assert (
+        world.fast_paths == (sim.World(sim.scenes.single_box(), fast_paths=bool(switch))).fast_paths
+    )
+
+
 def test_overlapping_bodies_are_refused_with_both_names():
     a = sim.Body.box(1, 1, position=(0.0, 0.5), name="left")
     b = sim.Body.box(1, 1, position=(0.8, 0.5), name="right")  # 0.2 m into `left`

@@ -181,7 +181,7 @@ def random_polygons(seed, count=400, k_max=40):
             radius=10 ** rng.uniform(-3, 2),
             offset=rng.uniform(-1e3, 1e3, 2) * rng.integers(0, 2),
         )
-        if message(geometry.validate_polygon, p) is None:
+        if message(polygons.validate_polygon, p) is None:
             polys.append(p)
     return polys
 
@@ -282,6 +282,7 @@ BAD_POLYGONS = [
         (math.cos(2 * math.pi * i / 1025), math.sin(2 * math.pi * i / 1025))
         for i in range(geometry.MAX_VERTICES + 1)
     ],  # too many
+    [(0, 0), (1e7, -1e-3), (1e7 + 1, 0), (1e7, 1e-3)],  # needle tip (a 1e7 m kite)
 ]
 
 
@@ -300,7 +301,7 @@ def test_validate_polygons_reports_the_first_bad_polygon_as_validate_polygon_doe
     got = message(polygons.validate_polygons, vertices, vert_start, names)
     assert got is not None
     assert got == message(
-        geometry.validate_polygon, np.asarray(BAD_POLYGONS[bad], float), f"crate {where}"
+        polygons.validate_polygon, np.asarray(BAD_POLYGONS[bad], float), f"crate {where}"
     )
     assert asked == [where]  # names only the culprit
 
@@ -337,7 +338,7 @@ def borderline_polygons(seed):
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_borderline_polygons_get_the_reference_verdict(seed):
     polys = borderline_polygons(seed)
-    reference = [message(geometry.validate_polygon, p, f"p{i}") for i, p in enumerate(polys)]
+    reference = [message(polygons.validate_polygon, p, f"p{i}") for i, p in enumerate(polys)]
     assert 0 < sum(r is None for r in reference) < len(polys)  # both sides are represented
     for i, p in enumerate(polys):
         vertices, vert_start = packed([p])
@@ -591,7 +592,7 @@ def test_the_first_bad_body_is_reported_polygon_before_fields():
     fields["density"][BAD] = -1.0
     polys = [BOX] * N_BAD
     polys[BAD] = STAR
-    assert array_message(fields, polys) == message(geometry.validate_polygon, STAR, f"body {BAD}")
+    assert array_message(fields, polys) == message(polygons.validate_polygon, STAR, f"body {BAD}")
 
 
 def test_a_bad_shared_polygon_names_body_0():
@@ -802,7 +803,7 @@ def test_a_remembered_polygon_does_not_hide_a_later_edit():
     almost = [list(p) for p in BOX]
     almost[2][0] = -0.6  # now reflex at vertex 2
     assert message(lambda: sim.Body(vertices=almost, name="e")) == message(
-        geometry.validate_polygon, almost, "e"
+        polygons.validate_polygon, almost, "e"
     )
     assert message(lambda: sim.Body(vertices=almost, name="e")) is not None
 

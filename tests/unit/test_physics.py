@@ -423,7 +423,7 @@ def test_a_slender_plank_stands_on_its_end(support, height):
 
 @pytest.mark.parametrize("on", ["floor", "static box"])
 def test_a_face_given_in_parts_supports_as_one_face(on):
-    # Collinear vertices are valid (geometry.validate_polygon), and a face split by them is
+    # Collinear vertices are valid (polygons.validate_polygon), and a face split by them is
     # still one face. A box whose bottom was given in four parts rested on the first quarter
     # only, tipped over and sank 0.53 m into the floor; a box on a static box whose top was
     # given in parts fell off it (polygons.drop_collinear).

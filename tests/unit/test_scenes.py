@@ -1,5 +1,7 @@
 """Scene builders and scene files."""
 
+import re
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -146,3 +148,33 @@ def test_a_failed_write_leaves_the_old_file_whole(tmp_path, monkeypatch):
         scenes.drop(4, seed=1).to_file(path)
     assert path.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.toml"]  # no temporary left
+
+
+def test_a_scene_file_cut_short_or_edited_is_refused_and_one_written_by_hand_loads(tmp_path):
+    """20 of 111 cuts at a line boundary of one file loaded without an error, as another scene: a
+    static wall gone, a body gone, a body's friction and name back at their defaults (a
+    reviewer, 2026-12-07). A file to_file writes now records the SHA-256 of its contents."""
+    box = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+    scene = sim.Scene(
+        bodies=[
+            sim.Body(vertices=box, position=(0, 0.5), friction=0.1, name="slider"),
+            sim.Body(vertices=box, position=(3, 0.5), friction=0.1, restitution=0.5),
+        ],
+        static_bodies=[sim.Body(vertices=box, position=(6, 0.5), name="wall")],
+    )
+    path = tmp_path / "scene.toml"
+    scene.to_file(path)
+    assert sim.Scene.from_file(path).to_dict() == scene.to_dict()
+    lines = path.read_text().splitlines(keepends=True)
+    cut = tmp_path / "cut.toml"
+    for n in range(1, len(lines)):
+        cut.write_text("".join(lines[:n]))
+        with pytest.raises(ValueError, match=f"^{re.escape(str(cut))}: "):
+            sim.Scene.from_file(cut)
+    edited = path.read_text().replace("friction = 0.1", "friction = 0.2", 1)
+    path.write_text(edited)
+    with pytest.raises(ValueError, match="cut short or edited. If you edited it, delete its"):
+        sim.Scene.from_file(path)
+    # the edit kept: the seal's lines deleted, as the message says
+    path.write_text("".join(ln for ln in edited.splitlines(True) if not ln.startswith("sha256")))
+    assert sim.Scene.from_file(path).bodies[0].friction == 0.2

@@ -563,13 +563,8 @@ def main(argv=None):
         if not args.systems:  # "," fell back to the default systems
             parser.error(f"--systems {raw_systems!r} names no system")
     # --out with --table, or --out-dir without it, was silently ignored
-    if (
-        (args.name is None) == (args.table is None)
-        or args.table
-        and args.out
-        or args.out_dir
-        and not args.table
-    ):
+    ignored = (args.table and args.out) or (args.out_dir and not args.table)
+    if (args.name is None) == (args.table is None) or ignored:
         parser.error("give a NAME [--out FILE] or --table [--out-dir DIR]; --list shows the names")
     try:
         if args.table is None:

@@ -31,7 +31,9 @@ def write_text_atomically(path, text):
 
 #: the key under which ``seal`` records a scene file's checksum
 SEAL_KEY = "sha256"
-SEAL_NOTE = "of the rest of this file as written; delete this line to load the file after an edit"
+SEAL_NOTE = (
+    "the sha256 line above is of the rest of this file; delete it to load the file after an edit"
+)
 
 
 def seal(data, dumps):
@@ -48,10 +50,10 @@ def check_seal(data, dumps, path):
     contents do not match. A file without a seal (written by hand, or its seal deleted after an
     edit) is taken as it is."""
     data = dict(data)
+    data.pop("sha256_note", None)  # the seal's note, left when only the sha256 line is deleted
     if SEAL_KEY not in data:
         return data
     recorded = data.pop(SEAL_KEY)
-    data.pop("sha256_note", None)
     if (
         not isinstance(recorded, str)
         or hashlib.sha256(dumps(data).encode()).hexdigest() != recorded

@@ -285,6 +285,13 @@ def drop_collinear(vertices, vert_start):
     if keep.all():
         return vertices, vert_start
     kept = np.add.reduceat(keep.astype(np.int64), vert_start[:-1]) if len(keep) else keep
+    # "collinear" is judged vertex by vertex: a thin lens (two arcs of 500 vertices turning 9e-10
+    # each) lost both arcs and was left a 2-gon. A polygon that would keep fewer than 3 keeps all
+    few = np.flatnonzero(kept < 3)
+    for i in few.tolist():  # rare: a loop
+        keep[vert_start[i] : vert_start[i + 1]] = True
+    if few.size:
+        kept = np.add.reduceat(keep.astype(np.int64), vert_start[:-1])
     start = np.zeros(len(vert_start), np.int64)
     np.cumsum(kept, out=start[1:])
     return vertices[keep], start

@@ -103,16 +103,17 @@ def turn_reach(angular_velocity, extent, dt):
     return min(abs(angular_velocity) * extent * dt, 2.0 * extent)
 
 
-def check_softness(dt, substeps, damping_ratio):
+def check_softness(dt, substeps, damping_ratio, contact_hertz=None):
     """Raise ValueError if the soft contacts' coefficients (``soft_step.softness``) are not
     finite at these settings, naming the setting to change. Each setting alone was accepted
     (any positive float), but a contact's stiffness is set relative to the substep rate
     substeps/dt and its damping enters as 2 damping_ratio: a subnormal dt (1e-310 s) made the
     rate infinite and damping_ratio=1e308 overflowed 2 damping_ratio, so the first step's
     coefficients were NaN and the World blamed a body at rest ("body 0 diverged ... try a
-    smaller dt"). The stiffest contact (STATIC_CAP of the substep rate) and the softest rule
-    in use (DYNAMIC_CAP) are checked: every contact's stiffness lies between them or below,
-    where the coefficients are finite if they are."""
+    smaller dt"). The stiffest contact (STATIC_CAP of the substep rate), the default rule
+    (DYNAMIC_CAP) and a ``contact_hertz`` given are checked: a contact is no stiffer than the
+    first and, without gravity, as soft as the last (undamped, 1e-323 Hz underflowed h omega
+    to 0 and the bias rate to inf)."""
     from .soft_step import DYNAMIC_CAP, STATIC_CAP, softness
 
     rate = substeps / dt  # Hz
@@ -124,8 +125,19 @@ def check_softness(dt, substeps, damping_ratio):
             f"dt above 1e-300 s"
         )
     with np.errstate(all="ignore"):  # an overflow is reported below, by name
-        for cap in (STATIC_CAP, DYNAMIC_CAP):
-            coefficients = softness.py_func(np.float64(cap * rate), damping_ratio, np.float64(h))
+        # a given contact_hertz above the cap is capped (``pair_hertz``): checked as used
+        given = None if contact_hertz is None else min(contact_hertz, DYNAMIC_CAP * rate)
+        for hertz in (STATIC_CAP * rate, DYNAMIC_CAP * rate, given):
+            if hertz is None:
+                continue
+            coefficients = softness.py_func(np.float64(hertz), damping_ratio, np.float64(h))
+            if not np.all(np.isfinite(coefficients)) and hertz is given:
+                raise ValueError(
+                    f"contact_hertz={contact_hertz!r} is too small for float64 with "
+                    f"damping_ratio={damping_ratio!r}: the soft contacts' bias rate overflows at "
+                    f"dt={dt:.4g} s with {substeps} substeps. Use a larger contact_hertz (or some "
+                    f"damping)"
+                )
             if not np.all(np.isfinite(coefficients)):
                 raise ValueError(
                     f"damping_ratio={damping_ratio!r} is too large for float64: the soft "

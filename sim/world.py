@@ -184,7 +184,7 @@ class World:
             None if contact_hertz is None else positive(contact_hertz, "contact_hertz")
         )
         self.damping_ratio = positive(damping_ratio, "damping_ratio", allow_zero=True)
-        check_softness(self.dt, self.substeps, self.damping_ratio)
+        check_softness(self.dt, self.substeps, self.damping_ratio, self.contact_hertz)
         self.push_speed = positive(push_speed, "push_speed")
         self.load_time = positive(load_time, "load_time", allow_zero=True)
         self.restitution_threshold = positive(

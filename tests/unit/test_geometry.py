@@ -848,3 +848,20 @@ def test_transform_and_rotate(v, angle, shift):
     np.testing.assert_array_equal(geometry.place(v, shift, angle), out)
     geometry.rotate(v, c, s, out)
     assert np.allclose(out, v @ naive.rotation(angle).T, rtol=0.0, atol=1e-12 * coord_scale(v))
+
+
+def test_a_valid_polygon_whose_every_turn_is_tiny_keeps_at_least_three_vertices():
+    """ "Collinear" is judged vertex by vertex: a thin lens, two arcs of 500 vertices each turning
+    9e-10 rad (each under the 1e-9 tolerance), lost both arcs and was left a 2-gon that packing
+    refused ("polygon 0 has 2 vertices") though validate_polygon had accepted it (a reviewer,
+    2026-12-07). Such a polygon keeps all its vertices."""
+    n, a = 500, 5e-10 * 500 * 0.9
+    phi = np.linspace(a, -a, n + 1)
+    x = np.sin(phi) / np.sin(a)
+    y = 2 * np.sin((a - phi) / 2) * np.sin((a + phi) / 2) / np.sin(a)
+    lens = np.r_[np.c_[x, y], np.c_[-x, -y][1:-1]]
+    assert validate_polygon(lens).shape == (2 * n, 2)
+    box = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]])
+    vertices, start = drop_collinear(np.r_[lens, box], np.array([0, 2 * n, 2 * n + 5]))
+    assert start.tolist() == [0, 2 * n, 2 * n + 4]  # the lens whole; the box without (1, 0)
+    assert vertices[: 2 * n].tolist() == lens.tolist()

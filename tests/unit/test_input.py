@@ -116,6 +116,11 @@ def test_bad_world_settings(kwargs, problem):
     [
         ({"dt": 1e-310}, r"dt=1e-310 s is too small for float64"),
         ({"damping_ratio": 1e308}, r"damping_ratio=1e\+308 is too large for float64"),
+        # undamped and nearly infinitely soft: h omega underflowed to 0, the bias rate to inf
+        (
+            {"damping_ratio": 0.0, "contact_hertz": 1e-323},
+            r"contact_hertz=1e-323 is too small for float64 with damping_ratio=0.0",
+        ),
     ],
 )
 def test_settings_whose_soft_contacts_overflow_are_refused_by_name(kwargs, problem):
@@ -124,7 +129,12 @@ def test_settings_whose_soft_contacts_overflow_are_refused_by_name(kwargs, probl
     one. The neighbours that float64 holds still build and step."""
     with pytest.raises(ValueError, match=problem):
         sim.World(sim.scenes.single_box(), **kwargs)
-    for fine in ({"dt": 1e-300}, {"damping_ratio": 1e300}):
+    for fine in (
+        {"dt": 1e-300},
+        {"damping_ratio": 1e300},
+        {"contact_hertz": 1e308},  # capped at the substep rate's share, as used
+        {"damping_ratio": 0.0, "contact_hertz": 1e-300},
+    ):
         world = sim.World(sim.scenes.single_box(), **fine)
         world.step(2)
         assert np.isfinite(world.positions).all()

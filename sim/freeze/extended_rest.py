@@ -222,6 +222,18 @@ def _root(parent, k):
     return k
 
 
+#: a refused group grows ring by ring while its solve has at most this many equations (16
+#: members); past it, it is judged once more as the whole connected set of candidates (up to
+#: ``feasibility.MAX_ROWS``). Why not ring by ring up to that size: a pile the certificate
+#: refuses for good would pay every ring's solve every step (drop(30) seed 71, 17 bodies still and
+#: refused: 75 us a step with the rings stopped at 16 members, 266 with rings up to 32, about 75
+#: with one whole try; same-run medians of 5 x 100 steps). Before (until 2026-12) a group past 16
+#: members was not judged at all: drop(30) seed 46's pile, still and held as one group of 28 (its
+#: bodies wedged between each other, their floor friction at its limit in the solver's witness),
+#: never froze
+RING_ROWS = 48
+
+
 @inline_kernel
 def _group_certified(
     members,
@@ -294,7 +306,8 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
     holds it as one rigid body *and* each refused member is held (``certificate.holds``) with the
     other members taken as immovable supports (``_group_certified``). A group that is not
     certified grows by the candidates it touches, ring by ring, and is judged again, until it
-    holds, touches no more candidates or outgrows ``feasibility.MAX_ROWS``: inside a group the
+    holds or touches no more candidates; past ``RING_ROWS`` it is judged once more as the whole
+    connected set of candidates, if that fits ``feasibility.MAX_ROWS``: inside a group the
     forces are solved for, while a load from outside stays at the solver's witness, which can
     leave too little friction to spare inside (drop(30) seed 2: two bodies whose one contact the
     witness puts at 98% of its friction limit were refused as a pair, for good, and held as five).
@@ -344,6 +357,7 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
                 n_members += 1
                 refused = refused or not held[k]
         if n_members >= 2 and refused:
+            whole = False
             while True:
                 tried += 1
                 if _group_certified(
@@ -367,11 +381,24 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
                 # its friction limit, under a neighbour's push that could be less). So the
                 # candidates it touches join it, ring by ring, while the group fits the
                 # feasibility problem's size.
-                grown = _grow(members, n_members, in_group, row_of, n_dyn, contacts, count)
-                done = grown == n_members or 3 * grown > feasibility.MAX_ROWS
-                n_members = grown
-                if done:
+                if whole:
                     break
+                grown = _grow(members, n_members, in_group, row_of, n_dyn, contacts, count)
+                if grown == n_members:
+                    break
+                if 3 * grown > RING_ROWS:
+                    # past RING_ROWS, no more rings: the whole connected set of candidates,
+                    # once, if it fits the solve
+                    n_members = grown
+                    while True:
+                        grown = _grow(members, n_members, in_group, row_of, n_dyn, contacts, count)
+                        if grown == n_members:
+                            break
+                        n_members = grown
+                    whole = True
+                    if 3 * grown > feasibility.MAX_ROWS:
+                        break
+                n_members = grown
         for m in range(n_members):
             in_group[members[m]] = False
     return tried

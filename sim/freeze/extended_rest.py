@@ -224,12 +224,13 @@ def _root(parent, k):
 
 #: a refused group grows ring by ring while its solve has at most this many equations (16
 #: members); past it, it is judged once more as the whole connected set of candidates (up to
-#: ``feasibility.MAX_ROWS``). Why not ring by ring up to that size: a pile the certificate
+#: ``feasibility.MAX_ROWS``; a larger set: as its first ring past RING_ROWS), a whole set once a
+#: step however many refused groups lie in it. Why not ring by ring up to that size: a pile the certificate
 #: refuses for good would pay every ring's solve every step (drop(30) seed 71 from step 1000, 17
 #: bodies still and refused, us a step, medians of 5 x 100 steps, one process per variant, so
 #: noisy: rings stopped at 16 members 72-122, rings up to 32 266, one whole try 125-140; an awake
-#: pile of 30 costs about 50). Before (until 2026-12) a group past 16
-#: members was not judged at all: drop(30) seed 46's pile, still and held as one group of 28 (its
+#: pile of 30 costs about 50). Before (until 2026-12) a group that grew past 16
+#: members was not judged again: drop(30) seed 46's pile, still and held as one group of 28 (its
 #: bodies wedged between each other, their floor friction at its limit in the solver's witness),
 #: never froze
 RING_ROWS = 48
@@ -345,6 +346,7 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
     refused_members = np.empty(n_candidates, np.int64)
     saved = np.empty(n_dyn, np.int64)
     in_group = np.zeros(n_dyn, np.bool_)
+    whole_tried = np.zeros(n_dyn, np.bool_)  # a whole connected set judged in this step
     tried = 0
     for r in range(n_candidates):
         if _root(parent, r) != r:
@@ -358,7 +360,7 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
                 n_members += 1
                 refused = refused or not held[k]
         if n_members >= 2 and refused:
-            whole = False
+            last = False
             while True:
                 tried += 1
                 if _group_certified(
@@ -380,25 +382,39 @@ def wedges(candidates, n_candidates, held, n_dyn, awake_slot, settings, bodies, 
                 # Not as it stands: the forces inside may need more freedom than its loads at
                 # their witness leave (two bodies whose one contact the witness puts at 98% of
                 # its friction limit, under a neighbour's push that could be less). So the
-                # candidates it touches join it, ring by ring, while the group fits the
-                # feasibility problem's size.
-                if whole:
+                # candidates it touches join it (one pass of _grow over the contacts, which can
+                # reach several hops) while it has at most RING_ROWS equations; past that it
+                # is judged once more, as the whole connected set of candidates, or, when that
+                # is beyond the solve, as the first ring past RING_ROWS.
+                if last:
                     break
                 grown = _grow(members, n_members, in_group, row_of, n_dyn, contacts, count)
                 if grown == n_members:
                     break
                 if 3 * grown > RING_ROWS:
-                    # past RING_ROWS, no more rings: the whole connected set of candidates,
-                    # once, if it fits the solve
+                    last = True
+                    ring = grown
                     n_members = grown
                     while True:
                         grown = _grow(members, n_members, in_group, row_of, n_dyn, contacts, count)
                         if grown == n_members:
                             break
                         n_members = grown
-                    whole = True
                     if 3 * grown > feasibility.MAX_ROWS:
+                        for m in range(ring, grown):  # back to the first ring past RING_ROWS
+                            in_group[members[m]] = False
+                        grown = ring
+                        if 3 * grown > feasibility.MAX_ROWS:
+                            n_members = grown
+                            break
+                    elif whole_tried[members[0]]:
+                        # judged already in this step, from another refused group in the same
+                        # set: the same question, the same answer
+                        n_members = grown
                         break
+                    else:
+                        for m in range(grown):
+                            whole_tried[members[m]] = True
                 n_members = grown
         for m in range(n_members):
             in_group[members[m]] = False

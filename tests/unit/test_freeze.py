@@ -615,7 +615,8 @@ def _assert_freezes_whole_and_holds(seed):
 def test_extended_freezes_a_settled_pile_whole(seed):
     # 30 polygons dropped into a bin settle within ~3 s in every peer (pymunk-sleep freezes them
     # in 118-186 steps); a rest test that certifies equilibrium must get all of them within 30 s.
-    # Measured: 172, 176, 217, 179 and 261 steps (the first step with every body frozen; 194,
+    # Measured: 374, 138, 164, 153 and 277 steps (the first step with every body frozen; 172,
+    # 176, 217, 179 and 261 at a109017; 194,
     # 242, never, 130 and 412 before two_row_impulses, 376, never, 196, 190 and 225 before the
     # carried split at once, and 240, 145,
     # 188, 187 and 338 before the corner contacts and the deep sweeps). With
@@ -641,7 +642,8 @@ def test_extended_certifies_a_still_pile_of_more_than_sixteen_bodies_as_one_grou
     """drop(30) seeds 46 and 93 come to rest with bodies wedged between each other, their floor
     friction at its limit in the solver's witness: refused one by one, and certified only as
     one group of every still body (28 and 26 of them), whose inside forces are solved for
-    (``extended_rest.wedges``). Until 2026-12 a group past 16 members was not judged, and
+    (``extended_rest.wedges``). Until 2026-12 a group that grew past 16 members was not judged
+    again, and
     ``before`` bodies stayed awake for good, still (1e-12 m/s), past 30 s. Measured now: whole
     at steps 202 and 321 (sleep: 180 and 149)."""
     _assert_freezes_whole_and_holds(seed)

@@ -222,17 +222,16 @@ def _root(parent, k):
     return k
 
 
-#: a refused group grows ring by ring while its solve has at most this many equations (16
-#: members); past it, it is judged once more as the whole connected set of candidates (up to
+#: a refused group grows ring by ring while its solve has at most this many equations (16 members);
+#: past it, it is judged once more as the whole connected set of candidates (up to
 #: ``feasibility.MAX_ROWS``; a larger set: as its first ring past RING_ROWS), a whole set once a
-#: step however many refused groups lie in it. Why not ring by ring up to that size: a pile the certificate
-#: refuses for good would pay every ring's solve every step (drop(30) seed 71 from step 1000, 17
-#: bodies still and refused, us a step, medians of 5 x 100 steps, one process per variant, so
-#: noisy: rings stopped at 16 members 72-122, rings up to 32 266, one whole try 125-140; an awake
-#: pile of 30 costs about 50). Before (until 2026-12) a group that grew past 16
-#: members was not judged again: drop(30) seed 46's pile, still and held as one group of 28 (its
-#: bodies wedged between each other, their floor friction at its limit in the solver's witness),
-#: never froze
+#: step however many refused groups lie in it. Why not ring by ring up to that size: a pile the
+#: certificate refuses for good would pay every ring's solve every step (drop(30) seed 71 from step
+#: 1000, 17 bodies still and refused, us a step, medians of 5 x 100 steps, one process per variant,
+#: so noisy: rings stopped at 16 members 72-122, rings up to 32 266, one whole try 125-140; an awake
+#: pile of 30 costs about 50). Before (until 2026-12) a group that grew past 16 members was not
+#: judged again: drop(30) seed 46's pile, still and held as one group of 28 (its bodies wedged
+#: between each other, their floor friction at its limit in the solver's witness), never froze
 RING_ROWS = 48
 
 

@@ -475,7 +475,9 @@ def _members_balance(
     up_x, up_y = _up(settings)
     dt = settings.dt
     row_of = np.full(n_dyn, -1, np.int64)
-    a_mat = np.zeros((n_rows, feasibility.MAX_COLUMNS))
+    # each column is zeroed as it is added (below), not the whole (n_rows, MAX_COLUMNS) block:
+    # that was 295 kB for a whole set of 32 members, most of it never read
+    a_mat = np.empty((n_rows, feasibility.MAX_COLUMNS))
     rhs = np.zeros(n_rows)
     for k in range(n_members):
         i = members[k]
@@ -520,6 +522,8 @@ def _members_balance(
             for side in range(2):  # the cone's edges n +- mu t, as forces on B
                 fx = nx + (1 - 2 * side) * mu * ny
                 fy = ny - (1 - 2 * side) * mu * nx
+                for r in range(n_rows):
+                    a_mat[r, n_cols] = 0.0
                 for body, sign in ((b, 1.0), (a, -1.0)):
                     if not (0 <= body < n_dyn and in_group[body]):
                         continue

@@ -591,9 +591,9 @@ def test_extended_does_not_wake_a_body_for_what_holds_it_up():
 UNFROZEN_PILES = {}
 
 
-def _assert_freezes_whole_and_holds(seed):
-    """drop(30, seed) under extended: every body frozen within 30 s, and still for 1 s more."""
-    world = sim.World(sim.scenes.drop(30, seed=seed), freeze="extended")
+def _assert_freezes_whole_and_holds(seed, n=30):
+    """drop(n, seed) under extended: every body frozen within 30 s, and still for 1 s more."""
+    world = sim.World(sim.scenes.drop(n, seed=seed), freeze="extended")
     for _ in range(30 * 60):
         world.step()
         if world.n_awake == 0:
@@ -647,6 +647,31 @@ def test_extended_certifies_a_still_pile_of_more_than_sixteen_bodies_as_one_grou
     ``before`` bodies stayed awake for good, still (1e-12 m/s), past 30 s. Measured now: whole
     at steps 202 and 321 (sleep: 180 and 149)."""
     _assert_freezes_whole_and_holds(seed)
+
+
+#: drop(200) seeds whose pile ``extended`` does not freeze whole within 30 s (measured 2026-12-08,
+#: 639e1b1), each a strict xfail
+UNFROZEN_LARGE_PILES = {
+    0: "178 of 200 bodies awake at 30 s (sleep: all asleep by step 300): parts of the pile freeze "
+    "and are woken again, 1825 freezes and 1823 wakes in the last 150 steps (pushed 180, tipping "
+    "112, and 1531 support_lost under them), and the certificate costs 0.34 of a 0.65 ms step",
+    2: "186 of 200 bodies awake at 30 s (sleep: all asleep by step 200): the same churn",
+}
+
+
+@pytest.mark.parametrize(
+    "seed",
+    [
+        pytest.param(s, marks=pytest.mark.xfail(strict=True, reason=UNFROZEN_LARGE_PILES[s]))
+        if s in UNFROZEN_LARGE_PILES
+        else s
+        for s in range(3)
+    ],
+)
+def test_extended_freezes_a_pile_of_two_hundred_whole(seed):
+    """The piles of fig_time_to_rest hold 30 bodies; bench_step times 200 settling under
+    sim-off only. Seed 1 froze whole by step 1100 (sleep: 200)."""
+    _assert_freezes_whole_and_holds(seed, n=200)
 
 
 def test_extended_wakes_a_column_being_built_only_for_its_landings():

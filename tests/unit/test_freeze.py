@@ -603,15 +603,17 @@ def _assert_freezes_whole_and_holds(seed, n=30):
     assert world.n_awake == 0, "the freeze did not hold for 1 s"
 
 
-@pytest.mark.parametrize(
-    "seed",
-    [
-        pytest.param(s, marks=pytest.mark.xfail(strict=True, reason=UNFROZEN_PILES[s]))
-        if s in UNFROZEN_PILES
+def _pile_seeds(count, unfrozen):
+    """Seeds 0..count-1, those in ``unfrozen`` (seed: measured reason) as strict xfails."""
+    return [
+        pytest.param(s, marks=pytest.mark.xfail(strict=True, reason=unfrozen[s]))
+        if s in unfrozen
         else s
-        for s in range(5)
-    ],
-)
+        for s in range(count)
+    ]
+
+
+@pytest.mark.parametrize("seed", _pile_seeds(5, UNFROZEN_PILES))
 def test_extended_freezes_a_settled_pile_whole(seed):
     # 30 polygons dropped into a bin settle within ~3 s in every peer (pymunk-sleep freezes them
     # in 118-186 steps); a rest test that certifies equilibrium must get all of them within 30 s.
@@ -659,15 +661,7 @@ UNFROZEN_LARGE_PILES = {
 }
 
 
-@pytest.mark.parametrize(
-    "seed",
-    [
-        pytest.param(s, marks=pytest.mark.xfail(strict=True, reason=UNFROZEN_LARGE_PILES[s]))
-        if s in UNFROZEN_LARGE_PILES
-        else s
-        for s in range(3)
-    ],
-)
+@pytest.mark.parametrize("seed", _pile_seeds(3, UNFROZEN_LARGE_PILES))
 def test_extended_freezes_a_pile_of_two_hundred_whole(seed):
     """The piles of fig_time_to_rest hold 30 bodies; bench_step times 200 settling under
     sim-off only. Seed 1 froze whole by step 1100 (sleep: 200)."""
